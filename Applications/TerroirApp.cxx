@@ -1,0 +1,320 @@
+#include "TerroirApp.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkImageData.h"
+#include "vtkLogger.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkOutputWindow.h"
+#include "vtkXMLImageDataWriter.h"
+
+#include "vtkTerroirDEMReader.h"
+#include "vtkTerroirGeoTIFFWriter.h"
+#include "vtkTerroirTerragenReader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string LastError;
+bool Verbose = false;
+
+// Strips VTK's "ERROR: In <file>, line <n>\n<class> (0x...): " prefix down to the message.
+std::string CleanVTKText(const char* text)
+{
+  std::string s = text ? text : "";
+  const std::string marker = "): ";
+  auto pos = s.find(marker);
+  if (s.rfind("ERROR:", 0) == 0 || s.rfind("Warning:", 0) == 0 || s.rfind("WARNING:", 0) == 0)
+  {
+    if (pos != std::string::npos)
+    {
+      s = s.substr(pos + marker.size());
+    }
+  }
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back())))
+  {
+    s.pop_back();
+  }
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return s;
+}
+
+class QuietOutputWindow : public vtkOutputWindow
+{
+public:
+  static QuietOutputWindow* New();
+  vtkTypeMacro(QuietOutputWindow, vtkOutputWindow);
+  void DisplayText(const char* text) override
+  {
+    if (Verbose && text)
+    {
+      std::cerr << text;
+    }
+  }
+  void DisplayErrorText(const char* text) override
+  {
+    LastError = CleanVTKText(text);
+    if (Verbose)
+    {
+      std::cerr << "terroir: vtk: " << LastError << "\n";
+    }
+  }
+  void DisplayWarningText(const char* text) override
+  {
+    std::cerr << "terroir: warning: " << CleanVTKText(text) << "\n";
+  }
+  void DisplayGenericWarningText(const char* text) override { this->DisplayWarningText(text); }
+  void DisplayDebugText(const char* text) override { this->DisplayText(text); }
+};
+vtkStandardNewMacro(QuietOutputWindow);
+
+struct ProgressState
+{
+  std::string Label;
+  bool Terminal = false;
+  int LastShown = -1;
+};
+
+void OnProgress(vtkObject* caller, unsigned long, void* clientData, void* callData)
+{
+  auto* state = static_cast<ProgressState*>(clientData);
+  const double p = callData ? *static_cast<double*>(callData) : 0.0;
+  const int percent = std::max(0, std::min(100, static_cast<int>(p * 100.0 + 0.5)));
+  (void)caller;
+  if (state->Terminal)
+  {
+    if (percent == state->LastShown)
+    {
+      return;
+    }
+    const int width = 30;
+    const int filled = percent * width / 100;
+    std::fprintf(stderr, "\r%-14s [%s%s] %3d%%", state->Label.c_str(),
+      std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), percent);
+    if (percent == 100)
+    {
+      std::fputc('\n', stderr);
+    }
+    std::fflush(stderr);
+  }
+  else
+  {
+    // Plain lines at 0, 25, 50, 75 and 100 %.
+    const int step = percent / 25 * 25;
+    if (step == state->LastShown)
+    {
+      return;
+    }
+    std::fprintf(stderr, "%s: %d%%\n", state->Label.c_str(), step);
+    state->LastShown = step;
+    return;
+  }
+  state->LastShown = percent;
+}
+
+void DeleteProgressState(void* clientData)
+{
+  delete static_cast<ProgressState*>(clientData);
+}
+
+std::string TempNameBeside(const std::string& path)
+{
+  fs::path p(path);
+  return (p.parent_path() / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid())))
+    .string();
+}
+} // namespace
+
+namespace terroir
+{
+namespace app
+{
+
+void InstallQuietOutput(bool verbose)
+{
+  Verbose = verbose;
+  vtkNew<QuietOutputWindow> window;
+  vtkOutputWindow::SetInstance(window);
+  vtkLogger::SetStderrVerbosity(verbose ? vtkLogger::VERBOSITY_INFO : vtkLogger::VERBOSITY_WARNING);
+}
+
+std::string TakeLastVTKError()
+{
+  std::string e;
+  e.swap(LastError);
+  return e;
+}
+
+void WatchProgress(vtkAlgorithm* algorithm, const std::string& label)
+{
+  vtkNew<vtkCallbackCommand> cb;
+  auto* state = new ProgressState;
+  state->Label = label;
+  state->Terminal = ::isatty(STDERR_FILENO) != 0;
+  cb->SetClientData(state);
+  cb->SetClientDataDeleteCallback(DeleteProgressState);
+  cb->SetCallback(OnProgress);
+  algorithm->AddObserver(vtkCommand::ProgressEvent, cb);
+}
+
+void UpdateOrThrow(vtkAlgorithm* algorithm, const std::string& what)
+{
+  TakeLastVTKError();
+  algorithm->Update();
+  const std::string err = TakeLastVTKError();
+  if (algorithm->GetErrorCode() != 0 || !err.empty())
+  {
+    throw Failure(err.empty() ? what + " failed" : err);
+  }
+}
+
+std::string DefaultDEM()
+{
+  if (const char* dir = std::getenv("TERROIR_DATA_DIR"))
+  {
+    return std::string(dir) + "/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif";
+  }
+  return std::string(TERROIR_DATA_DIR) + "/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif";
+}
+
+bool HasExtension(const std::string& path, const std::string& ext)
+{
+  if (path.size() < ext.size())
+  {
+    return false;
+  }
+  return std::equal(ext.rbegin(), ext.rend(), path.rbegin(),
+    [](char a, char b) { return std::tolower(a) == std::tolower(b); });
+}
+
+vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path, bool allowNetwork)
+{
+  vtkSmartPointer<vtkAlgorithm> reader;
+  std::string error;
+  TakeLastVTKError();
+  if (HasExtension(path, ".ter"))
+  {
+    vtkNew<vtkTerroirTerragenReader> ter;
+    ter->SetFileName(path.c_str());
+    ter->Update();
+    error = ter->GetErrorMessage();
+    reader = ter;
+  }
+  else
+  {
+    vtkNew<vtkTerroirDEMReader> dem;
+    dem->SetFileName(path.c_str());
+    dem->SetAllowNetworkPaths(allowNetwork);
+    WatchProgress(dem, "read");
+    dem->Update();
+    error = dem->GetErrorMessage();
+    reader = dem;
+  }
+  const std::string vtkError = TakeLastVTKError();
+  if (error.empty() && reader->GetErrorCode() != 0)
+  {
+    error = vtkError.empty() ? path + ": could not be read" : vtkError;
+  }
+  auto* image = vtkImageData::SafeDownCast(reader->GetOutputDataObject(0));
+  if (error.empty() && (!image || image->GetNumberOfPoints() == 0))
+  {
+    error = vtkError.empty() ? path + ": no raster data" : vtkError;
+  }
+  if (!error.empty())
+  {
+    throw Failure(error);
+  }
+  vtkSmartPointer<vtkImageData> result = vtkSmartPointer<vtkImageData>::New();
+  result->ShallowCopy(image);
+  return result;
+}
+
+void CheckWritable(const std::vector<std::string>& paths, bool overwrite)
+{
+  for (const auto& p : paths)
+  {
+    std::error_code ec;
+    if (!overwrite && fs::exists(p, ec))
+    {
+      throw Failure(p + ": exists; pass --overwrite to replace it");
+    }
+    const fs::path parent = fs::path(p).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+    {
+      throw Failure(parent.string() + ": output folder does not exist");
+    }
+  }
+}
+
+void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
+{
+  CheckWritable({ path }, overwrite);
+  const std::string tmp = TempNameBeside(path);
+  vtkNew<vtkXMLImageDataWriter> writer;
+  writer->SetInputData(image);
+  writer->SetFileName(tmp.c_str());
+  writer->SetDataModeToAppended();
+  writer->SetCompressorTypeToZLib();
+  TakeLastVTKError();
+  const int ok = writer->Write();
+  const std::string err = TakeLastVTKError();
+  std::error_code ec;
+  if (!ok || writer->GetErrorCode() != 0 || !err.empty())
+  {
+    fs::remove(tmp, ec);
+    throw Failure(path + ": could not be written" + (err.empty() ? "" : " (" + err + ")"));
+  }
+  fs::rename(tmp, path, ec);
+  if (ec)
+  {
+    fs::remove(tmp, ec);
+    throw Failure(path + ": could not be renamed into place: " + ec.message());
+  }
+}
+
+void WriteGeoTIFF(
+  vtkImageData* image, const std::string& array, const std::string& path, bool overwrite)
+{
+  CheckWritable({ path }, overwrite);
+  vtkNew<vtkTerroirGeoTIFFWriter> writer;
+  writer->SetInputData(image);
+  writer->SetArrayName(array.c_str());
+  writer->SetFileName(path.c_str());
+  writer->SetOverwrite(overwrite);
+  TakeLastVTKError();
+  writer->Write();
+  std::string err = writer->GetErrorMessage();
+  if (err.empty() && writer->GetErrorCode() != 0)
+  {
+    err = TakeLastVTKError();
+    if (err.empty())
+    {
+      err = path + ": could not be written";
+    }
+  }
+  if (!err.empty())
+  {
+    throw Failure(err);
+  }
+}
+
+double Now()
+{
+  using clock = std::chrono::steady_clock;
+  return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+}
+
+} // namespace app
+} // namespace terroir

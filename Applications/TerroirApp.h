@@ -1,0 +1,67 @@
+/**
+ * @file TerroirApp.h
+ * @brief Plumbing shared by the `terroir` sub-commands: clean one-line errors, progress
+ * display, reading a DEM, and outputs written under a temporary name then renamed.
+ */
+#ifndef TerroirApp_h
+#define TerroirApp_h
+
+#include "vtkSmartPointer.h"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+class vtkAlgorithm;
+class vtkImageData;
+
+namespace terroir
+{
+namespace app
+{
+
+/// A failure reported to the user as one line ("terroir: error: <what>") and exit code 1.
+class Failure : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Routes VTK's error and warning text to one clean line each (no file/line/object
+/// address), remembers the last error, and silences VTK's INFO log unless verbose.
+void InstallQuietOutput(bool verbose);
+/// The last error VTK reported since the previous call (then cleared).
+std::string TakeLastVTKError();
+
+/// Shows the progress of `algorithm` as a bar on a terminal, as plain lines otherwise.
+void WatchProgress(vtkAlgorithm* algorithm, const std::string& label);
+
+/// Updates `algorithm`; throws Failure with the algorithm's (or VTK's) error on failure.
+void UpdateOrThrow(vtkAlgorithm* algorithm, const std::string& what);
+
+/// The bundled default DEM (Data/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif).
+std::string DefaultDEM();
+
+/// Reads a terrain: Terragen `.ter` natively, anything else through GDAL.
+vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path, bool allowNetwork);
+
+/// Throws Failure if any of `paths` exists and overwriting was not asked for.
+void CheckWritable(const std::vector<std::string>& paths, bool overwrite);
+
+/// Writes every array of `image` as VTK XML image data (.vti), temp file then rename.
+void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite);
+
+/// Writes one point-data array (one band per component) as a georeferenced GeoTIFF.
+void WriteGeoTIFF(vtkImageData* image, const std::string& array, const std::string& path,
+  bool overwrite);
+
+/// True when the file name ends with `ext` (case-insensitive, ext with the dot).
+bool HasExtension(const std::string& path, const std::string& ext);
+
+/// Seconds since an arbitrary epoch (steady clock).
+double Now();
+
+} // namespace app
+} // namespace terroir
+
+#endif

@@ -1,0 +1,779 @@
+// terroir: the Terroir command-line program.
+//
+//   terroir run [DEM] [--out DIR]       every filter with defaults; .vti, GeoTIFFs, PNGs, report
+//   terroir slope IN OUT                Horn slope (gdaldem style), GeoTIFF or .vti
+//   terroir temperature IN OUT          monthly temperature (12 bands)
+//   terroir bench [--size N]            time per stage and backend, per million cells
+//   terroir info IN                     grid and georeference of a DEM
+//   terroir fractal OUT --size N        a seeded synthetic DEM (GeoTIFF or .vti)
+//
+// Errors are one line on stderr ("terroir: error: ...") and exit code 1; outputs are written
+// under a temporary name and renamed, and existing files are kept unless --overwrite.
+#include "TerroirApp.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+
+#include "vtkTerroirComputeContext.h"
+#include "vtkTerroirFractalTerrainSource.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirOverlayView.h"
+#include "vtkTerroirSlope.h"
+#include "vtkTerroirTemperature.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <vector>
+
+namespace fs = std::filesystem;
+using terroir::app::Failure;
+using json = nlohmann::json;
+
+namespace
+{
+const char* const MonthNames[12] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep",
+  "Oct", "Nov", "Dec" };
+
+int ParseBackend(const std::string& name)
+{
+  if (name == "auto")
+  {
+    return vtkTerroirComputeContext::Auto;
+  }
+  if (name == "cpu")
+  {
+    return vtkTerroirComputeContext::CPU;
+  }
+  if (name == "gpu")
+  {
+    return vtkTerroirComputeContext::GPU;
+  }
+  throw Failure("--backend: '" + name + "' is not auto, cpu or gpu");
+}
+
+/// Options of the temperature model shared by `run` and `temperature`.
+struct TemperatureOptions
+{
+  double Coldest = 2.0;
+  double Warmest = 20.0;
+  int ColdestMonth = 0; // 0 = the hemisphere's default
+  int WarmestMonth = 0;
+  std::string Monthly;
+  double LapseRate = 6.4;
+  std::string Hemisphere = "auto";
+
+  void Add(CLI::App* app)
+  {
+    app->add_option("--coldest", this->Coldest, "Sea-level temperature of the coldest month, C")
+      ->capture_default_str();
+    app->add_option("--warmest", this->Warmest, "Sea-level temperature of the warmest month, C")
+      ->capture_default_str();
+    app->add_option("--coldest-month", this->ColdestMonth, "Coldest month 1-12 (default: Jan north, Jul south)")
+      ->check(CLI::Range(1, 12));
+    app->add_option("--warmest-month", this->WarmestMonth, "Warmest month 1-12 (default: Jul north, Jan south)")
+      ->check(CLI::Range(1, 12));
+    app->add_option("--monthly", this->Monthly, "12 sea-level temperatures, C, January first (a,b,...)");
+    app->add_option("--lapse-rate", this->LapseRate, "Temperature lapse rate, C per km")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 20.0));
+    app->add_option("--hemisphere", this->Hemisphere, "auto (from the georeference), north or south")
+      ->check(CLI::IsMember({ "auto", "north", "south" }))
+      ->capture_default_str();
+  }
+
+  void Apply(vtkTerroirTemperature* filter) const
+  {
+    filter->SetSeaLevelTemperatureColdest(this->Coldest);
+    filter->SetSeaLevelTemperatureWarmest(this->Warmest);
+    if (this->ColdestMonth > 0)
+    {
+      filter->SetColdestMonth(this->ColdestMonth);
+    }
+    if (this->WarmestMonth > 0)
+    {
+      filter->SetWarmestMonth(this->WarmestMonth);
+    }
+    filter->SetLapseRate(this->LapseRate);
+    filter->SetHemisphere(this->Hemisphere == "north" ? vtkTerroirTemperature::North
+        : this->Hemisphere == "south"                 ? vtkTerroirTemperature::South
+                                                      : vtkTerroirTemperature::AutoHemisphere);
+    if (!this->Monthly.empty())
+    {
+      std::vector<double> values;
+      std::stringstream ss(this->Monthly);
+      std::string item;
+      while (std::getline(ss, item, ','))
+      {
+        try
+        {
+          std::size_t used = 0;
+          values.push_back(std::stod(item, &used));
+          if (used != item.size())
+          {
+            throw std::invalid_argument(item);
+          }
+        }
+        catch (const std::exception&)
+        {
+          throw Failure("--monthly: '" + item + "' is not a number");
+        }
+      }
+      if (values.size() != 12)
+      {
+        throw Failure("--monthly: expected 12 values, got " + std::to_string(values.size()));
+      }
+      filter->SetMonthlySeaLevelTemperatures(values.data());
+      filter->SetUseMonthlyTemperatures(true);
+    }
+  }
+};
+
+struct Statistics
+{
+  double Min = 0, Max = 0, Mean = 0;
+  long long Valid = 0;
+};
+
+Statistics ArrayStatistics(vtkDataArray* array, int component)
+{
+  Statistics s;
+  double sum = 0;
+  s.Min = INFINITY;
+  s.Max = -INFINITY;
+  for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
+  {
+    const double v = array->GetComponent(i, component);
+    if (std::isnan(v))
+    {
+      continue;
+    }
+    s.Min = std::min(s.Min, v);
+    s.Max = std::max(s.Max, v);
+    sum += v;
+    ++s.Valid;
+  }
+  s.Mean = s.Valid ? sum / static_cast<double>(s.Valid) : NAN;
+  if (!s.Valid)
+  {
+    s.Min = s.Max = NAN;
+  }
+  return s;
+}
+
+json StatisticsJSON(const Statistics& s)
+{
+  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  return json{ { "min", num(s.Min) }, { "max", num(s.Max) }, { "mean", num(s.Mean) },
+    { "valid_cells", s.Valid } };
+}
+
+/// Runs a filter on `input` with progress and timing; returns the output (shallow copy).
+template <typename Filter>
+vtkSmartPointer<vtkImageData> RunStage(Filter* filter, vtkImageData* input, const std::string& label,
+  json& stages)
+{
+  filter->SetInputData(input);
+  terroir::app::WatchProgress(filter, label);
+  const double t0 = terroir::app::Now();
+  terroir::app::UpdateOrThrow(filter, label);
+  const double seconds = terroir::app::Now() - t0;
+  stages[label] = json{ { "seconds", seconds },
+    { "backend", vtkTerroirComputeContext::GetBackendName(filter->GetLastBackend()) },
+    { "reason", filter->GetLastBackendReason() ? filter->GetLastBackendReason() : "" } };
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->ShallowCopy(filter->GetOutput());
+  return out;
+}
+
+bool HaveDisplay()
+{
+  const char* d = std::getenv("DISPLAY");
+  return d && *d;
+}
+
+void WriteOverlay(vtkImageData* image, const std::string& array, int component,
+  const std::string& preset, const std::string& title, const std::string& path, bool overwrite)
+{
+  terroir::app::CheckWritable({ path }, overwrite);
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(image);
+  view->SetArrayName(array.c_str());
+  view->SetComponent(component);
+  view->SetPreset(preset.c_str());
+  view->SetTitle(title.c_str());
+  view->SetViewModeToRelief();
+  view->SetShowLegend(true);
+  if (!view->WritePNG(path.c_str()))
+  {
+    throw Failure(path + ": " + view->GetErrorMessage());
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+int CommandRun(const std::string& demArg, const std::string& outDir, bool overwrite,
+  const std::string& backendName, bool png, bool allowNetwork, const TemperatureOptions& tempOpts)
+{
+  const std::string dem = demArg.empty() ? terroir::app::DefaultDEM() : demArg;
+  const int backend = ParseBackend(backendName);
+  std::error_code ec;
+  fs::create_directories(outDir, ec);
+  if (ec || !fs::is_directory(outDir))
+  {
+    throw Failure(outDir + ": cannot create the output folder" + (ec ? ": " + ec.message() : ""));
+  }
+  const fs::path out(outDir);
+  const std::string vti = (out / "terrain.vti").string();
+  const std::string slopeTif = (out / "slope.tif").string();
+  const std::string aspectTif = (out / "aspect.tif").string();
+  const std::string temperatureTif = (out / "temperature.tif").string();
+  const std::string slopePng = (out / "slope.png").string();
+  const std::string temperatureJanPng = (out / "temperature_jan.png").string();
+  const std::string temperatureJulPng = (out / "temperature_jul.png").string();
+  const std::string reportMd = (out / "report.md").string();
+  const std::string reportJson = (out / "report.json").string();
+  std::vector<std::string> outputs = { vti, slopeTif, aspectTif, temperatureTif, reportMd,
+    reportJson };
+  if (png)
+  {
+    if (!HaveDisplay())
+    {
+      throw Failure("PNG overlays need an X display (VTK 9.1 renders through X): run under "
+                    "'xvfb-run -a', or pass --no-png");
+    }
+    outputs.insert(outputs.end(), { slopePng, temperatureJanPng, temperatureJulPng });
+  }
+  // Refuse before any work, so a refused run leaves nothing behind.
+  terroir::app::CheckWritable(outputs, overwrite);
+
+  json report;
+  report["input"] = dem;
+  json stages;
+  const double t0 = terroir::app::Now();
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, allowNetwork);
+  stages["read"] = json{ { "seconds", terroir::app::Now() - t0 } };
+
+  int dims[3];
+  double spacing[3];
+  terrain->GetDimensions(dims);
+  terrain->GetSpacing(spacing);
+  double latLon[2] = { NAN, NAN };
+  const bool located = vtkTerroirGeoreference::GetCenterLatLon(terrain, latLon);
+  report["grid"] = json{ { "nx", dims[0] }, { "ny", dims[1] }, { "dx_m", spacing[0] },
+    { "dy_m", spacing[1] },
+    { "geographic", vtkTerroirGeoreference::GetRowSpacing(terrain) != nullptr } };
+  report["georeference"] = json{ { "has_crs", !vtkTerroirGeoreference::GetCRS(terrain).empty() },
+    { "center_lat", located ? json(latLon[0]) : json(nullptr) },
+    { "center_lon", located ? json(latLon[1]) : json(nullptr) },
+    { "meridian_convergence_deg", vtkTerroirGeoreference::GetMeridianConvergence(terrain) } };
+
+  vtkNew<vtkTerroirSlope> slope;
+  slope->SetBackend(backend);
+  vtkSmartPointer<vtkImageData> withSlope = RunStage(slope.Get(), terrain, "slope", stages);
+
+  vtkNew<vtkTerroirTemperature> temperature;
+  temperature->SetBackend(backend);
+  tempOpts.Apply(temperature);
+  vtkSmartPointer<vtkImageData> result =
+    RunStage(temperature.Get(), withSlope, "temperature", stages);
+
+  const double tw = terroir::app::Now();
+  terroir::app::WriteVTI(result, vti, overwrite);
+  terroir::app::WriteGeoTIFF(result, "Slope", slopeTif, overwrite);
+  terroir::app::WriteGeoTIFF(result, "Aspect", aspectTif, overwrite);
+  terroir::app::WriteGeoTIFF(result, "Temperature", temperatureTif, overwrite);
+  if (png)
+  {
+    WriteOverlay(result, "Slope", 0, "Slope", "Slope (deg)", slopePng, overwrite);
+    WriteOverlay(result, "Temperature", 0, "Temperature", "Temperature, January (C)",
+      temperatureJanPng, overwrite);
+    WriteOverlay(result, "Temperature", 6, "Temperature", "Temperature, July (C)",
+      temperatureJulPng, overwrite);
+  }
+  stages["write"] = json{ { "seconds", terroir::app::Now() - tw } };
+  report["stages"] = stages;
+
+  json arrays;
+  vtkPointData* pd = result->GetPointData();
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* arr = pd->GetArray(a);
+    if (!arr || !arr->GetName() || std::string(arr->GetName()) == "vtkValidPointMask")
+    {
+      continue;
+    }
+    json entry;
+    const char* units = arr->GetInformation()->Has(vtkDataArray::UNITS_LABEL())
+      ? arr->GetInformation()->Get(vtkDataArray::UNITS_LABEL())
+      : "";
+    entry["units"] = units;
+    if (arr->GetNumberOfComponents() == 12)
+    {
+      for (int c = 0; c < 12; ++c)
+      {
+        entry[MonthNames[c]] = StatisticsJSON(ArrayStatistics(arr, c));
+      }
+    }
+    else if (arr->GetNumberOfComponents() == 1)
+    {
+      entry["all"] = StatisticsJSON(ArrayStatistics(arr, 0));
+    }
+    arrays[arr->GetName()] = entry;
+  }
+  report["arrays"] = arrays;
+  report["outputs"] = outputs;
+
+  // Report: JSON for scripts, Markdown for people; both temp + rename.
+  auto writeText = [&](const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".tmp";
+    {
+      std::ofstream f(tmp);
+      f << text;
+      if (!f)
+      {
+        fs::remove(tmp, ec);
+        throw Failure(path + ": could not be written");
+      }
+    }
+    fs::rename(tmp, path, ec);
+    if (ec)
+    {
+      throw Failure(path + ": could not be renamed into place");
+    }
+  };
+  writeText(reportJson, report.dump(2) + "\n");
+  std::ostringstream md;
+  md << std::fixed << std::setprecision(2);
+  md << "# Terroir run\n\n";
+  md << "- input: `" << dem << "`\n";
+  md << "- grid: " << dims[0] << " x " << dims[1] << " cells, " << spacing[0] << " x "
+     << spacing[1] << " m\n";
+  if (located)
+  {
+    md << std::setprecision(5) << "- centre: " << latLon[0] << ", " << latLon[1]
+       << " (lat, lon)\n" << std::setprecision(2);
+  }
+  md << "\n| stage | seconds | backend |\n|---|---|---|\n";
+  for (const char* s : { "read", "slope", "temperature", "write" })
+  {
+    md << "| " << s << " | " << std::setprecision(3) << stages[s]["seconds"].get<double>() << " | "
+       << (stages[s].contains("backend") ? stages[s]["backend"].get<std::string>() : "") << " |\n";
+  }
+  md << std::setprecision(2) << "\n| array | units | min | mean | max |\n|---|---|---|---|---|\n";
+  for (auto& [name, entry] : arrays.items())
+  {
+    const json& st = entry.contains("all") ? entry["all"] : entry.contains("Jul") ? entry["Jul"] : json();
+    if (st.is_null() || st["min"].is_null())
+    {
+      continue;
+    }
+    md << "| " << name << (entry.contains("Jul") ? " (Jul)" : "") << " | "
+       << entry["units"].get<std::string>() << " | " << st["min"].get<double>() << " | "
+       << st["mean"].get<double>() << " | " << st["max"].get<double>() << " |\n";
+  }
+  md << "\nOutputs:\n\n";
+  for (const auto& o : outputs)
+  {
+    md << "- `" << fs::path(o).filename().string() << "`\n";
+  }
+  writeText(reportMd, md.str());
+
+  std::cout << "terroir run: " << dims[0] << "x" << dims[1] << " cells from " << dem << "\n";
+  for (const char* s : { "slope", "temperature" })
+  {
+    std::cout << "  " << std::left << std::setw(12) << s << std::right << std::fixed
+              << std::setprecision(3) << stages[s]["seconds"].get<double>() << " s  "
+              << stages[s]["backend"].get<std::string>() << "\n";
+  }
+  std::cout << "  outputs in " << outDir << " (report.md)\n";
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+/// Writes a single-stage result: GeoTIFF of `array` for .tif/.tiff, every array for .vti.
+void WriteStageResult(vtkImageData* image, const std::string& array, const std::string& path,
+  bool overwrite)
+{
+  if (terroir::app::HasExtension(path, ".vti"))
+  {
+    terroir::app::WriteVTI(image, path, overwrite);
+  }
+  else if (terroir::app::HasExtension(path, ".tif") || terroir::app::HasExtension(path, ".tiff"))
+  {
+    terroir::app::WriteGeoTIFF(image, array, path, overwrite);
+  }
+  else
+  {
+    throw Failure(path + ": unknown output format (use .tif, .tiff or .vti)");
+  }
+}
+
+int CommandSlope(const std::string& in, const std::string& outPath, bool overwrite,
+  const std::string& backendName, double zFactor, bool percent, const std::string& aspectPath,
+  bool allowNetwork)
+{
+  const int backend = ParseBackend(backendName);
+  std::vector<std::string> outs = { outPath };
+  if (!aspectPath.empty())
+  {
+    outs.push_back(aspectPath);
+  }
+  terroir::app::CheckWritable(outs, overwrite);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
+  vtkNew<vtkTerroirSlope> slope;
+  slope->SetBackend(backend);
+  slope->SetZFactor(zFactor);
+  if (percent)
+  {
+    slope->SetSlopeUnitsToPercent();
+  }
+  json stages;
+  vtkSmartPointer<vtkImageData> result = RunStage(slope.Get(), terrain, "slope", stages);
+  WriteStageResult(result, "Slope", outPath, overwrite);
+  if (!aspectPath.empty())
+  {
+    WriteStageResult(result, "Aspect", aspectPath, overwrite);
+  }
+  return 0;
+}
+
+int CommandTemperature(const std::string& in, const std::string& outPath, bool overwrite,
+  const std::string& backendName, bool allowNetwork, const TemperatureOptions& opts)
+{
+  const int backend = ParseBackend(backendName);
+  terroir::app::CheckWritable({ outPath }, overwrite);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
+  vtkNew<vtkTerroirTemperature> temperature;
+  temperature->SetBackend(backend);
+  opts.Apply(temperature);
+  json stages;
+  vtkSmartPointer<vtkImageData> result =
+    RunStage(temperature.Get(), terrain, "temperature", stages);
+  WriteStageResult(result, "Temperature", outPath, overwrite);
+  return 0;
+}
+
+int CommandInfo(const std::string& in, bool allowNetwork)
+{
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
+  int dims[3];
+  double spacing[3], origin[3];
+  terrain->GetDimensions(dims);
+  terrain->GetSpacing(spacing);
+  terrain->GetOrigin(origin);
+  std::cout << std::setprecision(10) << "file: " << in << "\n"
+            << "cells: " << dims[0] << " x " << dims[1] << "\n"
+            << "spacing (m): " << spacing[0] << " x " << spacing[1] << "\n"
+            << "origin: " << origin[0] << ", " << origin[1] << "\n";
+  double ll[2];
+  if (vtkTerroirGeoreference::GetCenterLatLon(terrain, ll))
+  {
+    std::cout << "centre (lat, lon): " << ll[0] << ", " << ll[1] << "\n";
+  }
+  std::cout << "meridian convergence (deg): "
+            << vtkTerroirGeoreference::GetMeridianConvergence(terrain) << "\n";
+  std::cout << "geographic grid: "
+            << (vtkTerroirGeoreference::GetRowSpacing(terrain) ? "yes" : "no") << "\n";
+  if (vtkDataArray* z = terrain->GetPointData()->GetArray("Elevation"))
+  {
+    const Statistics s = ArrayStatistics(z, 0);
+    std::cout << "elevation (m): min " << s.Min << ", mean " << s.Mean << ", max " << s.Max
+              << ", valid cells " << s.Valid << "\n";
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+/// Sustained memory bandwidth of this machine, bytes/s: a parallel copy of two 256 MiB arrays
+/// (STREAM "copy": 8 bytes moved per float), best of `repeat`.
+double MeasureCopyBandwidth(int repeat)
+{
+  const std::size_t n = std::size_t(64) << 20; // 64 Mi floats = 256 MiB
+  std::vector<float> a(n, 1.0f), b(n, 0.0f);
+  double best = 0;
+  for (int r = 0; r < repeat; ++r)
+  {
+    const double t0 = terroir::app::Now();
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n), 1 << 20, [&](vtkIdType i0, vtkIdType i1) {
+      std::copy(a.data() + i0, a.data() + i1, b.data() + i0);
+    });
+    const double dt = terroir::app::Now() - t0;
+    best = std::max(best, 2.0 * sizeof(float) * static_cast<double>(n) / dt);
+  }
+  if (b[n / 2] != 1.0f)
+  {
+    throw Failure("bandwidth probe: copy failed");
+  }
+  return best;
+}
+
+int CommandBench(int size, int repeat, const std::string& backends, bool bandwidth,
+  const std::string& jsonPath)
+{
+  vtkNew<vtkTerroirFractalTerrainSource> source;
+  source->SetDimensions(size, size);
+  source->SetSeed(1);
+  const double tg = terroir::app::Now();
+  terroir::app::UpdateOrThrow(source, "fractal terrain");
+  const double genSeconds = terroir::app::Now() - tg;
+  vtkSmartPointer<vtkImageData> terrain = vtkSmartPointer<vtkImageData>::New();
+  terrain->ShallowCopy(source->GetOutput());
+  const double mcells = static_cast<double>(size) * size / 1e6;
+
+  std::vector<int> backendList;
+  std::stringstream ss(backends);
+  std::string item;
+  while (std::getline(ss, item, ','))
+  {
+    const int b = ParseBackend(item);
+    if (b == vtkTerroirComputeContext::GPU && !vtkTerroirComputeContext::IsAvailable())
+    {
+      std::cerr << "terroir bench: GPU skipped: " << vtkTerroirComputeContext::GetUnavailableReason()
+                << "\n";
+      continue;
+    }
+    backendList.push_back(b);
+  }
+
+  json results = json::array();
+  std::cout << "terroir bench: " << size << " x " << size << " synthetic DEM (" << std::fixed
+            << std::setprecision(2) << mcells << " Mcells), best of " << repeat << ", "
+            << vtkSMPTools::GetEstimatedNumberOfThreads() << " threads ("
+            << vtkSMPTools::GetBackend() << ")\n";
+  if (vtkTerroirComputeContext::IsAvailable())
+  {
+    std::cout << "GPU: " << vtkTerroirComputeContext::GetRenderer() << "\n";
+  }
+  std::cout << std::left << std::setw(14) << "stage" << std::setw(8) << "backend" << std::right
+            << std::setw(12) << "ms" << std::setw(14) << "ms/Mcell" << std::setw(14) << "Mcells/s"
+            << "\n";
+  std::cout << std::left << std::setw(14) << "fractal" << std::setw(8) << "CPU" << std::right
+            << std::setw(12) << genSeconds * 1e3 << std::setw(14) << genSeconds * 1e3 / mcells
+            << std::setw(14) << mcells / genSeconds << "\n";
+
+  double slopeCpuSeconds = 0;
+  for (const char* stage : { "slope", "temperature" })
+  {
+    for (int b : backendList)
+    {
+      vtkSmartPointer<vtkTerroirImageAlgorithm> filter;
+      if (std::string(stage) == "slope")
+      {
+        filter = vtkSmartPointer<vtkTerroirSlope>::New();
+      }
+      else
+      {
+        filter = vtkSmartPointer<vtkTerroirTemperature>::New();
+      }
+      filter->SetBackend(b);
+      filter->SetInputData(terrain);
+      terroir::app::UpdateOrThrow(filter, stage); // warm-up: shader compile, first touch
+      double best = 1e300;
+      for (int r = 0; r < repeat; ++r)
+      {
+        filter->Modified();
+        const double t0 = terroir::app::Now();
+        terroir::app::UpdateOrThrow(filter, stage);
+        best = std::min(best, terroir::app::Now() - t0);
+      }
+      const char* bname = vtkTerroirComputeContext::GetBackendName(b);
+      std::cout << std::left << std::setw(14) << stage << std::setw(8) << bname << std::right
+                << std::setw(12) << best * 1e3 << std::setw(14) << best * 1e3 / mcells
+                << std::setw(14) << mcells / best << "\n";
+      results.push_back(json{ { "stage", stage }, { "backend", bname }, { "seconds", best },
+        { "ms_per_mcell", best * 1e3 / mcells } });
+      if (std::string(stage) == "slope" && b == vtkTerroirComputeContext::CPU)
+      {
+        slopeCpuSeconds = best;
+      }
+    }
+  }
+  json doc{ { "size", size }, { "repeat", repeat }, { "results", results } };
+  if (bandwidth)
+  {
+    const double bw = MeasureCopyBandwidth(std::max(3, repeat));
+    // The slope filter reads one float and writes Slope, Aspect and 3 Normals components.
+    const double bytesPerCell = 4.0 + 4.0 * (1 + 1 + 3);
+    std::cout << "memory bandwidth (parallel copy, 256 MiB): " << bw / 1e9 << " GB/s\n";
+    doc["copy_bandwidth_GBps"] = bw / 1e9;
+    if (slopeCpuSeconds > 0)
+    {
+      const double eff = bytesPerCell * mcells * 1e6 / slopeCpuSeconds;
+      std::cout << "slope CPU filter effective bandwidth: " << eff / 1e9 << " GB/s = "
+                << std::setprecision(0) << 100.0 * eff / bw << " % of copy bandwidth\n";
+      doc["slope_cpu_effective_GBps"] = eff / 1e9;
+      doc["slope_cpu_fraction_of_bandwidth"] = eff / bw;
+    }
+  }
+  if (!jsonPath.empty())
+  {
+    std::ofstream f(jsonPath);
+    f << doc.dump(2) << "\n";
+    if (!f)
+    {
+      throw Failure(jsonPath + ": could not be written");
+    }
+  }
+  return 0;
+}
+int CommandFractal(const std::string& outPath, int size, int seed, double spacing, bool overwrite)
+{
+  terroir::app::CheckWritable({ outPath }, overwrite);
+  vtkNew<vtkTerroirFractalTerrainSource> source;
+  source->SetDimensions(size, size);
+  source->SetSeed(seed);
+  source->SetSpacing(spacing);
+  terroir::app::WatchProgress(source, "fractal");
+  terroir::app::UpdateOrThrow(source, "fractal terrain");
+  WriteStageResult(source->GetOutput(), "Elevation", outPath, overwrite);
+  return 0;
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+  CLI::App app{ "terroir: terrain resources (slope, temperature, ...) from a DEM, as VTK filters" };
+  app.require_subcommand(1);
+  bool verbose = false;
+  app.add_flag("-v,--verbose", verbose, "Show VTK's log (backend choice, timings)");
+
+  std::string backend = "auto";
+  bool overwrite = false;
+  bool allowNetwork = false;
+  auto addCommon = [&](CLI::App* sub) {
+    sub->add_option("--backend", backend, "auto, cpu or gpu (TERROIR_BACKEND overrides auto)")
+      ->check(CLI::IsMember({ "auto", "cpu", "gpu" }))
+      ->capture_default_str();
+    sub->add_flag("--overwrite", overwrite, "Replace existing output files");
+    sub->add_flag("--allow-network-paths", allowNetwork,
+      "Allow GDAL network and archive paths (/vsicurl/, /vsizip/, ...)");
+  };
+
+  // run
+  CLI::App* run = app.add_subcommand("run", "Run every filter on a DEM (default: bundled Sagehen DEM)");
+  std::string runDem;
+  std::string runOut = "terroir-out";
+  bool noPng = false;
+  TemperatureOptions runTemp;
+  run->add_option("DEM", runDem, "DEM file (GeoTIFF, .img, USGS .dem, Terragen .ter, ...)");
+  run->add_option("-o,--out", runOut, "Output folder")->capture_default_str();
+  run->add_flag("--no-png", noPng, "Skip the PNG overlays (they need an X display)");
+  addCommon(run);
+  runTemp.Add(run);
+
+  // slope
+  CLI::App* slope = app.add_subcommand("slope", "Slope in degrees (Horn 1981, as gdaldem slope)");
+  std::string slopeIn, slopeOut, aspectOut;
+  double zFactor = 1.0;
+  bool percent = false;
+  slope->add_option("IN", slopeIn, "Input DEM")->required();
+  slope->add_option("OUT", slopeOut, "Output .tif (Slope band) or .vti (all arrays)")->required();
+  slope->add_option("-z,--zfactor", zFactor, "Vertical exaggeration of the elevations")
+    ->capture_default_str();
+  slope->add_flag("-p,--percent", percent, "Slope in percent instead of degrees");
+  slope->add_option("--aspect", aspectOut, "Also write Aspect (degrees from true north) here");
+  addCommon(slope);
+
+  // temperature
+  CLI::App* temp = app.add_subcommand("temperature", "Monthly temperature from a lapse rate");
+  std::string tempIn, tempOut;
+  TemperatureOptions tempOpts;
+  temp->add_option("IN", tempIn, "Input DEM")->required();
+  temp->add_option("OUT", tempOut, "Output .tif (12 bands, Jan..Dec) or .vti")->required();
+  tempOpts.Add(temp);
+  addCommon(temp);
+
+  // bench
+  CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
+  int size = 2048, repeat = 3;
+  std::string backends = "cpu,gpu";
+  bool bandwidth = false;
+  std::string benchJson;
+  bench->add_option("-s,--size", size, "DEM is SIZE x SIZE cells")
+    ->check(CLI::Range(16, 32768))
+    ->capture_default_str();
+  bench->add_option("-r,--repeat", repeat, "Timed runs per stage (best is reported)")
+    ->check(CLI::Range(1, 100))
+    ->capture_default_str();
+  bench->add_option("--backends", backends, "Comma-separated backends")->capture_default_str();
+  bench->add_flag("--bandwidth", bandwidth, "Also measure memory bandwidth and the slope kernel's share");
+  bench->add_option("--json", benchJson, "Also write the results as JSON here");
+
+  // info
+  CLI::App* info = app.add_subcommand("info", "Grid and georeference of a DEM");
+  std::string infoIn;
+  info->add_option("IN", infoIn, "Input DEM")->required();
+  info->add_flag("--allow-network-paths", allowNetwork, "Allow GDAL network and archive paths");
+
+  // fractal
+  CLI::App* fractal = app.add_subcommand("fractal", "Write a seeded synthetic DEM (benchmarks, tests)");
+  std::string fractalOut;
+  int fractalSize = 1024, fractalSeed = 1;
+  double fractalSpacing = 10.0;
+  fractal->add_option("OUT", fractalOut, "Output .tif or .vti")->required();
+  fractal->add_option("-s,--size", fractalSize, "SIZE x SIZE cells")
+    ->check(CLI::Range(2, 65536))
+    ->capture_default_str();
+  fractal->add_option("--seed", fractalSeed, "Random seed")->capture_default_str();
+  fractal->add_option("--spacing", fractalSpacing, "Cell size, metres")
+    ->check(CLI::PositiveNumber)
+    ->capture_default_str();
+  fractal->add_flag("--overwrite", overwrite, "Replace an existing output file");
+
+  try
+  {
+    app.parse(argc, argv);
+  }
+  catch (const CLI::ParseError& e)
+  {
+    return app.exit(e);
+  }
+
+  terroir::app::InstallQuietOutput(verbose);
+  try
+  {
+    if (*run)
+    {
+      return CommandRun(runDem, runOut, overwrite, backend, !noPng, allowNetwork, runTemp);
+    }
+    if (*slope)
+    {
+      return CommandSlope(slopeIn, slopeOut, overwrite, backend, zFactor, percent, aspectOut,
+        allowNetwork);
+    }
+    if (*temp)
+    {
+      return CommandTemperature(tempIn, tempOut, overwrite, backend, allowNetwork, tempOpts);
+    }
+    if (*bench)
+    {
+      return CommandBench(size, repeat, backends, bandwidth, benchJson);
+    }
+    if (*info)
+    {
+      return CommandInfo(infoIn, allowNetwork);
+    }
+    if (*fractal)
+    {
+      return CommandFractal(fractalOut, fractalSize, fractalSeed, fractalSpacing, overwrite);
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "terroir: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Terroir set-up on a fresh Debian 12 machine, then one job:
+#   Scripts/setup.sh run [terroir run options...]   install, build, run the pipeline on the bundled DEM
+#   Scripts/setup.sh test [ctest options...]        install, build, run the whole test suite
+#   Scripts/setup.sh build                          install and build only
+# Idempotent: packages already present are not reinstalled; the build is incremental.
+# Environment: TERROIR_BUILD_DIR (default ./build), TERROIR_JOBS (default 2).
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${TERROIR_BUILD_DIR:-$here/build}
+jobs=${TERROIR_JOBS:-2}
+mode=${1:-build}
+[ $# -gt 0 ] && shift
+
+# Debian 12 packages Terroir needs to build, test and run.
+packages=(
+  build-essential cmake pkg-config git
+  libvtk9-dev python3-vtk9 python3-numpy
+  libgdal-dev gdal-bin python3-gdal
+  libgeographiclib-dev libglm-dev
+  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils
+  libgtest-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  glslang-tools xvfb xauth time
+)
+
+install_packages() {
+  local missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    echo "setup: all ${#packages[@]} Debian packages present"
+    return
+  fi
+  echo "setup: installing ${missing[*]}"
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+build_terroir() {
+  if [ ! -f "$build/CMakeCache.txt" ]; then
+    cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3
+  fi
+  cmake --build "$build" -j "$jobs"
+}
+
+# VTK 9.1 renders through X only: PNG export and image tests need a display.
+with_display() {
+  if [ -n "${DISPLAY:-}" ]; then "$@"; else xvfb-run -a -s "-screen 0 1280x1024x24" "$@"; fi
+}
+
+install_packages
+build_terroir
+case "$mode" in
+  build) ;;
+  run) with_display "$build/bin/terroir" run "$@" ;;
+  test)
+    # The GPU path is exercised for real on llvmpipe: a missing compute context is a failure.
+    export TERROIR_REQUIRE_GPU=${TERROIR_REQUIRE_GPU:-1}
+    with_display ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" ;;
+  *) echo "usage: Scripts/setup.sh run|test|build [args...]" >&2; exit 2 ;;
+esac

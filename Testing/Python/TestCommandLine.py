@@ -1,0 +1,141 @@
+#!/usr/bin/python3
+"""Command-line contract of `terroir`: outputs, one-line errors, no partial output, overwrite.
+
+Run by CTest with /usr/bin/python3 (env TERROIR_BIN_DIR, TERROIR_DATA_DIR, TERROIR_TEMP_DIR).
+Expected values come from GDAL (python3-gdal) reading the written files and from gdaldem.
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+from osgeo import gdal
+
+gdal.UseExceptions()
+BIN = os.path.join(os.environ.get("TERROIR_BIN_DIR", "build/bin"), "terroir")
+DATA = os.environ.get("TERROIR_DATA_DIR", "Data")
+DEM = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
+TEMP = os.environ.get("TERROIR_TEMP_DIR", tempfile.gettempdir())
+
+
+def terroir(*args, env=None):
+    e = dict(os.environ)
+    e.update(env or {})
+    return subprocess.run([BIN, *args], capture_output=True, text=True, env=e, timeout=600)
+
+
+class TerroirCommandLine(unittest.TestCase):
+    def setUp(self):
+        self.work = tempfile.mkdtemp(prefix="cli-", dir=TEMP)
+
+    def tearDown(self):
+        shutil.rmtree(self.work, ignore_errors=True)
+
+    def test_help_on_every_command(self):
+        for cmd in ([], ["run"], ["slope"], ["temperature"], ["bench"], ["info"], ["fractal"]):
+            r = terroir(*cmd, "--help")
+            self.assertEqual(r.returncode, 0, (cmd, r.stderr))
+            self.assertIn("Usage", r.stdout + r.stderr)
+
+    def test_run_writes_every_output_and_report(self):
+        out = os.path.join(self.work, "out")
+        args = ["run", "--out", out, "--backend", "cpu"]
+        if not os.environ.get("DISPLAY"):
+            args.append("--no-png")
+        r = terroir(*args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        expected = ["terrain.vti", "slope.tif", "aspect.tif", "temperature.tif", "report.md", "report.json"]
+        if os.environ.get("DISPLAY"):
+            expected += ["slope.png", "temperature_jan.png", "temperature_jul.png"]
+        for name in expected:
+            path = os.path.join(out, name)
+            self.assertTrue(os.path.getsize(path) > 0, name)
+        # No temporary files are left behind.
+        self.assertEqual(sorted(os.listdir(out)), sorted(expected))
+        report = json.load(open(os.path.join(out, "report.json")))
+        self.assertEqual(report["grid"]["nx"], 786)
+        self.assertEqual(report["grid"]["ny"], 720)
+        self.assertAlmostEqual(report["georeference"]["center_lat"], 39.43, delta=0.05)
+        self.assertEqual(report["stages"]["slope"]["backend"], "CPU")
+        # The slope GeoTIFF keeps the input's georeference and agrees with gdaldem.
+        src = gdal.Open(DEM)
+        slope = gdal.Open(os.path.join(out, "slope.tif"))
+        self.assertEqual(slope.RasterXSize, src.RasterXSize)
+        np.testing.assert_allclose(slope.GetGeoTransform(), src.GetGeoTransform())
+        ref = gdal.DEMProcessing(os.path.join(self.work, "ref.tif"), DEM, "slope", computeEdges=True)
+        a = slope.GetRasterBand(1).ReadAsArray().astype(np.float64)
+        b = ref.GetRasterBand(1).ReadAsArray().astype(np.float64)
+        self.assertLess(np.nanmax(np.abs(a - b)), 0.01)
+        # Temperature: 12 bands; July colder than January nowhere (northern hemisphere defaults).
+        temp = gdal.Open(os.path.join(out, "temperature.tif"))
+        self.assertEqual(temp.RasterCount, 12)
+        jan = temp.GetRasterBand(1).ReadAsArray()
+        jul = temp.GetRasterBand(7).ReadAsArray()
+        self.assertTrue(np.all(jul > jan))
+
+    def test_existing_outputs_are_kept_without_overwrite(self):
+        out = os.path.join(self.work, "slope.tif")
+        with open(out, "w") as f:
+            f.write("precious")
+        r = terroir("slope", DEM, out)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("--overwrite", r.stderr)
+        self.assertEqual(open(out).read(), "precious")
+        r = terroir("slope", DEM, out, "--overwrite")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(gdal.Open(out).RasterCount, 1)
+
+    def test_bad_input_is_one_line_error_and_no_output(self):
+        bad = os.path.join(self.work, "broken.tif")
+        with open(bad, "wb") as f:
+            f.write(b"II*\x00this is not a tiff")
+        out = os.path.join(self.work, "o.tif")
+        for path in (bad, os.path.join(self.work, "missing.tif")):
+            r = terroir("slope", path, out)
+            self.assertEqual(r.returncode, 1)
+            lines = [l for l in r.stderr.splitlines() if l.strip()]
+            self.assertEqual(len(lines), 1, r.stderr)
+            self.assertTrue(lines[0].startswith("terroir: error: "), lines[0])
+            self.assertIn(os.path.basename(path), lines[0])
+            self.assertFalse(os.path.exists(out))
+        self.assertEqual(sorted(os.listdir(self.work)), ["broken.tif"])
+
+    def test_network_paths_refused_by_default(self):
+        r = terroir("info", "/vsicurl/https://example.com/dem.tif")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("vsicurl", r.stderr)
+
+    def test_progress_is_plain_lines_when_not_a_terminal(self):
+        out = os.path.join(self.work, "s.tif")
+        r = terroir("slope", DEM, out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("\r", r.stderr)
+        self.assertIn("slope: 100%", r.stderr)
+
+    def test_temperature_command_monthly_values(self):
+        out = os.path.join(self.work, "t.tif")
+        monthly = ",".join(str(v) for v in range(12))
+        r = terroir("temperature", DEM, out, "--monthly", monthly, "--lapse-rate", "5")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        z = gdal.Open(DEM).GetRasterBand(1).ReadAsArray().astype(np.float64)
+        t = gdal.Open(out)
+        for m in (0, 6, 11):
+            got = t.GetRasterBand(m + 1).ReadAsArray().astype(np.float64)
+            np.testing.assert_allclose(got, m - 5.0 * z / 1000.0, atol=1e-3)
+        r = terroir("temperature", DEM, os.path.join(self.work, "u.tif"), "--monthly", "1,2,3")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("12 values", r.stderr)
+
+    def test_terragen_input(self):
+        ter = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.ter")
+        r = terroir("info", ter)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("786 x 720", r.stdout)
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
