@@ -1,0 +1,632 @@
+#include "vtkTerroirDEMReader.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirIOPrivate.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <cpl_error.h>
+#include <gdal.h>
+#include <ogr_srs_api.h>
+
+#include <GeographicLib/Geodesic.hpp>
+#include <GeographicLib/TransverseMercator.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirDEMReader);
+
+namespace
+{
+constexpr double kFoot = 0.3048;
+constexpr double kUSSurveyFoot = 1200.0 / 3937.0;
+
+/// Collects GDAL's failure messages while alive (scoped CPLPushErrorHandlerEx).
+class GDALErrorCapture
+{
+public:
+  GDALErrorCapture() { CPLPushErrorHandlerEx(&GDALErrorCapture::Handler, this); }
+  ~GDALErrorCapture() { CPLPopErrorHandler(); }
+  GDALErrorCapture(const GDALErrorCapture&) = delete;
+  GDALErrorCapture& operator=(const GDALErrorCapture&) = delete;
+  const std::string& Last() const { return this->LastMessage; }
+
+private:
+  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message)
+  {
+    auto* self = static_cast<GDALErrorCapture*>(CPLGetErrorHandlerUserData());
+    if (self && level >= CE_Failure && message)
+    {
+      self->LastMessage = message;
+    }
+  }
+  std::string LastMessage;
+};
+
+struct DatasetCloser
+{
+  void operator()(void* ds) const
+  {
+    if (ds)
+    {
+      GDALClose(static_cast<GDALDatasetH>(ds));
+    }
+  }
+};
+using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
+
+struct SRSDeleter
+{
+  void operator()(void* srs) const
+  {
+    if (srs)
+    {
+      OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(srs));
+    }
+  }
+};
+using SRSPtr = std::unique_ptr<void, SRSDeleter>;
+
+struct CTDeleter
+{
+  void operator()(void* ct) const
+  {
+    if (ct)
+    {
+      OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(ct));
+    }
+  }
+};
+using CTPtr = std::unique_ptr<void, CTDeleter>;
+
+std::string Lower(std::string s)
+{
+  std::transform(s.begin(),
+    s.end(),
+    s.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+bool IsNetworkOrArchivePath(const std::string& path)
+{
+  const std::string l = Lower(path);
+  if (l.rfind("/vsi", 0) == 0 && l.rfind("/vsimem/", 0) != 0)
+  {
+    return true;
+  }
+  return l.find("://") != std::string::npos;
+}
+
+/// Metres per unit for a unit name; 0 when the name is not a length unit we know.
+double LengthUnitFromName(const std::string& name)
+{
+  const std::string l = Lower(name);
+  if (l == "ft" || l == "foot" || l == "feet" || l == "international foot" || l == "ft_intl")
+  {
+    return kFoot;
+  }
+  if (l == "us-ft" || l == "ftus" || l == "us survey foot" || l == "foot_us" ||
+    l == "us_survey_foot" || l == "survey foot")
+  {
+    return kUSSurveyFoot;
+  }
+  if (l == "m" || l == "metre" || l == "meter" || l == "metres" || l == "meters")
+  {
+    return 1.0;
+  }
+  return 0.0;
+}
+
+/// Everything RequestInformation and RequestData need, read without touching pixels.
+struct Description
+{
+  int nx = 0;
+  int ny = 0;
+  double gt[6] = { 0, 1, 0, 0, 0, 1 };
+  bool hasGeoTransform = false;
+  std::string wkt;
+  bool geographic = false;
+  double spacing[2] = { 1, 1 };
+  double origin[2] = { 0, 0 };
+  double zScale = 1.0;     // band value -> metres (unit only)
+  double bandScale = 1.0;  // GDAL scale
+  double bandOffset = 0.0; // GDAL offset
+  bool hasNodata = false;
+  double nodata = 0.0;
+  bool floatBand = false;
+  bool hasCenter = false;
+  double centerLat = 0.0;
+  double centerLon = 0.0;
+  bool hasConvergence = false;
+  double convergence = 0.0;
+  std::vector<double> rowDx, rowDy; // j = 0 south
+  std::vector<std::string> warnings;
+};
+
+bool Describe(GDALDatasetH ds,
+  int bandIndex,
+  bool requireGeo,
+  vtkIdType maxCells,
+  Description& d,
+  std::string& error)
+{
+  d.nx = GDALGetRasterXSize(ds);
+  d.ny = GDALGetRasterYSize(ds);
+  const int bands = GDALGetRasterCount(ds);
+  if (bands < 1)
+  {
+    error = "the file holds no raster band";
+    return false;
+  }
+  if (bandIndex > bands)
+  {
+    error =
+      "band " + std::to_string(bandIndex) + " requested, the file has " + std::to_string(bands);
+    return false;
+  }
+  if (d.nx < 1 || d.ny < 1)
+  {
+    error = "invalid raster size " + std::to_string(d.nx) + " x " + std::to_string(d.ny);
+    return false;
+  }
+  const double cells = static_cast<double>(d.nx) * static_cast<double>(d.ny);
+  if (cells > static_cast<double>(maxCells))
+  {
+    error = "raster of " + std::to_string(d.nx) + " x " + std::to_string(d.ny) +
+      " cells exceeds MaxCells = " + std::to_string(static_cast<long long>(maxCells));
+    return false;
+  }
+  GDALRasterBandH band = GDALGetRasterBand(ds, bandIndex);
+  int has = 0;
+  d.nodata = GDALGetRasterNoDataValue(band, &has);
+  d.hasNodata = has != 0;
+  d.floatBand = GDALGetRasterDataType(band) == GDT_Float32;
+  d.bandScale = GDALGetRasterScale(band, &has);
+  if (!has || d.bandScale == 0.0)
+  {
+    d.bandScale = 1.0;
+  }
+  d.bandOffset = GDALGetRasterOffset(band, &has);
+  if (!has)
+  {
+    d.bandOffset = 0.0;
+  }
+  const char* unitType = GDALGetRasterUnitType(band);
+  if (unitType && *unitType)
+  {
+    const double f = LengthUnitFromName(unitType);
+    if (f > 0.0)
+    {
+      d.zScale = f;
+    }
+    else
+    {
+      d.warnings.push_back(
+        std::string("unknown band unit '") + unitType + "', values taken as metres");
+    }
+  }
+
+  d.hasGeoTransform = GDALGetGeoTransform(ds, d.gt) == CE_None;
+  if (d.hasGeoTransform && (d.gt[2] != 0.0 || d.gt[4] != 0.0))
+  {
+    error = "rotated or sheared geotransform (" + std::to_string(d.gt[2]) + ", " +
+      std::to_string(d.gt[4]) + ") is not supported; warp it north-up first (gdalwarp)";
+    return false;
+  }
+  if (d.hasGeoTransform &&
+    (d.gt[1] == 0.0 || d.gt[5] == 0.0 || !std::isfinite(d.gt[1]) || !std::isfinite(d.gt[5])))
+  {
+    error = "invalid pixel size in the geotransform";
+    return false;
+  }
+  if (!d.hasGeoTransform)
+  {
+    for (int k = 0; k < 6; ++k)
+    {
+      d.gt[k] = (k == 1) ? 1.0 : ((k == 5) ? -1.0 : 0.0);
+    }
+  }
+  const char* wkt = GDALGetProjectionRef(ds);
+  d.wkt = wkt ? wkt : "";
+  if (d.wkt.empty() || !d.hasGeoTransform)
+  {
+    if (requireGeo)
+    {
+      error = d.wkt.empty() ? "no coordinate reference system (RequireGeoreference is on)"
+                            : "no geotransform (RequireGeoreference is on)";
+      return false;
+    }
+    d.warnings.push_back(d.wkt.empty()
+        ? "no coordinate reference system: pixel size taken as metres, no georeference"
+        : "no geotransform: spacing 1 m, no georeference");
+    d.wkt.clear();
+    d.spacing[0] = std::fabs(d.gt[1]);
+    d.spacing[1] = std::fabs(d.gt[5]);
+    d.origin[0] = d.gt[0] + 0.5 * d.gt[1];
+    d.origin[1] = d.gt[5] < 0 ? d.gt[3] + (d.ny - 0.5) * d.gt[5] : d.gt[3] + 0.5 * d.gt[5];
+    return true;
+  }
+
+  SRSPtr srsOwner(OSRNewSpatialReference(nullptr));
+  auto srs = static_cast<OGRSpatialReferenceH>(srsOwner.get());
+  if (OSRImportFromWkt(srs, const_cast<char**>(&wkt)) != OGRERR_NONE)
+  {
+    error = "cannot parse the coordinate reference system";
+    return false;
+  }
+  OSRSetAxisMappingStrategy(srs, OAMS_TRADITIONAL_GIS_ORDER);
+  if (OSRIsCompound(srs) || OSRIsVertical(srs))
+  {
+    const double vf = OSRGetTargetLinearUnits(srs, "VERT_CS", nullptr);
+    if (vf > 0.0 && std::fabs(vf - 1.0) > 1e-12)
+    {
+      d.zScale = vf;
+    }
+  }
+  OGRErr err = OGRERR_NONE;
+  const double a = OSRGetSemiMajor(srs, &err);
+  const double invf = OSRGetInvFlattening(srs, &err);
+  const double f = invf > 0.0 ? 1.0 / invf : 0.0;
+  const GeographicLib::Geodesic geod(a, f);
+
+  // Grid centre in CRS coordinates.
+  const double cx = d.gt[0] + 0.5 * d.nx * d.gt[1];
+  const double cy = d.gt[3] + 0.5 * d.ny * d.gt[5];
+  const bool northUp = d.gt[5] < 0.0;
+  auto gdalRow = [&](int j) { return northUp ? d.ny - 1 - j : j; };
+
+  if (OSRIsGeographic(srs))
+  {
+    d.geographic = true;
+    const double toDeg = OSRGetAngularUnits(srs, nullptr) * 180.0 / M_PI;
+    const double dLon = std::fabs(d.gt[1]) * toDeg;
+    const double dLat = std::fabs(d.gt[5]) * toDeg;
+    d.centerLon = cx * toDeg;
+    d.centerLat = cy * toDeg;
+    d.hasCenter = true;
+    d.hasConvergence = true;
+    d.convergence = 0.0;
+    d.rowDx.resize(d.ny);
+    d.rowDy.resize(d.ny);
+    for (int j = 0; j < d.ny; ++j)
+    {
+      const double lat = (d.gt[3] + (gdalRow(j) + 0.5) * d.gt[5]) * toDeg;
+      if (std::fabs(lat) + 0.5 * dLat > 90.0)
+      {
+        error = "row latitude " + std::to_string(lat) + " outside [-90, 90]";
+        return false;
+      }
+      double s12 = 0.0;
+      geod.Inverse(lat, d.centerLon, lat, d.centerLon + dLon, s12);
+      d.rowDx[j] = s12;
+      geod.Inverse(lat - 0.5 * dLat, d.centerLon, lat + 0.5 * dLat, d.centerLon, s12);
+      d.rowDy[j] = s12;
+    }
+    d.spacing[0] = d.rowDx[d.ny / 2];
+    d.spacing[1] = d.rowDy[d.ny / 2];
+    d.origin[0] = 0.0;
+    d.origin[1] = 0.0;
+    return true;
+  }
+
+  const double lin = OSRIsProjected(srs) ? OSRGetLinearUnits(srs, nullptr) : 1.0;
+  d.spacing[0] = std::fabs(d.gt[1]) * lin;
+  d.spacing[1] = std::fabs(d.gt[5]) * lin;
+  d.origin[0] = (d.gt[0] + 0.5 * d.gt[1]) * lin;
+  d.origin[1] = (northUp ? d.gt[3] + (d.ny - 0.5) * d.gt[5] : d.gt[3] + 0.5 * d.gt[5]) * lin;
+  if (!OSRIsProjected(srs))
+  {
+    d.warnings.push_back("CRS is neither geographic nor projected: no centre or convergence");
+    return true;
+  }
+  SRSPtr geogOwner(OSRCloneGeogCS(srs));
+  auto geog = static_cast<OGRSpatialReferenceH>(geogOwner.get());
+  if (!geog)
+  {
+    error = "cannot derive the geographic CRS of the projection";
+    return false;
+  }
+  OSRSetAxisMappingStrategy(geog, OAMS_TRADITIONAL_GIS_ORDER);
+  CTPtr ctOwner(OCTNewCoordinateTransformation(srs, geog));
+  auto ct = static_cast<OGRCoordinateTransformationH>(ctOwner.get());
+  if (!ct)
+  {
+    error = "cannot transform the projection to its geographic CRS";
+    return false;
+  }
+  double px[3] = { cx, cx, cx };
+  double py[3] = { cy, cy - 0.5, cy + 0.5 };
+  int ok[3] = { 0, 0, 0 };
+  if (!OCTTransformEx(ct, 3, px, py, nullptr, ok) || !ok[0] || !ok[1] || !ok[2])
+  {
+    error = "cannot transform the grid centre to geographic coordinates";
+    return false;
+  }
+  d.centerLon = px[0];
+  d.centerLat = py[0];
+  d.hasCenter = true;
+  int north = 0;
+  const int zone = OSRGetUTMZone(srs, &north);
+  if (zone > 0)
+  {
+    const GeographicLib::TransverseMercator tm(a, f, 0.9996);
+    double x, y, gamma, k;
+    tm.Forward(6.0 * zone - 183.0, d.centerLat, d.centerLon, x, y, gamma, k);
+    d.convergence = gamma;
+  }
+  else
+  {
+    double s12, azi1, azi2;
+    geod.Inverse(py[1], px[1], py[2], px[2], s12, azi1, azi2);
+    const double r = M_PI / 180.0;
+    d.convergence =
+      std::atan2(std::sin(azi1 * r) + std::sin(azi2 * r), std::cos(azi1 * r) + std::cos(azi2 * r)) /
+      r;
+  }
+  d.hasConvergence = true;
+  return true;
+}
+} // namespace
+
+vtkTerroirDEMReader::vtkTerroirDEMReader()
+{
+  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfOutputPorts(1);
+  GDALAllRegister();
+}
+
+vtkTerroirDEMReader::~vtkTerroirDEMReader()
+{
+  this->SetFileName(nullptr);
+}
+
+void vtkTerroirDEMReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "Band: " << this->Band << "\n";
+  os << indent << "RequireGeoreference: " << this->RequireGeoreference << "\n";
+  os << indent << "MaxCells: " << this->MaxCells << "\n";
+  os << indent << "AllowNetworkPaths: " << this->AllowNetworkPaths << "\n";
+  os << indent << "VerticalUnitToMetres: " << this->VerticalUnitToMetres << "\n";
+  os << indent << "ErrorMessage: " << this->ErrorMessage << "\n";
+}
+
+void vtkTerroirDEMReader::Fail(const std::string& problem)
+{
+  this->ErrorMessage =
+    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
+    problem;
+  vtkErrorMacro(<< this->ErrorMessage);
+}
+
+namespace
+{
+/// Opens the file after the path checks; on failure returns null and sets `error`.
+DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& error)
+{
+  if (!fileName || !*fileName)
+  {
+    error = "no file name set";
+    return DatasetPtr();
+  }
+  const std::string path = fileName;
+  const bool remote = IsNetworkOrArchivePath(path);
+  if (remote && !allowNetwork)
+  {
+    error = "network and archive paths (/vsicurl/, /vsizip/, http://, ...) are refused; "
+            "turn AllowNetworkPaths on to read them";
+    return DatasetPtr();
+  }
+  if (!remote && path.rfind("/vsimem/", 0) != 0 && !terroir::io::detail::FileExists(path))
+  {
+    error = "no such file";
+    return DatasetPtr();
+  }
+  GDALErrorCapture capture;
+  DatasetPtr ds(GDALOpenEx(fileName,
+    GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR,
+    nullptr,
+    nullptr,
+    nullptr));
+  if (!ds)
+  {
+    error = "not a raster GDAL can read";
+    if (!capture.Last().empty())
+    {
+      error += " (" + capture.Last() + ")";
+    }
+  }
+  return ds;
+}
+} // namespace
+
+int vtkTerroirDEMReader::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
+{
+  this->ErrorMessage.clear();
+  std::string error;
+  DatasetPtr ds = OpenRaster(this->FileName, this->AllowNetworkPaths, error);
+  Description d;
+  if (ds)
+  {
+    GDALErrorCapture capture;
+    if (!Describe(static_cast<GDALDatasetH>(ds.get()),
+          this->Band,
+          this->RequireGeoreference,
+          this->MaxCells,
+          d,
+          error) &&
+      !capture.Last().empty())
+    {
+      error += " (" + capture.Last() + ")";
+    }
+  }
+  if (!error.empty())
+  {
+    this->Fail(error);
+    if (vtkImageData* output = vtkImageData::GetData(outputVector, 0))
+    {
+      output->Initialize();
+    }
+    return 0;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int extent[6] = { 0, d.nx - 1, 0, d.ny - 1, 0, 0 };
+  double spacing[3] = { d.spacing[0], d.spacing[1], 1.0 };
+  double origin[3] = { d.origin[0], d.origin[1], 0.0 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 1);
+  return 1;
+}
+
+int vtkTerroirDEMReader::RequestData(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
+{
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  output->Initialize();
+  this->ErrorMessage.clear();
+  std::string error;
+  DatasetPtr ds = OpenRaster(this->FileName, this->AllowNetworkPaths, error);
+  if (!ds)
+  {
+    this->Fail(error);
+    return 0;
+  }
+  auto dataset = static_cast<GDALDatasetH>(ds.get());
+  GDALErrorCapture capture;
+  Description d;
+  if (!Describe(dataset, this->Band, this->RequireGeoreference, this->MaxCells, d, error))
+  {
+    this->Fail(error + (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
+    return 0;
+  }
+  this->VerticalUnitToMetres = d.zScale;
+
+  const vtkIdType nx = d.nx;
+  const vtkIdType ny = d.ny;
+  vtkNew<vtkFloatArray> elevation;
+  elevation->SetName(vtkTerroirGeoreference::ElevationName());
+  elevation->SetNumberOfTuples(nx * ny);
+  elevation->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m");
+  vtkNew<vtkUnsignedCharArray> mask;
+  mask->SetName(vtkTerroirGeoreference::ValidMaskName());
+  mask->SetNumberOfTuples(nx * ny);
+  float* elev = elevation->GetPointer(0);
+  unsigned char* valid = mask->GetPointer(0);
+
+  GDALRasterBandH band = GDALGetRasterBand(dataset, this->Band);
+  const bool northUp = d.gt[5] < 0.0;
+  const int chunkRows = 256;
+  std::vector<double> buffer(static_cast<std::size_t>(nx) * chunkRows);
+  const float nodataF = static_cast<float>(d.nodata);
+  const double factor = d.bandScale * d.zScale;
+  const double offset = d.bandOffset * d.zScale;
+  vtkIdType invalidCount = 0;
+  for (int r0 = 0; r0 < d.ny; r0 += chunkRows)
+  {
+    const int rows = std::min(chunkRows, d.ny - r0);
+    if (GDALRasterIO(
+          band, GF_Read, 0, r0, d.nx, rows, buffer.data(), d.nx, rows, GDT_Float64, 0, 0) !=
+      CE_None)
+    {
+      this->Fail("read failed at row " + std::to_string(r0) +
+        (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
+      output->Initialize();
+      return 0;
+    }
+    for (int r = 0; r < rows; ++r)
+    {
+      const int gr = r0 + r;
+      const vtkIdType j = northUp ? ny - 1 - gr : gr;
+      const double* src = buffer.data() + static_cast<std::size_t>(r) * nx;
+      float* dst = elev + j * nx;
+      unsigned char* vdst = valid + j * nx;
+      for (vtkIdType i = 0; i < nx; ++i)
+      {
+        const double v = src[i];
+        bool isValid = !std::isnan(v);
+        if (isValid && d.hasNodata)
+        {
+          isValid = d.floatBand ? static_cast<float>(v) != nodataF : v != d.nodata;
+        }
+        vdst[i] = isValid ? 1 : 0;
+        dst[i] = isValid ? static_cast<float>(v * factor + offset)
+                         : std::numeric_limits<float>::quiet_NaN();
+        invalidCount += isValid ? 0 : 1;
+      }
+    }
+    this->UpdateProgress(static_cast<double>(r0 + rows) / d.ny);
+  }
+  if (invalidCount == nx * ny)
+  {
+    this->Fail("every cell is no-data (nothing to read)");
+    output->Initialize();
+    return 0;
+  }
+  for (const std::string& w : d.warnings)
+  {
+    vtkWarningMacro(<< this->FileName << ": " << w);
+  }
+
+  output->SetExtent(0, d.nx - 1, 0, d.ny - 1, 0, 0);
+  output->SetSpacing(d.spacing[0], d.spacing[1], 1.0);
+  output->SetOrigin(d.origin[0], d.origin[1], 0.0);
+  output->GetPointData()->SetScalars(elevation);
+  if (invalidCount > 0)
+  {
+    output->GetPointData()->AddArray(mask);
+  }
+  if (d.hasGeoTransform)
+  {
+    vtkTerroirGeoreference::SetGeoTransform(output, d.gt);
+  }
+  if (!d.wkt.empty())
+  {
+    vtkTerroirGeoreference::SetCRS(output, d.wkt);
+  }
+  if (d.hasCenter)
+  {
+    vtkTerroirGeoreference::SetCenterLatLon(output, d.centerLat, d.centerLon);
+  }
+  if (d.hasConvergence)
+  {
+    vtkTerroirGeoreference::SetMeridianConvergence(output, d.convergence);
+  }
+  if (d.geographic)
+  {
+    vtkNew<vtkDoubleArray> rows;
+    rows->SetNumberOfComponents(2);
+    rows->SetComponentName(0, "dx");
+    rows->SetComponentName(1, "dy");
+    rows->SetNumberOfTuples(ny);
+    for (vtkIdType j = 0; j < ny; ++j)
+    {
+      rows->SetTypedComponent(j, 0, d.rowDx[j]);
+      rows->SetTypedComponent(j, 1, d.rowDy[j]);
+    }
+    rows->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m");
+    vtkTerroirGeoreference::SetRowSpacing(output, rows);
+  }
+  vtkTerroirGeoreference::SetSourceFile(output, this->FileName);
+  return 1;
+}

@@ -1,0 +1,243 @@
+#include "vtkTerroirGeoTIFFWriter.h"
+
+#include "vtkDataArray.h"
+#include "vtkErrorCode.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirIOPrivate.h"
+
+#include <cpl_error.h>
+#include <cpl_vsi.h>
+#include <gdal.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirGeoTIFFWriter);
+
+namespace
+{
+class ErrorCapture
+{
+public:
+  ErrorCapture() { CPLPushErrorHandlerEx(&ErrorCapture::Handler, this); }
+  ~ErrorCapture() { CPLPopErrorHandler(); }
+  ErrorCapture(const ErrorCapture&) = delete;
+  ErrorCapture& operator=(const ErrorCapture&) = delete;
+  const std::string& Last() const { return this->LastMessage; }
+  bool Failed() const { return this->Failure; }
+
+private:
+  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message)
+  {
+    auto* self = static_cast<ErrorCapture*>(CPLGetErrorHandlerUserData());
+    if (self && level >= CE_Failure)
+    {
+      self->Failure = true;
+      self->LastMessage = message ? message : "";
+    }
+  }
+  std::string LastMessage;
+  bool Failure = false;
+};
+} // namespace
+
+vtkTerroirGeoTIFFWriter::vtkTerroirGeoTIFFWriter()
+{
+  this->SetArrayName(vtkTerroirGeoreference::ElevationName());
+  GDALAllRegister();
+}
+
+vtkTerroirGeoTIFFWriter::~vtkTerroirGeoTIFFWriter()
+{
+  this->SetFileName(nullptr);
+  this->SetArrayName(nullptr);
+}
+
+void vtkTerroirGeoTIFFWriter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "ArrayName: " << (this->ArrayName ? this->ArrayName : "(none)") << "\n";
+  os << indent << "Overwrite: " << this->Overwrite << "\n";
+}
+
+int vtkTerroirGeoTIFFWriter::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  return 1;
+}
+
+void vtkTerroirGeoTIFFWriter::Fail(const std::string& problem)
+{
+  this->ErrorMessage =
+    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
+    problem;
+  this->SetErrorCode(vtkErrorCode::UserError);
+  vtkErrorMacro(<< this->ErrorMessage);
+}
+
+void vtkTerroirGeoTIFFWriter::WriteData()
+{
+  this->ErrorMessage.clear();
+  this->SetErrorCode(vtkErrorCode::NoError);
+  if (!this->FileName || !*this->FileName)
+  {
+    this->Fail("no file name set");
+    return;
+  }
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  if (!input)
+  {
+    this->Fail("input is not a vtkImageData");
+    return;
+  }
+  int dims[3];
+  input->GetDimensions(dims);
+  if (dims[2] != 1 || dims[0] < 1 || dims[1] < 1)
+  {
+    this->Fail("input is not a 2-D image");
+    return;
+  }
+  vtkDataArray* array =
+    this->ArrayName ? input->GetPointData()->GetArray(this->ArrayName) : nullptr;
+  if (!array)
+  {
+    this->Fail(
+      std::string("input has no point array '") + (this->ArrayName ? this->ArrayName : "") + "'");
+    return;
+  }
+  if (!this->Overwrite && terroir::io::detail::FileExists(this->FileName))
+  {
+    this->Fail("file exists (turn Overwrite on to replace it)");
+    return;
+  }
+  const int nx = dims[0];
+  const int ny = dims[1];
+  const int nc = array->GetNumberOfComponents();
+  GDALDataType type = GDT_Int32;
+  double nodata = -9999.0;
+  switch (array->GetDataType())
+  {
+    case VTK_FLOAT:
+      type = GDT_Float32;
+      nodata = std::numeric_limits<double>::quiet_NaN();
+      break;
+    case VTK_DOUBLE:
+      type = GDT_Float64;
+      nodata = std::numeric_limits<double>::quiet_NaN();
+      break;
+    case VTK_CHAR:
+    case VTK_SIGNED_CHAR:
+    case VTK_UNSIGNED_CHAR:
+      type = GDT_Byte;
+      nodata = 255.0;
+      break;
+    default:
+      break;
+  }
+  vtkDataArray* mask = input->GetPointData()->GetArray(vtkTerroirGeoreference::ValidMaskName());
+  const bool floating = type == GDT_Float32 || type == GDT_Float64;
+
+  double gt[6];
+  if (!vtkTerroirGeoreference::GetGeoTransform(input, gt))
+  {
+    double origin[3], spacing[3];
+    input->GetOrigin(origin);
+    input->GetSpacing(spacing);
+    int extent[6];
+    input->GetExtent(extent);
+    const double west = origin[0] + (extent[0] - 0.5) * spacing[0];
+    const double north = origin[1] + (extent[3] + 0.5) * spacing[1];
+    gt[0] = west;
+    gt[1] = spacing[0];
+    gt[2] = 0.0;
+    gt[3] = north;
+    gt[4] = 0.0;
+    gt[5] = -spacing[1];
+  }
+  const std::string wkt = vtkTerroirGeoreference::GetCRS(input);
+
+  GDALDriverH driver = GDALGetDriverByName("GTiff");
+  if (!driver)
+  {
+    this->Fail("GDAL has no GTiff driver");
+    return;
+  }
+  const std::string target = this->FileName;
+  const std::string temp = terroir::io::detail::TemporaryNameFor(target);
+  ErrorCapture capture;
+  auto discard = [&](GDALDatasetH ds, const std::string& problem)
+  {
+    if (ds)
+    {
+      GDALClose(ds);
+    }
+    VSIUnlink(temp.c_str());
+    this->Fail(problem + (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
+  };
+  const char* options[] = { "COMPRESS=DEFLATE", "PREDICTOR=1", nullptr };
+  GDALDatasetH ds = GDALCreate(driver, temp.c_str(), nx, ny, nc, type, const_cast<char**>(options));
+  if (!ds)
+  {
+    discard(nullptr,
+      "cannot create a GeoTIFF in folder '" + terroir::io::detail::DirectoryOf(target) + "'");
+    return;
+  }
+  if (GDALSetGeoTransform(ds, gt) != CE_None)
+  {
+    discard(ds, "cannot set the geotransform");
+    return;
+  }
+  if (!wkt.empty() && GDALSetProjection(ds, wkt.c_str()) != CE_None)
+  {
+    discard(ds, "cannot set the coordinate reference system");
+    return;
+  }
+  std::vector<double> row(static_cast<std::size_t>(nx));
+  for (int c = 0; c < nc; ++c)
+  {
+    GDALRasterBandH band = GDALGetRasterBand(ds, c + 1);
+    const char* componentName = array->GetComponentName(c);
+    GDALSetDescription(band, componentName ? componentName : (nc == 1 ? array->GetName() : ""));
+    bool anyInvalid = false;
+    for (int r = 0; r < ny; ++r)
+    {
+      const vtkIdType j = ny - 1 - r;
+      for (int i = 0; i < nx; ++i)
+      {
+        const vtkIdType k = j * nx + i;
+        const double v = array->GetComponent(k, c);
+        const bool valid = (!mask || mask->GetComponent(k, 0) != 0.0) && !std::isnan(v);
+        anyInvalid = anyInvalid || !valid;
+        row[i] = valid ? v : nodata;
+      }
+      if (GDALRasterIO(band, GF_Write, 0, r, nx, 1, row.data(), nx, 1, GDT_Float64, 0, 0) !=
+        CE_None)
+      {
+        discard(ds, "write failed at row " + std::to_string(r));
+        return;
+      }
+    }
+    if (floating || type == GDT_Int32 || anyInvalid)
+    {
+      GDALSetRasterNoDataValue(band, nodata);
+    }
+    this->UpdateProgress(static_cast<double>(c + 1) / nc);
+  }
+  GDALClose(ds);
+  if (capture.Failed())
+  {
+    discard(nullptr, "write failed");
+    return;
+  }
+  std::string error;
+  if (!terroir::io::detail::CommitTemporary(temp, target, error))
+  {
+    this->Fail(error);
+  }
+}

@@ -1,0 +1,121 @@
+#include "vtkTerroirTerragenReader.h"
+
+#include "Terragen.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirGeoreference.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+vtkStandardNewMacro(vtkTerroirTerragenReader);
+
+vtkTerroirTerragenReader::vtkTerroirTerragenReader()
+{
+  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfOutputPorts(1);
+}
+
+vtkTerroirTerragenReader::~vtkTerroirTerragenReader()
+{
+  this->SetFileName(nullptr);
+}
+
+void vtkTerroirTerragenReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "ErrorMessage: " << this->ErrorMessage << "\n";
+}
+
+void vtkTerroirTerragenReader::Fail(const std::string& problem)
+{
+  this->ErrorMessage =
+    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
+    problem;
+  vtkErrorMacro(<< this->ErrorMessage);
+}
+
+bool vtkTerroirTerragenReader::Load(void* terrainPtr)
+{
+  auto& terrain = *static_cast<terroir::io::TerragenTerrain*>(terrainPtr);
+  this->ErrorMessage.clear();
+  if (!this->FileName || !*this->FileName)
+  {
+    this->Fail("no file name set");
+    return false;
+  }
+  std::ifstream in(this->FileName, std::ios::binary);
+  if (!in)
+  {
+    this->Fail(std::string("cannot open file (") + std::strerror(errno) + ")");
+    return false;
+  }
+  std::vector<std::uint8_t> bytes(
+    (std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string error;
+  if (!terroir::io::ReadTerragen(bytes, terrain, error))
+  {
+    this->Fail(error);
+    return false;
+  }
+  return true;
+}
+
+int vtkTerroirTerragenReader::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
+{
+  terroir::io::TerragenTerrain terrain;
+  if (!this->Load(&terrain))
+  {
+    if (vtkImageData* output = vtkImageData::GetData(outputVector, 0))
+    {
+      output->Initialize();
+    }
+    return 0;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int extent[6] = { 0, terrain.nx - 1, 0, terrain.ny - 1, 0, 0 };
+  double spacing[3] = { terrain.scale[0], terrain.scale[1], 1.0 };
+  double origin[3] = { 0.0, 0.0, 0.0 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 1);
+  return 1;
+}
+
+int vtkTerroirTerragenReader::RequestData(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
+{
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  output->Initialize();
+  terroir::io::TerragenTerrain terrain;
+  if (!this->Load(&terrain))
+  {
+    return 0;
+  }
+  output->SetExtent(0, terrain.nx - 1, 0, terrain.ny - 1, 0, 0);
+  output->SetSpacing(terrain.scale[0], terrain.scale[1], 1.0);
+  output->SetOrigin(0.0, 0.0, 0.0);
+  vtkNew<vtkFloatArray> elevation;
+  elevation->SetName(vtkTerroirGeoreference::ElevationName());
+  elevation->SetNumberOfTuples(static_cast<vtkIdType>(terrain.heights.size()));
+  std::copy(terrain.heights.begin(), terrain.heights.end(), elevation->GetPointer(0));
+  elevation->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m");
+  output->GetPointData()->SetScalars(elevation);
+  vtkTerroirGeoreference::SetSourceFile(output, this->FileName);
+  return 1;
+}

@@ -1,0 +1,239 @@
+// Pipeline tests of vtkTerroirGeoTIFFWriter: round trip through vtkTerroirDEMReader.
+#include "TerroirIOTestUtilities.h"
+#include "vtkTerroirDEMReader.h"
+#include "vtkTerroirFractalTerrainSource.h"
+#include "vtkTerroirGeoTIFFWriter.h"
+#include "vtkTerroirGeoreference.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace
+{
+const std::string kUTM =
+  std::string(TERROIR_DATA_DIR) + "/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif";
+
+// Slope-like data: central-difference gradient magnitude in degrees, plus its components.
+void AddSlopeLike(vtkImageData* img)
+{
+  int dims[3];
+  img->GetDimensions(dims);
+  double spacing[3];
+  img->GetSpacing(spacing);
+  vtkDataArray* e = img->GetPointData()->GetArray("Elevation");
+  vtkNew<vtkFloatArray> slope;
+  slope->SetName("SlopeLike");
+  slope->SetNumberOfTuples(e->GetNumberOfTuples());
+  vtkNew<vtkDoubleArray> grad;
+  grad->SetName("GradientLike");
+  grad->SetNumberOfComponents(2);
+  grad->SetComponentName(0, "dzdx");
+  grad->SetComponentName(1, "dzdy");
+  grad->SetNumberOfTuples(e->GetNumberOfTuples());
+  for (int j = 0; j < dims[1]; ++j)
+  {
+    for (int i = 0; i < dims[0]; ++i)
+    {
+      const vtkIdType k = static_cast<vtkIdType>(j) * dims[0] + i;
+      const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, dims[0] - 1);
+      const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, dims[1] - 1);
+      const double gx = (e->GetComponent(static_cast<vtkIdType>(j) * dims[0] + i1, 0) -
+                          e->GetComponent(static_cast<vtkIdType>(j) * dims[0] + i0, 0)) /
+        ((i1 - i0) * spacing[0]);
+      const double gy = (e->GetComponent(static_cast<vtkIdType>(j1) * dims[0] + i, 0) -
+                          e->GetComponent(static_cast<vtkIdType>(j0) * dims[0] + i, 0)) /
+        ((j1 - j0) * spacing[1]);
+      slope->SetValue(k, static_cast<float>(std::atan(std::hypot(gx, gy)) * 180.0 / M_PI));
+      grad->SetTypedComponent(k, 0, gx);
+      grad->SetTypedComponent(k, 1, gy);
+    }
+  }
+  img->GetPointData()->AddArray(slope);
+  img->GetPointData()->AddArray(grad);
+}
+} // namespace
+
+TEST(TerroirGeoTIFFWriter, RoundTripKeepsValuesGeotransformAndCRS)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("tif_roundtrip");
+  vtkNew<vtkTerroirDEMReader> reader;
+  reader->SetFileName(kUTM.c_str());
+  reader->Update();
+  vtkNew<vtkImageData> img;
+  img->DeepCopy(reader->GetOutput());
+  AddSlopeLike(img);
+  // Mask a few cells.
+  vtkNew<vtkUnsignedCharArray> mask;
+  mask->SetName("vtkValidPointMask");
+  mask->SetNumberOfTuples(img->GetNumberOfPoints());
+  mask->FillValue(1);
+  mask->SetValue(0, 0);
+  mask->SetValue(12345, 0);
+  img->GetPointData()->AddArray(mask);
+
+  vtkNew<vtkTerroirGeoTIFFWriter> writer;
+  writer->SetInputData(img);
+  writer->SetArrayName("SlopeLike");
+  writer->SetFileName((dir + "/slope.tif").c_str());
+  ASSERT_EQ(writer->Write(), 1) << writer->GetErrorMessage();
+  EXPECT_EQ(terroir::testing::ListFolder(dir), std::vector<std::string>{ "slope.tif" });
+
+  vtkNew<vtkTerroirDEMReader> back;
+  back->SetFileName((dir + "/slope.tif").c_str());
+  back->Update();
+  ASSERT_STREQ(back->GetErrorMessage(), "");
+  vtkImageData* out = back->GetOutput();
+  ASSERT_EQ(out->GetNumberOfPoints(), img->GetNumberOfPoints());
+  double gtIn[6], gtOut[6];
+  ASSERT_TRUE(vtkTerroirGeoreference::GetGeoTransform(img, gtIn));
+  ASSERT_TRUE(vtkTerroirGeoreference::GetGeoTransform(out, gtOut));
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_EQ(gtIn[k], gtOut[k]) << k;
+  }
+  EXPECT_EQ(vtkTerroirGeoreference::GetCRS(out), vtkTerroirGeoreference::GetCRS(img));
+  double oIn[3], oOut[3];
+  img->GetOrigin(oIn);
+  out->GetOrigin(oOut);
+  EXPECT_EQ(oIn[0], oOut[0]);
+  EXPECT_EQ(oIn[1], oOut[1]);
+  EXPECT_NEAR(vtkTerroirGeoreference::GetMeridianConvergence(out),
+    vtkTerroirGeoreference::GetMeridianConvergence(img),
+    1e-12);
+  // Values bit-identical (Float32 both ways), masked cells come back masked.
+  vtkDataArray* a = img->GetPointData()->GetArray("SlopeLike");
+  vtkDataArray* b = out->GetPointData()->GetArray("Elevation");
+  vtkDataArray* m = out->GetPointData()->GetArray("vtkValidPointMask");
+  ASSERT_NE(m, nullptr);
+  vtkIdType masked = 0;
+  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
+  {
+    if (k == 0 || k == 12345)
+    {
+      EXPECT_EQ(m->GetComponent(k, 0), 0.0);
+      EXPECT_TRUE(std::isnan(b->GetComponent(k, 0)));
+      ++masked;
+      continue;
+    }
+    ASSERT_EQ(a->GetComponent(k, 0), b->GetComponent(k, 0)) << k;
+  }
+  EXPECT_EQ(masked, 2);
+
+  // Two-component double array: band 2 holds the second component.
+  writer->SetArrayName("GradientLike");
+  writer->SetFileName((dir + "/grad.tif").c_str());
+  ASSERT_EQ(writer->Write(), 1) << writer->GetErrorMessage();
+  back->SetFileName((dir + "/grad.tif").c_str());
+  back->SetBand(2);
+  back->Update();
+  ASSERT_STREQ(back->GetErrorMessage(), "");
+  vtkDataArray* g = img->GetPointData()->GetArray("GradientLike");
+  b = back->GetOutput()->GetPointData()->GetArray("Elevation");
+  for (vtkIdType k : { 1, 777, 300000 })
+  {
+    EXPECT_FLOAT_EQ(b->GetComponent(k, 0), static_cast<float>(g->GetComponent(k, 1)));
+  }
+}
+
+TEST(TerroirGeoTIFFWriter, NoGeoreferenceUsesOriginAndSpacing)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("tif_nogeo");
+  vtkNew<vtkImageData> img;
+  img->SetDimensions(4, 3, 1);
+  img->SetOrigin(100.0, 200.0, 0.0);
+  img->SetSpacing(2.0, 5.0, 1.0);
+  vtkNew<vtkIntArray> ids;
+  ids->SetName("Elevation");
+  ids->SetNumberOfTuples(12);
+  for (int k = 0; k < 12; ++k)
+  {
+    ids->SetValue(k, k * 10);
+  }
+  img->GetPointData()->AddArray(ids);
+  vtkNew<vtkTerroirGeoTIFFWriter> writer;
+  writer->SetInputData(img);
+  writer->SetFileName((dir + "/ids.tif").c_str());
+  ASSERT_EQ(writer->Write(), 1) << writer->GetErrorMessage();
+  vtkNew<vtkTerroirDEMReader> back;
+  back->SetFileName((dir + "/ids.tif").c_str());
+  back->Update();
+  vtkImageData* out = back->GetOutput();
+  double gt[6];
+  ASSERT_TRUE(vtkTerroirGeoreference::GetGeoTransform(out, gt));
+  // West edge 100 - 1, north edge 200 + 2 * 5 + 2.5; pixel 2 x -5.
+  EXPECT_EQ(gt[0], 99.0);
+  EXPECT_EQ(gt[1], 2.0);
+  EXPECT_EQ(gt[3], 212.5);
+  EXPECT_EQ(gt[5], -5.0);
+  double o[3];
+  out->GetOrigin(o);
+  EXPECT_EQ(o[0], 100.0);
+  EXPECT_EQ(o[1], 200.0);
+  EXPECT_TRUE(vtkTerroirGeoreference::GetCRS(out).empty());
+  vtkDataArray* e = out->GetPointData()->GetArray("Elevation");
+  for (int k = 0; k < 12; ++k)
+  {
+    EXPECT_EQ(e->GetComponent(k, 0), k * 10.0);
+  }
+}
+
+TEST(TerroirGeoTIFFWriter, TemporaryFileAndOverwrite)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("tif_overwrite");
+  const std::string path = dir + "/dem.tif";
+  vtkNew<vtkTerroirFractalTerrainSource> source;
+  source->SetDimensions(32, 24);
+  vtkNew<vtkTerroirGeoTIFFWriter> writer;
+  writer->SetInputConnection(source->GetOutputPort());
+  writer->SetFileName(path.c_str());
+  ASSERT_EQ(writer->Write(), 1) << writer->GetErrorMessage();
+  const std::vector<char> first = terroir::testing::ReadWholeFile(path);
+  ASSERT_FALSE(first.empty());
+
+  source->SetSeed(5);
+  EXPECT_EQ(writer->Write(), 0);
+  EXPECT_EQ(std::string(writer->GetErrorMessage()),
+    path + ": file exists (turn Overwrite on to replace it)");
+  EXPECT_EQ(terroir::testing::ReadWholeFile(path), first);
+
+  writer->OverwriteOn();
+  writer->SetArrayName("Missing");
+  EXPECT_EQ(writer->Write(), 0);
+  EXPECT_EQ(terroir::testing::ReadWholeFile(path), first);
+  writer->SetArrayName("Elevation");
+  ASSERT_EQ(writer->Write(), 1);
+  EXPECT_NE(terroir::testing::ReadWholeFile(path), first);
+  EXPECT_EQ(terroir::testing::ListFolder(dir), std::vector<std::string>{ "dem.tif" });
+
+  // A folder that does not exist: error, nothing created.
+  const std::string missing = dir + "/nope/dem.tif";
+  writer->SetFileName(missing.c_str());
+  EXPECT_EQ(writer->Write(), 0);
+  EXPECT_EQ(std::string(writer->GetErrorMessage()).rfind(missing + ": cannot create", 0), 0u)
+    << writer->GetErrorMessage();
+  EXPECT_FALSE(terroir::testing::PathExists(dir + "/nope"));
+
+  // A read-only folder (permissions do not bind root, so only checked for other users).
+  if (::geteuid() != 0)
+  {
+    const std::string ro = dir + "/readonly";
+    ::mkdir(ro.c_str(), 0555);
+    writer->SetFileName((ro + "/dem.tif").c_str());
+    EXPECT_EQ(writer->Write(), 0);
+    EXPECT_TRUE(terroir::testing::ListFolder(ro).empty());
+    ::chmod(ro.c_str(), 0755);
+  }
+}
