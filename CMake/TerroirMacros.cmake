@@ -22,7 +22,7 @@ endfunction()
 # Embeds Shaders/<stem>.comp as `extern const char* vtkTerroir<stem>CS;` (header
 # vtkTerroir<stem>CS.h in the current binary dir), as VTK's Rendering/OpenGL2 does.
 function(terroir_embed_shaders export_prefix library sources_var headers_var)
-  include(vtkEncodeString)
+  include("${VTK_DIR}/vtkEncodeString.cmake")
   set(_srcs)
   set(_hdrs)
   foreach(stem IN LISTS ARGN)

@@ -34,6 +34,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace terroir
@@ -60,10 +61,14 @@ struct Limits
   std::string Vendor;
   std::string Renderer;
   std::string Version;
-  std::string Platform; ///< EGL platform used ("device", "surfaceless")
+  std::string Platform;                   ///< EGL platform used ("device", "surfaceless")
+  int MaxShaderStorageBufferBindings = 0; ///< number of SSBO binding points
+  double CreationSeconds = 0.0;           ///< wall time to create and probe the context
 };
 
-/// RAII shader storage buffer (GL_SHADER_STORAGE_BUFFER). Context thread only.
+/// RAII shader storage buffer (GL_SHADER_STORAGE_BUFFER). Context thread only: construction
+/// and every method throw `Error` elsewhere; out-of-range Upload/Download and allocation
+/// failure (GL_OUT_OF_MEMORY, with the byte count) throw `Error` too.
 class VTKTERROIRCOMPUTE_EXPORT StorageBuffer
 {
 public:
@@ -113,16 +118,30 @@ public:
   void SetVec2(const char* name, float x, float y);
   void SetVec3(const char* name, float x, float y, float z);
   void SetFloatArray(const char* name, const float* values, int count);
+  void SetVec4(const char* name, float x, float y, float z, float w);
+  void SetIVec2(const char* name, int x, int y);
+  void SetUVec2(const char* name, unsigned x, unsigned y);
+  void SetIntArray(const char* name, const int* values, int count);
   ///@}
   /// glDispatchCompute followed by a shader-storage + buffer-update memory barrier.
+  /// Throws `Error` when a group count exceeds GL_MAX_COMPUTE_WORK_GROUP_COUNT; a zero
+  /// count dispatches nothing.
   void Dispatch(unsigned groupsX, unsigned groupsY = 1, unsigned groupsZ = 1);
+  /// GL program object name (for debugging).
+  unsigned Id() const { return this->Handle; }
 
 private:
+  int Location(const char* name);
+
   std::string ShaderName;
   unsigned Handle = 0;
+  std::unordered_map<std::string, int> Locations; ///< uniform locations, looked up once
 };
 
-/// The process-wide compute context on its own worker thread.
+/// The process-wide compute context on its own worker thread. `Global()` is never destroyed:
+/// an atexit handler stops and joins the worker (deleting the GL objects on it) at process
+/// exit. In a child of fork() made after the context existed, the context is unavailable.
+/// See Documentation/Compute.md.
 class VTKTERROIRCOMPUTE_EXPORT Context
 {
 public:
