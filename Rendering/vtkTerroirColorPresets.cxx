@@ -1,0 +1,321 @@
+#include "vtkTerroirColorPresets.h"
+
+#include "vtkColorTransferFunction.h"
+#include "vtkLookupTable.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkVariant.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+vtkStandardNewMacro(vtkTerroirColorPresets);
+
+namespace
+{
+struct PresetInfo
+{
+  const char* Name;
+  const char* ArrayName;
+  const char* Units;
+  const char* Title;
+  bool HasDefaultRange;
+  double DefaultRange[2];
+};
+
+// Fixed order; documented in the header and in Documentation/Rendering.md.
+const PresetInfo Presets[] = {
+  { "Elevation", "Elevation", "m", "Elevation", false, { 0, 0 } },
+  { "Slope", "Slope", "\xC2\xB0", "Slope", true, { 0.0, 60.0 } },
+  { "Illumination", "IlluminationHours", "h/day", "Illumination", false, { 0, 0 } },
+  { "Temperature",
+    "Temperature",
+    "\xC2\xB0"
+    "C",
+    "Temperature",
+    false,
+    { 0, 0 } },
+  { "Humidity", "SoilHumidity", "mm", "Soil humidity", false, { 0, 0 } },
+  { "Water", "WaterHeight", "m", "Water depth", false, { 0, 0 } },
+  { "Clusters", "ClusterId", "", "Cluster", false, { 0, 0 } },
+};
+constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
+
+// Categorical palette: Tableau 10, then two more distinct colours. Cluster i gets entry i mod 12.
+const double ClusterPalette[12][3] = {
+  { 0.122, 0.467, 0.706 }, // blue
+  { 1.000, 0.498, 0.055 }, // orange
+  { 0.173, 0.627, 0.173 }, // green
+  { 0.839, 0.153, 0.157 }, // red
+  { 0.580, 0.404, 0.741 }, // purple
+  { 0.549, 0.337, 0.294 }, // brown
+  { 0.890, 0.467, 0.761 }, // pink
+  { 0.498, 0.498, 0.498 }, // grey
+  { 0.737, 0.741, 0.133 }, // olive
+  { 0.090, 0.745, 0.812 }, // cyan
+  { 0.000, 0.000, 0.502 }, // navy
+  { 0.000, 0.000, 0.000 }, // black
+};
+
+const PresetInfo* Find(const char* name)
+{
+  if (!name)
+  {
+    return nullptr;
+  }
+  for (const PresetInfo& p : Presets)
+  {
+    if (std::strcmp(p.Name, name) == 0)
+    {
+      return &p;
+    }
+  }
+  return nullptr;
+}
+
+// Samples a colour transfer function defined on [0, 1] into the 256 entries of `lut`.
+void SampleInto(vtkLookupTable* lut, vtkColorTransferFunction* ctf)
+{
+  const int n = 256;
+  lut->SetNumberOfTableValues(n);
+  for (int i = 0; i < n; ++i)
+  {
+    double rgb[3];
+    ctf->GetColor(static_cast<double>(i) / (n - 1), rgb);
+    lut->SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0);
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirColorPresets::GetNumberOfPresets()
+{
+  return NumberOfPresets;
+}
+
+const char* vtkTerroirColorPresets::GetPresetName(int index)
+{
+  return (index >= 0 && index < NumberOfPresets) ? Presets[index].Name : nullptr;
+}
+
+bool vtkTerroirColorPresets::HasPreset(const char* preset)
+{
+  return Find(preset) != nullptr;
+}
+
+const char* vtkTerroirColorPresets::GetDefaultArrayName(const char* preset)
+{
+  const PresetInfo* p = Find(preset);
+  return p ? p->ArrayName : nullptr;
+}
+
+const char* vtkTerroirColorPresets::GetUnits(const char* preset)
+{
+  const PresetInfo* p = Find(preset);
+  return p ? p->Units : nullptr;
+}
+
+const char* vtkTerroirColorPresets::GetTitle(const char* preset)
+{
+  const PresetInfo* p = Find(preset);
+  return p ? p->Title : nullptr;
+}
+
+std::string vtkTerroirColorPresets::GetLegendTitle(const char* preset)
+{
+  const PresetInfo* p = Find(preset);
+  if (!p)
+  {
+    return std::string();
+  }
+  std::string title = p->Title;
+  if (p->Units[0] != '\0')
+  {
+    title += std::string(" (") + p->Units + ")";
+  }
+  return title;
+}
+
+const char* vtkTerroirColorPresets::GetPresetForArray(const char* arrayName)
+{
+  if (!arrayName)
+  {
+    return nullptr;
+  }
+  for (const PresetInfo& p : Presets)
+  {
+    if (std::strcmp(p.ArrayName, arrayName) == 0)
+    {
+      return p.Name;
+    }
+  }
+  if (std::strcmp(arrayName, "WeightedSoilHumidity") == 0 ||
+    std::strcmp(arrayName, "StandingWater") == 0)
+  {
+    return "Humidity";
+  }
+  return nullptr;
+}
+
+bool vtkTerroirColorPresets::GetDefaultRange(const char* preset, double range[2])
+{
+  const PresetInfo* p = Find(preset);
+  if (!p || !p->HasDefaultRange)
+  {
+    return false;
+  }
+  range[0] = p->DefaultRange[0];
+  range[1] = p->DefaultRange[1];
+  return true;
+}
+
+bool vtkTerroirColorPresets::IsCategorical(const char* preset)
+{
+  return preset && std::strcmp(preset, "Clusters") == 0;
+}
+
+void vtkTerroirColorPresets::GetNanColor(double rgba[4])
+{
+  rgba[0] = rgba[1] = rgba[2] = 0.5;
+  rgba[3] = 1.0;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
+  const char* preset,
+  double minValue,
+  double maxValue)
+{
+  const PresetInfo* p = Find(preset);
+  if (!lut || !p || !std::isfinite(minValue) || !std::isfinite(maxValue) || maxValue < minValue)
+  {
+    return false;
+  }
+  if (minValue == maxValue)
+  {
+    minValue -= 0.5;
+    maxValue += 0.5;
+  }
+  double nan[4];
+  vtkTerroirColorPresets::GetNanColor(nan);
+
+  lut->SetIndexedLookup(0);
+  lut->ResetAnnotations();
+  lut->SetScaleToLinear();
+  lut->SetRampToLinear();
+  lut->SetUseBelowRangeColor(0);
+  lut->SetUseAboveRangeColor(0);
+  lut->SetNanColor(nan);
+
+  const std::string name = p->Name;
+  if (name == "Clusters")
+  {
+    const int first = static_cast<int>(std::lround(minValue));
+    int last = static_cast<int>(std::lround(maxValue));
+    if (last < first)
+    {
+      last = first;
+    }
+    const int n = last - first + 1;
+    lut->SetNumberOfTableValues(n);
+    lut->SetTableRange(first, last);
+    for (int i = 0; i < n; ++i)
+    {
+      const int id = first + i;
+      const double* c = ClusterPalette[((id % 12) + 12) % 12];
+      lut->SetTableValue(i, c[0], c[1], c[2], 1.0);
+      lut->SetAnnotation(vtkVariant(id), "Cluster " + std::to_string(id));
+    }
+    lut->SetIndexedLookup(1);
+    lut->BuildSpecialColors();
+    return true;
+  }
+
+  vtkNew<vtkColorTransferFunction> ctf;
+  ctf->SetColorSpaceToRGB();
+  if (name == "Elevation")
+  {
+    // Hypsometric "terrain" colours (after GRASS/gdaldem elevation ramps).
+    ctf->AddRGBPoint(0.00, 0.00, 0.38, 0.28);
+    ctf->AddRGBPoint(0.20, 0.20, 0.62, 0.25);
+    ctf->AddRGBPoint(0.45, 0.90, 0.86, 0.45);
+    ctf->AddRGBPoint(0.70, 0.60, 0.42, 0.25);
+    ctf->AddRGBPoint(0.90, 0.80, 0.78, 0.76);
+    ctf->AddRGBPoint(1.00, 1.00, 1.00, 1.00);
+  }
+  else if (name == "Slope" || name == "Illumination")
+  {
+    ctf->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
+    ctf->AddRGBPoint(1.0, 1.0, 1.0, 1.0);
+  }
+  else if (name == "Temperature")
+  {
+    // Moreland's cool-warm diverging map; the white point sits at 0 °C when the range contains
+    // 0, otherwise at the middle of the range.
+    double mid = 0.5;
+    if (minValue < 0.0 && maxValue > 0.0)
+    {
+      mid = -minValue / (maxValue - minValue);
+    }
+    ctf->SetColorSpaceToDiverging();
+    ctf->AddRGBPoint(0.0, 0.230, 0.299, 0.754);
+    ctf->AddRGBPoint(mid, 0.865, 0.865, 0.865);
+    ctf->AddRGBPoint(1.0, 0.706, 0.016, 0.150);
+  }
+  else if (name == "Humidity")
+  {
+    ctf->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
+    ctf->AddRGBPoint(1.0, 0.0, 0.35, 1.0);
+  }
+  else if (name == "Water")
+  {
+    ctf->AddRGBPoint(0.0, 0.70, 0.85, 1.00);
+    ctf->AddRGBPoint(1.0, 0.00, 0.12, 0.50);
+  }
+  SampleInto(lut, ctf);
+  if (name == "Water")
+  {
+    // Dry: the first bin (depth below range/256 above the minimum) is fully transparent.
+    double rgba[4];
+    lut->GetTableValue(0, rgba);
+    rgba[3] = 0.0;
+    lut->SetTableValue(0, rgba);
+  }
+  lut->SetTableRange(minValue, maxValue);
+  lut->BuildSpecialColors();
+  return true;
+}
+
+vtkLookupTable* vtkTerroirColorPresets::CreateLookupTable(const char* preset,
+  double minValue,
+  double maxValue)
+{
+  vtkLookupTable* lut = vtkLookupTable::New();
+  if (!vtkTerroirColorPresets::ConfigureLookupTable(lut, preset, minValue, maxValue))
+  {
+    lut->Delete();
+    return nullptr;
+  }
+  return lut;
+}
+
+vtkLookupTable* vtkTerroirColorPresets::CreateLookupTable(const char* preset)
+{
+  double range[2];
+  if (!vtkTerroirColorPresets::GetDefaultRange(preset, range))
+  {
+    return nullptr;
+  }
+  return vtkTerroirColorPresets::CreateLookupTable(preset, range[0], range[1]);
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirColorPresets::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  for (const PresetInfo& p : Presets)
+  {
+    os << indent << p.Name << ": array " << p.ArrayName << ", units '" << p.Units << "'\n";
+  }
+}

@@ -1,0 +1,111 @@
+/**
+ * @class   vtkTerroirColorPresets
+ * @brief   Builds the named overlay colour presets of Terroir as lookup tables.
+ *
+ * Each terrain resource has one preset (DESIGN.md, "Rendering and image tests"). A preset
+ * fixes the colours, the default array it colours, its units and legend title, and either a
+ * fixed default range or "use the data range":
+ *
+ * | preset         | default array       | colours                                         |
+ * default range |
+ * |----------------|---------------------|-------------------------------------------------|---------------|
+ * | `Elevation`    | `Elevation` (m)     | terrain: dark green, green, yellow, brown, white | data
+ * | | `Slope`        | `Slope` (°)         | black → white                                   | 0 –
+ * 60 °      | | `Illumination` | `IlluminationHours` (h/day) | black → white | data          | |
+ * `Temperature`  | `Temperature` (°C)  | blue → white → red, white at 0 °C when the range contains
+ * 0, else at its middle | data | | `Humidity`     | `SoilHumidity` (mm) | black → blue | data | |
+ * `Water`        | `WaterHeight` (m)   | first of 256 bins transparent (dry), then light → dark
+ * blue | data  | | `Clusters`     | `ClusterId`         | categorical, 12 fixed distinct colours
+ * (cycled), indexed lookup | ids present |
+ *
+ * Continuous presets are 256-entry vtkLookupTable objects sampled from a
+ * vtkColorTransferFunction (RGB interpolation, diverging space for Temperature); values
+ * outside the range clamp to the end colours; NaN maps to the NaN colour (grey 0.5, opaque).
+ * `Clusters` is an indexed (categorical) table with one annotated value per cluster id
+ * `min..max` ("Cluster i"), colours from a fixed palette (Tableau 10 plus two), so cluster 0 is
+ * always the same blue. Everything is deterministic (no random colours).
+ *
+ * All methods are static. Preset names are case-sensitive.
+ *
+ * @par Correctness
+ * TerroirColorPresets.* in Testing/Rendering/TestColorPresets.cxx (end colours, mid colours,
+ * NaN colour, water transparency, categorical order).
+ */
+#ifndef vtkTerroirColorPresets_h
+#define vtkTerroirColorPresets_h
+
+#include "vtkObject.h"
+#include "vtkTerroirRenderingModule.h" // For export macro
+#include "vtkWrappingHints.h"          // For VTK_NEWINSTANCE
+
+#include <string> // For std::string
+
+class vtkLookupTable;
+
+class VTKTERROIRRENDERING_EXPORT vtkTerroirColorPresets : public vtkObject
+{
+public:
+  static vtkTerroirColorPresets* New();
+  vtkTypeMacro(vtkTerroirColorPresets, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The presets, in a fixed order: Elevation, Slope, Illumination, Temperature, Humidity,
+  /// Water, Clusters.
+  static int GetNumberOfPresets();
+  static const char* GetPresetName(int index);
+  static bool HasPreset(const char* preset);
+  ///@}
+
+  ///@{
+  /// Metadata of a preset (nullptr for an unknown preset). Units are UTF-8 ("°", "°C") and
+  /// empty for Clusters.
+  static const char* GetDefaultArrayName(const char* preset);
+  static const char* GetUnits(const char* preset);
+  static const char* GetTitle(const char* preset);
+  /// Legend title "Title (units)", or "Title" when the preset has no units.
+  static std::string GetLegendTitle(const char* preset);
+  ///@}
+
+  /// The preset whose default array is `arrayName`, or nullptr. Also maps the
+  /// sibling arrays `WeightedSoilHumidity` and `StandingWater` (mm) to Humidity.
+  static const char* GetPresetForArray(const char* arrayName);
+
+  /// True when the preset has a fixed default range (Slope: 0–60); false when the data range
+  /// should be used.
+  static bool GetDefaultRange(const char* preset, double range[2]);
+
+  /// True for categorical presets (Clusters).
+  static bool IsCategorical(const char* preset);
+
+  /// Fills `lut` with the preset over [minValue, maxValue] (for Clusters: ids minValue..maxValue,
+  /// rounded). Returns false (leaving `lut` unchanged) for an unknown preset, a null table or a
+  /// range that is not finite or has maxValue < minValue. An empty range (min == max) is widened
+  /// by 0.5 on each side.
+  static bool ConfigureLookupTable(vtkLookupTable* lut,
+    const char* preset,
+    double minValue,
+    double maxValue);
+
+  /// A new lookup table with the preset over [minValue, maxValue], or nullptr on bad input.
+  /// The caller owns the returned reference.
+  VTK_NEWINSTANCE
+  static vtkLookupTable* CreateLookupTable(const char* preset, double minValue, double maxValue);
+
+  /// Same with the preset's default range; nullptr when it has none (use the data range).
+  VTK_NEWINSTANCE
+  static vtkLookupTable* CreateLookupTable(const char* preset);
+
+  /// Colour used for NaN values and no-data cells (RGBA 0..1): opaque grey 0.5.
+  static void GetNanColor(double rgba[4]);
+
+protected:
+  vtkTerroirColorPresets() = default;
+  ~vtkTerroirColorPresets() override = default;
+
+private:
+  vtkTerroirColorPresets(const vtkTerroirColorPresets&) = delete;
+  void operator=(const vtkTerroirColorPresets&) = delete;
+};
+
+#endif

@@ -1,0 +1,162 @@
+// Colour presets: end points, middles and special colours worked out from the preset definitions
+// in Documentation/Rendering.md (no display needed).
+#include "vtkLookupTable.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirColorPresets.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <string>
+
+namespace
+{
+vtkSmartPointer<vtkLookupTable> Make(const char* preset, double lo, double hi)
+{
+  return vtkSmartPointer<vtkLookupTable>::Take(
+    vtkTerroirColorPresets::CreateLookupTable(preset, lo, hi));
+}
+
+void ExpectRGBA(vtkLookupTable* lut, double value, int r, int g, int b, int a, int tol = 0)
+{
+  const unsigned char* c = lut->MapValue(value);
+  EXPECT_NEAR(c[0], r, tol) << "value " << value;
+  EXPECT_NEAR(c[1], g, tol) << "value " << value;
+  EXPECT_NEAR(c[2], b, tol) << "value " << value;
+  EXPECT_NEAR(c[3], a, tol) << "value " << value;
+}
+}
+
+TEST(TerroirColorPresets, SlopeIsBlackAtZeroAndWhiteAtSixtyDegrees)
+{
+  auto lut =
+    vtkSmartPointer<vtkLookupTable>::Take(vtkTerroirColorPresets::CreateLookupTable("Slope"));
+  ASSERT_NE(lut.Get(), nullptr);
+  double range[2];
+  ASSERT_TRUE(vtkTerroirColorPresets::GetDefaultRange("Slope", range));
+  EXPECT_EQ(range[0], 0.0);
+  EXPECT_EQ(range[1], 60.0);
+  ExpectRGBA(lut, 0.0, 0, 0, 0, 255);
+  ExpectRGBA(lut, 60.0, 255, 255, 255, 255);
+  ExpectRGBA(lut, 30.0, 128, 128, 128, 255, 1); // linear grey ramp: half way is mid grey
+  ExpectRGBA(lut, 85.0, 255, 255, 255, 255);    // steeper than the range clamps to white
+  ExpectRGBA(lut, -5.0, 0, 0, 0, 255);
+}
+
+TEST(TerroirColorPresets, IlluminationIsBlackToWhiteAndHumidityBlackToBlue)
+{
+  auto ill = Make("Illumination", 0.0, 12.0);
+  ExpectRGBA(ill, 0.0, 0, 0, 0, 255);
+  ExpectRGBA(ill, 12.0, 255, 255, 255, 255);
+  auto hum = Make("Humidity", 0.0, 50.0);
+  ExpectRGBA(hum, 0.0, 0, 0, 0, 255);
+  const unsigned char* wet = hum->MapValue(50.0);
+  EXPECT_EQ(wet[0], 0);
+  EXPECT_GT(wet[2], 250);
+  EXPECT_GT(wet[2], wet[1]);
+}
+
+TEST(TerroirColorPresets, TemperatureIsBlueColdWhiteAtZeroRedWarm)
+{
+  // Range -10..30 °C: 0 °C lies at a quarter of the range and must be the white point.
+  auto lut = Make("Temperature", -10.0, 30.0);
+  ExpectRGBA(lut, -10.0, 59, 76, 192, 255, 1); // cool-warm blue (0.230, 0.299, 0.754)
+  ExpectRGBA(lut, 30.0, 180, 4, 38, 255, 1);   // cool-warm red (0.706, 0.016, 0.150)
+  ExpectRGBA(lut, 0.0, 221, 221, 221, 255, 6); // white point (0.865) within one of 256 bins
+  // A range that does not contain 0 °C puts the white point in its middle.
+  auto july = Make("Temperature", 10.0, 20.0);
+  ExpectRGBA(july, 15.0, 221, 221, 221, 255, 6);
+  const unsigned char* warm = july->MapValue(19.0);
+  EXPECT_GT(warm[0], warm[2]);
+  const unsigned char* cold = july->MapValue(11.0);
+  EXPECT_GT(cold[2], cold[0]);
+}
+
+TEST(TerroirColorPresets, ElevationGoesFromGreenToWhite)
+{
+  auto lut = Make("Elevation", 1900.0, 2700.0);
+  const unsigned char* low = lut->MapValue(1900.0);
+  EXPECT_GT(low[1], low[0]); // green dominates at the bottom
+  EXPECT_GT(low[1], low[2] - 1);
+  ExpectRGBA(lut, 2700.0, 255, 255, 255, 255);
+}
+
+TEST(TerroirColorPresets, WaterIsTransparentWhenDryAndDarkerWhenDeeper)
+{
+  auto lut = Make("Water", 0.0, 2.0);
+  EXPECT_EQ(lut->MapValue(0.0)[3], 0);   // dry: fully transparent
+  EXPECT_EQ(lut->MapValue(0.005)[3], 0); // below range/256 = 7.8 mm: still dry
+  EXPECT_EQ(lut->MapValue(0.1)[3], 255);
+  ExpectRGBA(lut, 2.0, 0, 31, 128, 255, 1); // deepest: dark blue (0, 0.12, 0.5)
+  const unsigned char* shallow = lut->MapValue(0.1);
+  const unsigned char* deep = lut->MapValue(1.5);
+  EXPECT_GT(shallow[0] + shallow[1] + shallow[2], deep[0] + deep[1] + deep[2]);
+  EXPECT_GT(deep[2], deep[0]);
+}
+
+TEST(TerroirColorPresets, ClustersAreCategoricalDistinctAndInFixedOrder)
+{
+  auto lut = Make("Clusters", 0.0, 11.0);
+  ASSERT_NE(lut.Get(), nullptr);
+  EXPECT_TRUE(vtkTerroirColorPresets::IsCategorical("Clusters"));
+  EXPECT_EQ(lut->GetIndexedLookup(), 1);
+  EXPECT_EQ(lut->GetNumberOfAnnotatedValues(), 12);
+  EXPECT_EQ(std::string(lut->GetAnnotation(3)), "Cluster 3");
+  ExpectRGBA(lut, 0.0, 31, 119, 180, 255, 1); // Tableau blue first
+  ExpectRGBA(lut, 1.0, 255, 127, 14, 255, 1); // then orange
+  std::set<long> colours;
+  for (int id = 0; id < 12; ++id)
+  {
+    const unsigned char* c = lut->MapValue(id);
+    colours.insert((long(c[0]) << 16) | (long(c[1]) << 8) | c[2]);
+  }
+  EXPECT_EQ(colours.size(), 12u);
+  // Same input, same colours (deterministic), and the palette cycles after 12 ids.
+  auto again = Make("Clusters", 0.0, 13.0);
+  for (int id = 0; id < 12; ++id)
+  {
+    const unsigned char* a = lut->MapValue(id);
+    const unsigned char* b = again->MapValue(id);
+    EXPECT_TRUE(a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) << "cluster " << id;
+  }
+  const unsigned char* c12 = again->MapValue(12);
+  ExpectRGBA(again, 0.0, c12[0], c12[1], c12[2], 255);
+}
+
+TEST(TerroirColorPresets, NaNMapsToTheNanColor)
+{
+  double nan[4];
+  vtkTerroirColorPresets::GetNanColor(nan);
+  EXPECT_EQ(nan[0], 0.5);
+  EXPECT_EQ(nan[3], 1.0);
+  auto lut = Make("Slope", 0.0, 60.0);
+  ExpectRGBA(lut, std::numeric_limits<double>::quiet_NaN(), 128, 128, 128, 255, 1);
+}
+
+TEST(TerroirColorPresets, MetadataAndBadInput)
+{
+  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 7);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(0), "Elevation");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(6), "Clusters");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(7), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("Illumination"), "IlluminationHours");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("Water"), "WaterHeight");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetUnits("Temperature"),
+    "\xC2\xB0"
+    "C");
+  EXPECT_EQ(vtkTerroirColorPresets::GetLegendTitle("Slope"), "Slope (\xC2\xB0)");
+  EXPECT_EQ(vtkTerroirColorPresets::GetLegendTitle("Clusters"), "Cluster");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("Temperature"), "Temperature");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("StandingWater"), "Humidity");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetForArray("Nonsense"), nullptr);
+  double range[2];
+  EXPECT_FALSE(vtkTerroirColorPresets::GetDefaultRange("Temperature", range));
+  EXPECT_EQ(vtkTerroirColorPresets::CreateLookupTable("Temperature"), nullptr);
+  EXPECT_EQ(vtkTerroirColorPresets::CreateLookupTable("NoSuchPreset", 0.0, 1.0), nullptr);
+  EXPECT_EQ(vtkTerroirColorPresets::CreateLookupTable("Slope", 5.0, 1.0), nullptr);
+  EXPECT_EQ(vtkTerroirColorPresets::CreateLookupTable(
+              "Slope", 0.0, std::numeric_limits<double>::infinity()),
+    nullptr);
+}

@@ -1,0 +1,185 @@
+// Image regression tests of the overlays (label rendering, run under xvfb-run -a).
+// Each test renders at 400 x 400 and compares with Testing/Baselines/<Suite>_<Test>.png
+// (vtkTesting legacy metric, threshold 0.15); see TerroirRenderingTestHelpers.h and
+// Documentation/Rendering.md for the review-and-update workflow.
+//
+// The bundled DEM (Data/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif, UTM 11N, 10 m) goes
+// through vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature (CPU backend, so the
+// analysis numbers are the reference ones; GPU agreement is tested in Testing/GPU).
+#include "TerroirRenderingTestHelpers.h"
+#include "TerroirSyntheticTerrain.h"
+
+#include "vtkImageData.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirDEMReader.h"
+#include "vtkTerroirOverlayView.h"
+#include "vtkTerroirSlope.h"
+#include "vtkTerroirTemperature.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+using terroir::testing::CompareWithBaseline;
+using terroir::testing::MakeTerrain;
+
+namespace
+{
+// The bundled DEM with Slope and Temperature, read and computed once for all tests.
+vtkImageData* SagehenTerrain()
+{
+  static vtkSmartPointer<vtkImageData> terrain;
+  if (!terrain)
+  {
+    vtkNew<vtkTerroirDEMReader> reader;
+    const std::string file =
+      std::string(TERROIR_DATA_DIR) + "/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif";
+    reader->SetFileName(file.c_str());
+    vtkNew<vtkTerroirSlope> slope;
+    slope->SetInputConnection(reader->GetOutputPort());
+    slope->SetBackendToCPU();
+    vtkNew<vtkTerroirTemperature> temperature;
+    temperature->SetInputConnection(slope->GetOutputPort());
+    temperature->SetBackendToCPU();
+    temperature->Update();
+    terrain = vtkSmartPointer<vtkImageData>::New();
+    terrain->ShallowCopy(temperature->GetOutput());
+  }
+  return terrain;
+}
+
+void ExpectTerrainArrays(vtkImageData* t)
+{
+  int dims[3];
+  t->GetDimensions(dims);
+  ASSERT_EQ(dims[0], 786);
+  ASSERT_EQ(dims[1], 720);
+  ASSERT_NE(t->GetPointData()->GetArray("Slope"), nullptr);
+  ASSERT_NE(t->GetPointData()->GetArray("Temperature"), nullptr);
+  ASSERT_EQ(t->GetPointData()->GetArray("Temperature")->GetNumberOfComponents(), 12);
+}
+
+// Three-lobed hill labelled with 5 clusters by sector and height (a synthetic labelled image).
+vtkSmartPointer<vtkImageData> LabelledHill()
+{
+  auto t = MakeTerrain(161,
+    161,
+    25.0,
+    [](double x, double y)
+    {
+      const double dx = x - 2000.0, dy = y - 2000.0;
+      return 1500.0 + 600.0 * std::exp(-(dx * dx + dy * dy) / (2 * 900.0 * 900.0)) +
+        80.0 * std::sin(x / 400.0) * std::cos(y / 500.0);
+    });
+  vtkNew<vtkIntArray> ids;
+  ids->SetName("ClusterId");
+  ids->SetNumberOfTuples(161 * 161);
+  for (int j = 0; j < 161; ++j)
+  {
+    for (int i = 0; i < 161; ++i)
+    {
+      const double dx = i * 25.0 - 2000.0, dy = j * 25.0 - 2000.0;
+      const double r = std::sqrt(dx * dx + dy * dy);
+      int id = 4; // summit
+      if (r > 700.0)
+      {
+        const double a = std::atan2(dy, dx); // -pi..pi
+        id = a < -1.0 ? 0 : (a < 1.0 ? 1 : (a < 2.5 ? 2 : 3));
+      }
+      ids->SetValue(j * 161 + i, id);
+    }
+  }
+  t->GetPointData()->AddArray(ids);
+  return t;
+}
+
+void SetupSagehen(vtkTerroirOverlayView* view, const char* array, int component, int mode)
+{
+  view->SetInputData(SagehenTerrain());
+  view->SetArrayName(array);
+  view->SetArrayComponent(component);
+  view->SetMode(mode);
+  view->ShowLegendOff();
+}
+}
+
+TEST(TerroirOverlayImages, SlopeMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  ExpectTerrainArrays(SagehenTerrain());
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupSagehen(view, "Slope", 0, vtkTerroirOverlayView::Map);
+  CompareWithBaseline(view);
+}
+
+TEST(TerroirOverlayImages, SlopeRelief)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupSagehen(view, "Slope", 0, vtkTerroirOverlayView::Relief);
+  CompareWithBaseline(view);
+}
+
+TEST(TerroirOverlayImages, TemperatureJulyMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupSagehen(view, "Temperature", 6, vtkTerroirOverlayView::Map);
+  CompareWithBaseline(view);
+}
+
+TEST(TerroirOverlayImages, TemperatureJulyRelief)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupSagehen(view, "Temperature", 6, vtkTerroirOverlayView::Relief);
+  CompareWithBaseline(view);
+}
+
+TEST(TerroirOverlayImages, ElevationReliefExaggerated)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupSagehen(view, "Elevation", 0, vtkTerroirOverlayView::Relief);
+  view->SetVerticalExaggeration(2.0);
+  CompareWithBaseline(view);
+}
+
+TEST(TerroirOverlayImages, ClustersMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  auto hill = LabelledHill();
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(hill);
+  view->SetArrayName("ClusterId");
+  view->ShowLegendOff();
+  EXPECT_STREQ(view->GetEffectivePreset(), "Clusters");
+  CompareWithBaseline(view);
+}
+
+// Legends and text only in the legend tests.
+TEST(TerroirOverlayImages, LegendTemperatureMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupSagehen(view, "Temperature", 6, vtkTerroirOverlayView::Map);
+  view->ShowLegendOn();
+  view->SetTitle("Sagehen Creek, July");
+  CompareWithBaseline(view);
+}
+
+TEST(TerroirOverlayImages, LegendClustersRelief)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  auto hill = LabelledHill();
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(hill);
+  view->SetArrayName("ClusterId");
+  view->SetModeToRelief();
+  view->ShowLegendOn();
+  CompareWithBaseline(view);
+}
