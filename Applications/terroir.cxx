@@ -211,14 +211,14 @@ void WriteOverlay(vtkImageData* image, const std::string& array, int component,
   vtkNew<vtkTerroirOverlayView> view;
   view->SetInputData(image);
   view->SetArrayName(array.c_str());
-  view->SetComponent(component);
+  view->SetArrayComponent(component);
   view->SetPreset(preset.c_str());
   view->SetTitle(title.c_str());
-  view->SetViewModeToRelief();
+  view->SetModeToRelief();
   view->SetShowLegend(true);
   if (!view->WritePNG(path.c_str()))
   {
-    throw Failure(path + ": " + view->GetErrorMessage());
+    throw Failure(path + ": " + view->GetLastError());
   }
 }
 

@@ -1,0 +1,163 @@
+#include "vtkTerroirImageAlgorithm.h"
+
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkLogger.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirComputeContext.h"
+#include "vtkTerroirGPU.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirTerrainInput.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <mutex>
+#include <set>
+
+//------------------------------------------------------------------------------
+vtkTerroirImageAlgorithm::vtkTerroirImageAlgorithm()
+{
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkTerroirGeoreference::ElevationName());
+}
+
+//------------------------------------------------------------------------------
+vtkTerroirImageAlgorithm::~vtkTerroirImageAlgorithm() = default;
+
+//------------------------------------------------------------------------------
+void vtkTerroirImageAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Backend: " << vtkTerroirComputeContext::GetBackendName(this->Backend) << "\n";
+  os << indent << "LastBackend: "
+     << (this->LastBackend < 0 ? "(none)"
+                               : vtkTerroirComputeContext::GetBackendName(this->LastBackend))
+     << "\n";
+  os << indent << "LastBackendReason: " << this->LastBackendReason << "\n";
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirImageAlgorithm::SourcePrefix(vtkDataObject* input)
+{
+  const std::string file = input ? vtkTerroirGeoreference::GetSourceFile(input) : std::string();
+  return file.empty() ? std::string() : file + ": ";
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirImageAlgorithm::RequestUpdateExtent(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int whole[6];
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  int ext[6];
+  const int halo = this->GetHaloWidth();
+  if (halo < 0 || !outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    std::copy(whole, whole + 6, ext);
+  }
+  else
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+    for (int a = 0; a < 3; ++a)
+    {
+      ext[2 * a] = std::max(ext[2 * a] - halo, whole[2 * a]);
+      ext[2 * a + 1] = std::min(ext[2 * a + 1] + halo, whole[2 * a + 1]);
+    }
+  }
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext, 6);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirImageAlgorithm::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  if (!output)
+  {
+    vtkErrorMacro(<< "output is not a vtkImageData");
+    return 0;
+  }
+  output->Initialize();
+  if (!input)
+  {
+    vtkErrorMacro(<< "input is missing or not a vtkImageData");
+    return 0;
+  }
+  vtkDataArray* elevation = this->GetInputArrayToProcess(0, inputVector);
+  terroir::TerrainInput terrain;
+  std::string error;
+  if (!terroir::ExtractTerrain(input, elevation, terrain, error, this->GetMinimumGridSize()))
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << error);
+    return 0;
+  }
+  this->UpdateProgress(0.0);
+  output->ShallowCopy(input);
+  if (!this->RequestTerrainData(input, terrain, output))
+  {
+    output->Initialize();
+    return 0;
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirImageAlgorithm::SelectBackend(bool hasGPUPath)
+{
+  std::string reason;
+  const int backend = vtkTerroirComputeContext::ResolveBackend(this->Backend, hasGPUPath, reason);
+  this->LastBackendReason = reason;
+  if (backend < 0)
+  {
+    this->LastBackend = -1;
+    vtkErrorMacro(<< "cannot run on the requested backend: " << reason);
+    return -1;
+  }
+  this->LastBackend = backend;
+  static std::mutex logMutex;
+  static std::set<std::string> logged;
+  const std::string key =
+    std::string(this->GetClassName()) + vtkTerroirComputeContext::GetBackendName(backend);
+  std::lock_guard<std::mutex> lock(logMutex);
+  if (logged.insert(key).second)
+  {
+    // The reason starts with the backend's name: "vtkTerroirSlope: GPU (auto: llvmpipe ...)".
+    vtkLog(INFO, << this->GetClassName() << ": " << reason);
+  }
+  return backend;
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirImageAlgorithm::RunGPUPath(const std::function<void()>& gpuJob)
+{
+  try
+  {
+    gpuJob();
+    return vtkTerroirComputeContext::GPU;
+  }
+  catch (const std::exception& e)
+  {
+    const char* env = std::getenv("TERROIR_BACKEND");
+    const bool envGPU = env && (std::string(env) == "gpu" || std::string(env) == "GPU");
+    if (this->Backend == vtkTerroirComputeContext::GPU ||
+      (this->Backend == vtkTerroirComputeContext::Auto && envGPU))
+    {
+      this->LastBackend = -1;
+      vtkErrorMacro(<< "GPU path failed: " << e.what());
+      return -1;
+    }
+    vtkWarningMacro(<< "GPU path failed, falling back to the CPU: " << e.what());
+    this->LastBackend = vtkTerroirComputeContext::CPU;
+    this->LastBackendReason = std::string("auto: GPU failed (") + e.what() + "), CPU fallback";
+    return vtkTerroirComputeContext::CPU;
+  }
+}

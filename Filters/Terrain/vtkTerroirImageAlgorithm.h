@@ -1,0 +1,117 @@
+/**
+ * @class   vtkTerroirImageAlgorithm
+ * @brief   Base class of the Terroir terrain filters: input checks, halo, backend choice.
+ *
+ * Every Terroir filter reads a terrain: a 2-D vtkImageData (dimensions nx, ny, 1; spacing in
+ * metres) whose point data hold the elevation (by default the array `Elevation`, chosen with
+ * `SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "Elevation")`),
+ * optionally `vtkValidPointMask` (1 = valid) and the georeference field arrays of
+ * vtkTerroirGeoreference. The output is a shallow copy of the input (every input array and the
+ * field data pass through) plus the arrays the filter adds; no-data cells (mask 0 or NaN
+ * elevation) get NaN in every added array.
+ *
+ * This class provides:
+ * - `Backend` (Auto = 0, CPU = 1, GPU = 2; default Auto), resolved by
+ *   vtkTerroirComputeContext::ResolveBackend (`TERROIR_BACKEND=cpu|gpu` overrides Auto); the
+ *   choice is logged once per filter class and backend with `vtkLog(INFO, ...)` and kept in
+ *   `GetLastBackend()` / `GetLastBackendReason()`. A GPU failure at run time falls back to the
+ *   CPU with a warning under Auto and is an error under GPU.
+ * - streaming: `RequestUpdateExtent` asks for the requested extent grown by `GetHaloWidth()`
+ *   cells (clamped to the whole extent, as vtkImageGradient), or the whole extent when the
+ *   halo is -1. The output covers the input's extent.
+ * - `RequestData`: validates the input (one clear error naming the source file and the problem,
+ *   and an empty output, on bad input), shallow-copies it, reports progress and calls
+ *   `RequestTerrainData` with a terroir::TerrainInput (vtkTerroirTerrainInput.h).
+ *
+ * @sa vtkTerroirSlope vtkTerroirTemperature vtkTerroirComputeContext
+ */
+#ifndef vtkTerroirImageAlgorithm_h
+#define vtkTerroirImageAlgorithm_h
+
+#include "vtkImageAlgorithm.h"
+#include "vtkTerroirFiltersTerrainModule.h" // For export macro
+
+#include <functional> // For std::function
+#include <string>     // For std::string
+
+namespace terroir
+{
+struct TerrainInput;
+}
+
+class VTKTERROIRFILTERSTERRAIN_EXPORT vtkTerroirImageAlgorithm : public vtkImageAlgorithm
+{
+public:
+  vtkAbstractTypeMacro(vtkTerroirImageAlgorithm, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Which backend runs the filter: 0 Auto (default; TERROIR_BACKEND, else the GPU when a
+   * compute context can be made and the filter has a GPU path, else the CPU), 1 CPU, 2 GPU
+   * (an error when no compute context can be made). Values of
+   * vtkTerroirComputeContext::BackendType.
+   */
+  vtkSetClampMacro(Backend, int, 0, 2);
+  vtkGetMacro(Backend, int);
+  void SetBackendToAuto() { this->SetBackend(0); }
+  void SetBackendToCPU() { this->SetBackend(1); }
+  void SetBackendToGPU() { this->SetBackend(2); }
+  ///@}
+
+  /// Backend of the last run: 1 CPU, 2 GPU, -1 before the first run or after a failed one.
+  vtkGetMacro(LastBackend, int);
+  /// One line saying why the last backend was chosen (empty before the first run).
+  const char* GetLastBackendReason() { return this->LastBackendReason.c_str(); }
+
+protected:
+  vtkTerroirImageAlgorithm();
+  ~vtkTerroirImageAlgorithm() override;
+
+  /// Stencil half-width in cells: 0 pointwise, r for a (2r+1)^2 stencil, -1 whole extent.
+  virtual int GetHaloWidth() { return 0; }
+  /// Smallest nx and ny the filter accepts (1 by default).
+  virtual int GetMinimumGridSize() { return 1; }
+  /// Whether the subclass has a GPU path (false by default).
+  virtual bool HasGPUPath() { return false; }
+
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+#ifndef __VTK_WRAP__
+  /**
+   * Called by RequestData with a validated terrain; `output` already holds a shallow copy of
+   * the input. Add arrays to `output` and return 1, or return 0 after a vtkErrorMacro.
+   */
+  virtual int RequestTerrainData(vtkImageData* input,
+    const terroir::TerrainInput& terrain,
+    vtkImageData* output) = 0;
+
+  /**
+   * Resolves the backend (see the class comment), logs the choice once per class and backend,
+   * stores LastBackend and LastBackendReason and returns 1 (CPU) or 2 (GPU); returns -1 after a
+   * vtkErrorMacro when the request cannot be met.
+   */
+  int SelectBackend(bool hasGPUPath);
+
+  /**
+   * Runs `gpuJob` (which calls terroir::gpu::Context::Global().Run). Returns 2 when it ran;
+   * 1 when it threw under Auto (a warning was issued, LastBackend is now CPU: run the CPU
+   * path); -1 when it threw under an explicit GPU request (a vtkErrorMacro was issued).
+   */
+  int RunGPUPath(const std::function<void()>& gpuJob);
+#endif
+
+  /// "<source file>: " when the input names its source file, else "".
+  std::string SourcePrefix(vtkDataObject* input);
+
+  int Backend = 0;
+  int LastBackend = -1;
+  std::string LastBackendReason;
+
+private:
+  vtkTerroirImageAlgorithm(const vtkTerroirImageAlgorithm&) = delete;
+  void operator=(const vtkTerroirImageAlgorithm&) = delete;
+};
+
+#endif

@@ -1,0 +1,212 @@
+#include "vtkTerroirTemperature.h"
+
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirGPU.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirTemperatureCS.h"
+#include "vtkTerroirTerrainInput.h"
+
+#include "TemperatureLapseRate.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirTemperature);
+
+namespace
+{
+const char* const kMonthNames[12] = { "Jan",
+  "Feb",
+  "Mar",
+  "Apr",
+  "May",
+  "Jun",
+  "Jul",
+  "Aug",
+  "Sep",
+  "Oct",
+  "Nov",
+  "Dec" };
+
+struct TemperatureFunctor
+{
+  const terroir::GridView<float>* View;
+  const double* SeaLevel;
+  double LapseRate;
+  float* Out;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    terroir::terrain::TemperatureLapseRateRows(*this->View,
+      this->SeaLevel,
+      this->LapseRate,
+      this->Out,
+      static_cast<int>(begin),
+      static_cast<int>(end));
+  }
+};
+
+/// Runs Shaders/Temperature.comp (bindings documented there) in slices of cells that fit in
+/// one storage buffer.
+void RunTemperatureGPU(const terroir::GridView<float>& v,
+  const double seaLevel[12],
+  double lapseRate,
+  float* out)
+{
+  const std::size_t n = v.Size();
+  std::vector<std::uint32_t> mask(v.valid ? (n + 3) / 4 : 1, 0u);
+  if (v.valid)
+  {
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      mask[k / 4] |= static_cast<std::uint32_t>(v.valid[k] ? 1u : 0u) << (8 * (k % 4));
+    }
+  }
+  float sea[12];
+  for (int m = 0; m < 12; ++m)
+  {
+    sea[m] = static_cast<float>(seaLevel[m]);
+  }
+  auto& ctx = terroir::gpu::Context::Global();
+  const terroir::gpu::Limits limits = ctx.GetLimits();
+  std::size_t slice = std::min<std::size_t>(n, 1u << 22); // 4 Mi cells, 192 MiB out
+  if (limits.MaxShaderStorageBlockSize > 0)
+  {
+    slice = std::min<std::size_t>(
+      slice, static_cast<std::size_t>(limits.MaxShaderStorageBlockSize) / (12 * sizeof(float)));
+  }
+  if (limits.MaxWorkGroupCount[0] > 0)
+  {
+    slice =
+      std::min<std::size_t>(slice, static_cast<std::size_t>(limits.MaxWorkGroupCount[0]) * 256);
+  }
+  slice = std::max<std::size_t>(slice, 1);
+  ctx.Run(
+    [&]
+    {
+      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
+      terroir::gpu::StorageBuffer bz(slice * sizeof(float));
+      terroir::gpu::StorageBuffer bt(12 * slice * sizeof(float));
+      auto& prog = ctx.GetProgram("Temperature.comp", vtkTerroirTemperatureCS, { "LOCAL_X 256" });
+      prog.Use();
+      prog.SetInt("uHasMask", v.valid ? 1 : 0);
+      prog.SetFloatArray("uSeaLevel", sea, 12);
+      prog.SetFloat("uRate", static_cast<float>(lapseRate / 1000.0));
+      bz.Bind(0);
+      bmask.Bind(1);
+      bt.Bind(2);
+      for (std::size_t first = 0; first < n; first += slice)
+      {
+        const std::size_t count = std::min(slice, n - first);
+        bz.Upload(v.data + first, count * sizeof(float));
+        prog.SetUInt("uCount", static_cast<unsigned>(count));
+        prog.SetUInt("uFirst", static_cast<unsigned>(first));
+        prog.Dispatch(static_cast<unsigned>((count + 255) / 256));
+        bt.Download(out + 12 * first, 12 * count * sizeof(float));
+      }
+    });
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTerroirTemperature::vtkTerroirTemperature() = default;
+
+//------------------------------------------------------------------------------
+vtkTerroirTemperature::~vtkTerroirTemperature() = default;
+
+//------------------------------------------------------------------------------
+void vtkTerroirTemperature::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  static const char* hemis[3] = { "Auto", "North", "South" };
+  os << indent << "SeaLevelTemperatureColdest: " << this->SeaLevelTemperatureColdest << "\n";
+  os << indent << "SeaLevelTemperatureWarmest: " << this->SeaLevelTemperatureWarmest << "\n";
+  os << indent << "ColdestMonth: " << this->ColdestMonth << "\n";
+  os << indent << "WarmestMonth: " << this->WarmestMonth << "\n";
+  os << indent << "Hemisphere: " << hemis[this->Hemisphere] << "\n";
+  os << indent << "LapseRate: " << this->LapseRate << "\n";
+  os << indent << "UseMonthlyTemperatures: " << (this->UseMonthlyTemperatures ? "On" : "Off")
+     << "\n";
+  os << indent << "MonthlySeaLevelTemperatures:";
+  for (int m = 0; m < 12; ++m)
+  {
+    os << " " << this->MonthlySeaLevelTemperatures[m];
+  }
+  os << "\n";
+  os << indent << "LastHemisphere: " << hemis[this->LastHemisphere] << "\n";
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirTemperature::ComputeSeaLevelTemperatures(int hemisphere, double monthly[12])
+{
+  if (this->UseMonthlyTemperatures)
+  {
+    std::copy(this->MonthlySeaLevelTemperatures, this->MonthlySeaLevelTemperatures + 12, monthly);
+    return true;
+  }
+  const bool south = hemisphere == South;
+  const int coldest = this->ColdestMonth > 0 ? this->ColdestMonth : (south ? 7 : 1);
+  const int warmest = this->WarmestMonth > 0 ? this->WarmestMonth : (south ? 1 : 7);
+  return terroir::terrain::SeaLevelTemperaturesFromExtremes(
+    this->SeaLevelTemperatureColdest, this->SeaLevelTemperatureWarmest, coldest, warmest, monthly);
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirTemperature::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  int hemisphere = this->Hemisphere;
+  if (hemisphere == AutoHemisphere)
+  {
+    double latLon[2];
+    hemisphere =
+      (vtkTerroirGeoreference::GetCenterLatLon(input, latLon) && latLon[0] < 0.0) ? South : North;
+  }
+  double sea[12];
+  if (!this->ComputeSeaLevelTemperatures(hemisphere, sea))
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << "ColdestMonth and WarmestMonth must differ");
+    return 0;
+  }
+  this->LastHemisphere = hemisphere;
+
+  const terroir::GridView<float>& v = terrain.view;
+  vtkSmartPointer<vtkFloatArray> temperature =
+    vtkSmartPointer<vtkFloatArray>::Take(terroir::NewOutputArray(
+      TemperatureName(), 12, static_cast<long long>(v.Size()), "degC", kMonthNames));
+  float* out = temperature->GetPointer(0);
+
+  int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
+  }
+  if (backend == 2)
+  {
+    backend = this->RunGPUPath([&] { RunTemperatureGPU(v, sea, this->LapseRate, out); });
+    if (backend < 0)
+    {
+      return 0;
+    }
+  }
+  if (backend == 1)
+  {
+    TemperatureFunctor functor{ &v, sea, this->LapseRate, out };
+    const int slices = std::min(10, v.ny);
+    for (int s = 0; s < slices; ++s)
+    {
+      const vtkIdType r0 = static_cast<vtkIdType>(v.ny) * s / slices;
+      const vtkIdType r1 = static_cast<vtkIdType>(v.ny) * (s + 1) / slices;
+      vtkSMPTools::For(r0, r1, 16, functor);
+      this->UpdateProgress(0.9 * (s + 1) / slices);
+    }
+  }
+  output->GetPointData()->AddArray(temperature);
+  return 1;
+}

@@ -1,0 +1,189 @@
+#include "vtkTerroirTerrainInput.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkPointData.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace terroir
+{
+
+bool ExtractTerrain(vtkImageData* image,
+  vtkDataArray* elevation,
+  TerrainInput& out,
+  std::string& error,
+  int minSize)
+{
+  out = TerrainInput();
+  if (!image)
+  {
+    error = "input is not a vtkImageData";
+    return false;
+  }
+  int dims[3];
+  image->GetDimensions(dims);
+  if (dims[2] != 1 || dims[0] < 1 || dims[1] < 1)
+  {
+    std::ostringstream os;
+    os << "input must be a 2-D image (dimensions nx, ny, 1), got " << dims[0] << " x " << dims[1]
+       << " x " << dims[2];
+    error = os.str();
+    return false;
+  }
+  if (dims[0] < minSize || dims[1] < minSize)
+  {
+    std::ostringstream os;
+    os << "input must have at least " << minSize << " x " << minSize << " points, got " << dims[0]
+       << " x " << dims[1];
+    error = os.str();
+    return false;
+  }
+  if (!elevation)
+  {
+    error = "no elevation array: the input needs a point-data array named 'Elevation' (or the "
+            "one chosen with SetInputArrayToProcess)";
+    return false;
+  }
+  bool inPointData = false;
+  for (int a = 0; a < image->GetPointData()->GetNumberOfArrays(); ++a)
+  {
+    inPointData = inPointData || image->GetPointData()->GetAbstractArray(a) == elevation;
+  }
+  if (!inPointData)
+  {
+    std::ostringstream os;
+    os << "elevation array '" << (elevation->GetName() ? elevation->GetName() : "")
+       << "' must be point data";
+    error = os.str();
+    return false;
+  }
+  if (elevation->GetNumberOfComponents() != 1)
+  {
+    std::ostringstream os;
+    os << "elevation array '" << (elevation->GetName() ? elevation->GetName() : "") << "' has "
+       << elevation->GetNumberOfComponents() << " components, expected 1";
+    error = os.str();
+    return false;
+  }
+  const vtkIdType n = static_cast<vtkIdType>(dims[0]) * dims[1];
+  if (elevation->GetNumberOfTuples() != n)
+  {
+    std::ostringstream os;
+    os << "elevation array has " << elevation->GetNumberOfTuples() << " values, the image has " << n
+       << " points";
+    error = os.str();
+    return false;
+  }
+
+  GridView<float>& v = out.view;
+  v.nx = dims[0];
+  v.ny = dims[1];
+  double spacing[3];
+  image->GetSpacing(spacing);
+  v.dx = std::fabs(spacing[0]);
+  v.dy = std::fabs(spacing[1]);
+  if (elevation->GetDataType() == VTK_FLOAT)
+  {
+    v.data = static_cast<const float*>(elevation->GetVoidPointer(0));
+  }
+  else
+  {
+    out.elevationCopy.resize(static_cast<size_t>(n));
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      out.elevationCopy[k] = static_cast<float>(elevation->GetComponent(k, 0));
+    }
+    v.data = out.elevationCopy.data();
+  }
+
+  // Validity: the mask array and NaN elevations.
+  vtkDataArray* mask = vtkArrayDownCast<vtkDataArray>(
+    image->GetPointData()->GetAbstractArray(vtkTerroirGeoreference::ValidMaskName()));
+  if (mask && (mask->GetNumberOfTuples() != n || mask->GetNumberOfComponents() != 1))
+  {
+    std::ostringstream os;
+    os << "'" << vtkTerroirGeoreference::ValidMaskName() << "' has " << mask->GetNumberOfTuples()
+       << " x " << mask->GetNumberOfComponents() << " values, expected " << n << " x 1";
+    error = os.str();
+    return false;
+  }
+  bool anyInvalid = false;
+  for (vtkIdType k = 0; k < n && !anyInvalid; ++k)
+  {
+    anyInvalid = std::isnan(v.data[k]) || (mask && mask->GetComponent(k, 0) == 0.0);
+  }
+  if (anyInvalid)
+  {
+    out.valid.resize(static_cast<size_t>(n));
+    vtkUnsignedCharArray* uc = vtkArrayDownCast<vtkUnsignedCharArray>(mask);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      const bool m = !mask || (uc ? uc->GetValue(k) != 0 : mask->GetComponent(k, 0) != 0.0);
+      out.valid[k] = (m && !std::isnan(v.data[k])) ? 1 : 0;
+    }
+    v.valid = out.valid.data();
+    out.hasNoData = true;
+  }
+
+  // Per-row spacing of geographic grids.
+  if (vtkDoubleArray* rows = vtkTerroirGeoreference::GetRowSpacing(image))
+  {
+    // One (dx, dy) per row of the whole grid; a sub-extent uses its own rows of it.
+    int extent[6];
+    image->GetExtent(extent);
+    const vtkIdType offset = rows->GetNumberOfTuples() == v.ny ? 0 : extent[2];
+    if (rows->GetNumberOfComponents() != 2 || offset < 0 ||
+      offset + v.ny > rows->GetNumberOfTuples())
+    {
+      std::ostringstream os;
+      os << "'" << vtkTerroirGeoreference::RowSpacingName() << "' has " << rows->GetNumberOfTuples()
+         << " x " << rows->GetNumberOfComponents() << " values, expected " << v.ny
+         << " x 2 (one (dx, dy) per row)";
+      error = os.str();
+      return false;
+    }
+    out.rowDx.resize(v.ny);
+    out.rowDy.resize(v.ny);
+    for (int j = 0; j < v.ny; ++j)
+    {
+      out.rowDx[j] = std::fabs(rows->GetComponent(offset + j, 0));
+      out.rowDy[j] = std::fabs(rows->GetComponent(offset + j, 1));
+    }
+    v.rowDx = out.rowDx.data();
+    v.rowDy = out.rowDy.data();
+  }
+  return true;
+}
+
+vtkFloatArray* NewOutputArray(const char* name,
+  int components,
+  long long tuples,
+  const char* units,
+  const char* const* componentNames)
+{
+  vtkFloatArray* a = vtkFloatArray::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  if (componentNames)
+  {
+    for (int c = 0; c < components; ++c)
+    {
+      a->SetComponentName(c, componentNames[c]);
+    }
+  }
+  a->SetNumberOfTuples(static_cast<vtkIdType>(tuples));
+  if (units)
+  {
+    a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
+  }
+  return a;
+}
+
+} // namespace terroir

@@ -1,0 +1,62 @@
+/**
+ * @file vtkTerroirTerrainInput.h
+ * @brief Turns a Terroir terrain (vtkImageData + Elevation) into a terroir::GridView<float>
+ *        for the algorithm cores, and makes the filters' output arrays (not wrapped).
+ *
+ * `ExtractTerrain` validates the input and fills a `TerrainInput`:
+ * - the image must be 2-D: dimensions (nx, ny, 1) with nx, ny >= `minSize` (1 by default;
+ *   stencil filters such as vtkTerroirSlope ask for 2);
+ * - the elevation array must be point data with one component and nx*ny tuples;
+ * - float32 elevations are viewed in place (no copy); any other type is copied to float;
+ * - the validity mask is `vtkValidPointMask` (unsigned char, 1 = valid) when present, and a
+ *   cell whose elevation is NaN is invalid too; when neither occurs `view.valid` is null;
+ * - spacing: `vtkImageData::GetSpacing()` (metres), or per row `TerroirRowSpacing` (field
+ *   data, ny tuples of (dx, dy) metres, rows of the input extent) for geographic grids.
+ * On failure it returns false and fills `error` with one line naming the problem.
+ */
+#ifndef vtkTerroirTerrainInput_h
+#define vtkTerroirTerrainInput_h
+
+#include "GridView.h"                       // For terroir::GridView
+#include "vtkTerroirFiltersTerrainModule.h" // For export macro
+
+#include <cstdint> // For std::uint8_t
+#include <string>  // For std::string
+#include <vector>  // For std::vector
+
+class vtkDataArray;
+class vtkFloatArray;
+class vtkImageData;
+
+namespace terroir
+{
+
+/// A terrain ready for a core: the view plus whatever storage it points into.
+struct VTKTERROIRFILTERSTERRAIN_EXPORT TerrainInput
+{
+  GridView<float> view;
+  std::vector<float> elevationCopy; ///< used when the input is not float32
+  std::vector<std::uint8_t> valid;  ///< used when there is a mask or a NaN
+  std::vector<double> rowDx;        ///< used for geographic grids (TerroirRowSpacing)
+  std::vector<double> rowDy;
+  bool hasNoData = false; ///< true when some cell is invalid
+};
+
+/// Validates `image` and `elevation` and fills `out` (see the file comment).
+VTKTERROIRFILTERSTERRAIN_EXPORT bool ExtractTerrain(vtkImageData* image,
+  vtkDataArray* elevation,
+  TerrainInput& out,
+  std::string& error,
+  int minSize = 1);
+
+/// A new float array named `name` with `components` components and `tuples` tuples, with
+/// component names (may be null) and `vtkDataArray::UNITS_LABEL()` set to `units`.
+VTKTERROIRFILTERSTERRAIN_EXPORT vtkFloatArray* NewOutputArray(const char* name,
+  int components,
+  long long tuples,
+  const char* units,
+  const char* const* componentNames = nullptr);
+
+} // namespace terroir
+
+#endif

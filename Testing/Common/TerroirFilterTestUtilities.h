@@ -1,0 +1,69 @@
+// Helpers shared by the terrain filter tests (Pipeline, GPU): synthetic terrains, ESRI ASCII
+// grids to talk to the gdaldem binary, an error observer, and the bundled DEM.
+#ifndef TerroirFilterTestUtilities_h
+#define TerroirFilterTestUtilities_h
+
+#include "vtkCommand.h"
+#include "vtkImageData.h"
+#include "vtkSmartPointer.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace terroir_test
+{
+
+/// A terrain nx x ny, spacing dx, dy, point array `Elevation` (float32) = z(i, j), j = 0 south.
+/// NaN values of z become no-data cells (NaN plus `vtkValidPointMask` = 0).
+vtkSmartPointer<vtkImageData> MakeTerrain(int nx,
+  int ny,
+  double dx,
+  double dy,
+  const std::function<double(int, int)>& z);
+
+/// A grid read from or written to an ESRI ASCII (AAIGrid) file, rows stored north first as in
+/// the file; `At(i, j)` uses Terroir's order (j = 0 south). No-data values become NaN.
+struct AsciiGrid
+{
+  int nx = 0;
+  int ny = 0;
+  double cellSize = 1.0;
+  std::vector<double> values; ///< file order (north row first)
+  double At(int i, int j) const { return values[static_cast<size_t>(ny - 1 - j) * nx + i]; }
+};
+bool ReadAsciiGrid(const std::string& path, AsciiGrid& grid);
+/// Writes the `Elevation` of a terrain with square cells (NaN / masked cells as -9999).
+bool WriteAsciiGrid(const std::string& path, vtkImageData* terrain);
+
+/// Runs a command line through the shell; returns its exit status (0 = success).
+int RunCommand(const std::string& command);
+/// True when /usr/bin/gdaldem exists.
+bool HaveGdaldem();
+
+/// Path of a bundled data file (Data/...).
+std::string DataFile(const std::string& relative);
+/// A path in the test temporary folder.
+std::string TempFile(const std::string& name);
+
+/// Reads a DEM with vtkTerroirDEMReader (nullptr on failure).
+vtkSmartPointer<vtkImageData> ReadDEM(const std::string& path);
+
+/// Collects vtkErrorMacro / vtkWarningMacro messages of the objects it observes.
+class ErrorObserver : public vtkCommand
+{
+public:
+  static ErrorObserver* New() { return new ErrorObserver; }
+  void Execute(vtkObject*, unsigned long event, void* data) override;
+  std::string Errors;
+  std::string Warnings;
+  int ErrorCount = 0;
+};
+
+/// True when the GPU tests should run: a compute context exists. When it does not and
+/// TERROIR_REQUIRE_GPU=1, `mustFail` is set (the test should FAIL instead of skipping).
+bool GPUAvailable(bool& mustFail, std::string& reason);
+
+} // namespace terroir_test
+
+#endif

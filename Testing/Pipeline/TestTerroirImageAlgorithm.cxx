@@ -1,0 +1,202 @@
+// Tests of the filter base class vtkTerroirImageAlgorithm through a minimal subclass:
+// backend setters and choice, whole-extent halo, the default input array, progress, and the
+// ExtractTerrain helper (float data viewed in place, masks, row spacing).
+#include "TerroirFilterTestUtilities.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirComputeContext.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirImageAlgorithm.h"
+#include "vtkTerroirSlope.h"
+#include "vtkTerroirTerrainInput.h"
+#include "vtkTrivialProducer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace
+{
+/// A global filter (halo -1) without a GPU path that records what it was given.
+class GlobalTestFilter : public vtkTerroirImageAlgorithm
+{
+public:
+  static GlobalTestFilter* New();
+  vtkTypeMacro(GlobalTestFilter, vtkTerroirImageAlgorithm);
+  int Seen = 0;
+  const float* SeenData = nullptr;
+
+protected:
+  int GetHaloWidth() override { return -1; }
+  int RequestTerrainData(vtkImageData*, const terroir::TerrainInput& t, vtkImageData*) override
+  {
+    if (this->SelectBackend(this->HasGPUPath()) < 0)
+    {
+      return 0;
+    }
+    this->Seen = t.view.nx * t.view.ny;
+    this->SeenData = t.view.data;
+    return 1;
+  }
+};
+vtkStandardNewMacro(GlobalTestFilter);
+
+TEST(TerroirImageAlgorithm, BackendSettersAndClamp)
+{
+  auto f = vtkSmartPointer<GlobalTestFilter>::New();
+  EXPECT_EQ(f->GetBackend(), vtkTerroirComputeContext::Auto);
+  f->SetBackendToGPU();
+  EXPECT_EQ(f->GetBackend(), vtkTerroirComputeContext::GPU);
+  f->SetBackendToCPU();
+  EXPECT_EQ(f->GetBackend(), vtkTerroirComputeContext::CPU);
+  f->SetBackendToAuto();
+  EXPECT_EQ(f->GetBackend(), vtkTerroirComputeContext::Auto);
+  f->SetBackend(-3);
+  EXPECT_EQ(f->GetBackend(), 0);
+  EXPECT_EQ(f->GetLastBackend(), -1);
+  EXPECT_STREQ(f->GetLastBackendReason(), "");
+}
+
+TEST(TerroirImageAlgorithm, FilterWithoutGPUPathRunsOnCPUUnderAutoAndFailsUnderGPU)
+{
+  auto in = terroir_test::MakeTerrain(4, 4, 1.0, 1.0, [](int i, int) { return i; });
+  unsetenv("TERROIR_BACKEND");
+  auto f = vtkSmartPointer<GlobalTestFilter>::New();
+  f->SetInputData(in);
+  f->Update();
+  EXPECT_EQ(f->GetLastBackend(), vtkTerroirComputeContext::CPU);
+  EXPECT_NE(std::string(f->GetLastBackendReason()).find("no GPU path"), std::string::npos);
+  // The float32 elevations are viewed in place, not copied.
+  EXPECT_EQ(
+    f->SeenData, static_cast<float*>(in->GetPointData()->GetArray("Elevation")->GetVoidPointer(0)));
+
+  auto g = vtkSmartPointer<GlobalTestFilter>::New();
+  auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
+  g->AddObserver(vtkCommand::ErrorEvent, obs);
+  g->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, obs);
+  g->SetBackendToGPU();
+  g->SetInputData(in);
+  g->Update();
+  EXPECT_EQ(g->GetLastBackend(), -1);
+  EXPECT_NE(obs->Errors.find("requested backend"), std::string::npos) << obs->Errors;
+}
+
+TEST(TerroirImageAlgorithm, GPURequestMatchesContextAvailability)
+{
+  auto in = terroir_test::MakeTerrain(5, 5, 1.0, 1.0, [](int i, int j) { return i * j; });
+  auto f = vtkSmartPointer<vtkTerroirSlope>::New();
+  auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
+  f->AddObserver(vtkCommand::ErrorEvent, obs);
+  f->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, obs);
+  f->SetBackendToGPU();
+  f->SetInputData(in);
+  f->Update();
+  if (vtkTerroirComputeContext::IsAvailable())
+  {
+    EXPECT_EQ(f->GetLastBackend(), vtkTerroirComputeContext::GPU);
+    EXPECT_NE(f->GetOutput()->GetPointData()->GetArray("Slope"), nullptr);
+  }
+  else
+  {
+    EXPECT_EQ(f->GetLastBackend(), -1);
+    EXPECT_GE(obs->ErrorCount, 1);
+    EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("Slope"), nullptr);
+  }
+}
+
+TEST(TerroirImageAlgorithm, WholeExtentHaloAsksForEverything)
+{
+  auto in = terroir_test::MakeTerrain(12, 9, 1.0, 1.0, [](int i, int) { return i; });
+  auto producer = vtkSmartPointer<vtkTrivialProducer>::New();
+  producer->SetOutput(in);
+  auto f = vtkSmartPointer<GlobalTestFilter>::New();
+  f->SetBackendToCPU();
+  f->SetInputConnection(producer->GetOutputPort());
+  f->UpdateInformation();
+  int request[6] = { 3, 4, 3, 4, 0, 0 };
+  f->UpdateExtent(request);
+  int got[6];
+  f->GetInputInformation(0, 0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), got);
+  const int whole[6] = { 0, 11, 0, 8, 0, 0 };
+  for (int a = 0; a < 6; ++a)
+  {
+    EXPECT_EQ(got[a], whole[a]) << a;
+  }
+  EXPECT_EQ(f->Seen, 12 * 9);
+}
+
+TEST(TerroirImageAlgorithm, ProgressIsReported)
+{
+  auto in = terroir_test::MakeTerrain(64, 64, 1.0, 1.0, [](int i, int j) { return i * j; });
+  auto f = vtkSmartPointer<vtkTerroirSlope>::New();
+  f->SetBackendToCPU();
+  int events = 0;
+  double last = -1.0;
+  auto cb = vtkSmartPointer<vtkCallbackCommand>::New();
+  struct State
+  {
+    int* events;
+    double* last;
+  } state{ &events, &last };
+  cb->SetClientData(&state);
+  cb->SetCallback(
+    [](vtkObject*, unsigned long, void* client, void* data)
+    {
+      auto* s = static_cast<State*>(client);
+      ++*s->events;
+      *s->last = *static_cast<double*>(data);
+    });
+  f->AddObserver(vtkCommand::ProgressEvent, cb);
+  f->SetInputData(in);
+  f->Update();
+  EXPECT_GE(events, 3);
+  EXPECT_EQ(last, 1.0);
+}
+
+TEST(TerroirImageAlgorithm, ExtractTerrainMasksAndRowSpacing)
+{
+  auto in = terroir_test::MakeTerrain(
+    4, 3, 7.0, 9.0, [](int i, int j) { return (i == 2 && j == 1) ? NAN : i + 10.0 * j; });
+  auto rows = vtkSmartPointer<vtkDoubleArray>::New();
+  rows->SetNumberOfComponents(2);
+  rows->SetNumberOfTuples(3);
+  rows->SetTuple2(0, 5.0, 9.5);
+  rows->SetTuple2(1, 4.0, 9.5);
+  rows->SetTuple2(2, 3.0, 9.5);
+  vtkTerroirGeoreference::SetRowSpacing(in, rows);
+  terroir::TerrainInput t;
+  std::string error;
+  ASSERT_TRUE(terroir::ExtractTerrain(in, in->GetPointData()->GetArray("Elevation"), t, error, 2))
+    << error;
+  EXPECT_EQ(t.view.nx, 4);
+  EXPECT_EQ(t.view.ny, 3);
+  EXPECT_EQ(t.view.dx, 7.0);
+  EXPECT_EQ(t.view.dy, 9.0);
+  EXPECT_TRUE(t.hasNoData);
+  EXPECT_FALSE(t.view.IsValid(2, 1));
+  EXPECT_TRUE(t.view.IsValid(1, 1));
+  EXPECT_EQ(t.view.DxAt(2), 3.0);
+  EXPECT_EQ(t.view.DyAt(0), 9.5);
+  EXPECT_EQ(t.view.At(3, 2), 23.0f);
+
+  // A wrong-sized row spacing is an error, not a crash.
+  auto bad = vtkSmartPointer<vtkDoubleArray>::New();
+  bad->SetNumberOfComponents(2);
+  bad->SetNumberOfTuples(2);
+  vtkTerroirGeoreference::SetRowSpacing(in, bad);
+  EXPECT_FALSE(terroir::ExtractTerrain(in, in->GetPointData()->GetArray("Elevation"), t, error));
+  EXPECT_NE(error.find("TerroirRowSpacing"), std::string::npos) << error;
+
+  vtkFloatArray* out = terroir::NewOutputArray("X", 2, 5, "m");
+  EXPECT_EQ(out->GetNumberOfTuples(), 5);
+  EXPECT_STREQ(out->GetInformation()->Get(vtkDataArray::UNITS_LABEL()), "m");
+  out->Delete();
+}
+
+} // namespace

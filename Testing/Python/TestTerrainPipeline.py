@@ -1,0 +1,99 @@
+"""Composes terroir.vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature on the
+bundled DEM and checks the arrays and a few values against numpy computations.
+
+Run by CTest with Debian's /usr/bin/python3 (PYTHONPATH = the built terroir package,
+TERROIR_DATA_DIR = the bundled data). Exits non-zero on failure.
+"""
+import math
+import os
+import sys
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+import terroir
+
+failures = []
+
+
+def check(condition, message):
+    if not condition:
+        failures.append(message)
+        print("FAIL:", message)
+
+
+data_dir = os.environ.get("TERROIR_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "..", "Data"))
+dem = os.path.join(data_dir, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
+
+reader = terroir.vtkTerroirDEMReader()
+reader.SetFileName(dem)
+slope = terroir.vtkTerroirSlope()
+slope.SetInputConnection(reader.GetOutputPort())
+slope.SetBackendToCPU()
+temperature = terroir.vtkTerroirTemperature()
+temperature.SetInputConnection(slope.GetOutputPort())
+temperature.SetBackendToCPU()
+temperature.Update()
+
+out = temperature.GetOutput()
+nx, ny, nz = out.GetDimensions()
+check(nz == 1 and nx == 786 and ny == 720, "dimensions %s" % ((nx, ny, nz),))
+pd = out.GetPointData()
+for name in ("Elevation", "Slope", "Aspect", "Normals", "Temperature"):
+    check(pd.GetArray(name) is not None, "array %s missing" % name)
+if failures:
+    sys.exit(1)
+
+z = vtk_to_numpy(pd.GetArray("Elevation")).astype(np.float64).reshape(ny, nx)  # row 0 = south
+s = vtk_to_numpy(pd.GetArray("Slope")).reshape(ny, nx)
+a = vtk_to_numpy(pd.GetArray("Aspect")).reshape(ny, nx)
+n = vtk_to_numpy(pd.GetArray("Normals")).reshape(ny, nx, 3)
+t = vtk_to_numpy(pd.GetArray("Temperature")).reshape(ny, nx, 12)
+dx, dy, _ = out.GetSpacing()
+
+check(pd.GetArray("Temperature").GetNumberOfComponents() == 12, "Temperature has 12 components")
+check(pd.GetArray("Temperature").GetComponentName(0) == "Jan", "first component is Jan")
+check(pd.GetArray("Temperature").GetComponentName(11) == "Dec", "last component is Dec")
+check(pd.GetArray("Normals").GetNumberOfComponents() == 3, "Normals has 3 components")
+
+# Horn (1981) in numpy on the interior cells (row j+1 is north).
+zn, zc, zs = z[2:, :], z[1:-1, :], z[:-2, :]
+gx = ((zn[:, 2:] - zn[:, :-2]) + 2.0 * (zc[:, 2:] - zc[:, :-2]) + (zs[:, 2:] - zs[:, :-2])) / (8.0 * dx)
+gy = ((zn[:, :-2] - zs[:, :-2]) + 2.0 * (zn[:, 1:-1] - zs[:, 1:-1]) + (zn[:, 2:] - zs[:, 2:])) / (8.0 * dy)
+slope_np = np.degrees(np.arctan(np.hypot(gx, gy)))
+diff = np.abs(s[1:-1, 1:-1] - slope_np)
+check(diff.max() < 1e-3, "slope vs numpy Horn: max diff %g deg" % diff.max())
+
+gamma = terroir.vtkTerroirGeoreference.GetMeridianConvergence(out)
+aspect_np = np.mod(np.degrees(np.arctan2(-gx, -gy)) + gamma, 360.0)
+steep = slope_np > 1.0
+adiff = np.abs((a[1:-1, 1:-1] - aspect_np + 180.0) % 360.0 - 180.0)[steep]
+check(adiff.max() < 1e-3, "aspect vs numpy: max diff %g deg" % adiff.max())
+check(np.all((a[~np.isnan(a)] >= 0.0) & (a[~np.isnan(a)] < 360.0)), "aspect in [0, 360)")
+
+norm = np.sqrt(gx * gx + gy * gy + 1.0)
+ndiff = np.abs(n[1:-1, 1:-1, 2] - 1.0 / norm).max()
+check(ndiff < 1e-5, "normal z vs numpy: max diff %g" % ndiff)
+
+# Temperature: defaults 2 degC (January) to 20 degC (July), 6.4 degC/km, northern hemisphere.
+sea = np.array([2, 5, 8, 11, 14, 17, 20, 17, 14, 11, 8, 5], dtype=np.float64)
+t_np = sea[None, None, :] - 6.4 * z[:, :, None] / 1000.0
+tdiff = np.abs(t - t_np).max()
+check(tdiff < 1e-3, "temperature vs numpy: max diff %g degC" % tdiff)
+j, i = np.unravel_index(np.argmax(z), z.shape)
+print("highest cell %.1f m: January %.2f degC, July %.2f degC" % (z[j, i], t[j, i, 0], t[j, i, 6]))
+check(abs(t[j, i, 6] - (20.0 - 6.4 * z[j, i] / 1000.0)) < 1e-3, "July at the summit")
+
+# Parameters round-trip and the southern hemisphere through Python.
+temperature.SetHemisphereToSouth()
+temperature.SetLapseRate(5.0)
+temperature.Update()
+t2 = vtk_to_numpy(temperature.GetOutput().GetPointData().GetArray("Temperature")).reshape(ny, nx, 12)
+check(abs(t2[j, i, 0] - (20.0 - 5.0 * z[j, i] / 1000.0)) < 1e-3, "south: January warmest")
+check(temperature.GetLastHemisphere() == temperature.South, "LastHemisphere is South")
+check(slope.GetLastBackend() == 1, "slope ran on the CPU")
+
+if failures:
+    print("%d failure(s)" % len(failures))
+    sys.exit(1)
+print("TestTerrainPipeline: OK")
