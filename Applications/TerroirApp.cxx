@@ -65,10 +65,15 @@ public:
   }
   void DisplayErrorText(const char* text) override
   {
-    LastError = CleanVTKText(text);
+    // Keep the first error: the executive's "returned failure for request" follows the cause.
+    const std::string clean = CleanVTKText(text);
+    if (LastError.empty())
+    {
+      LastError = clean;
+    }
     if (Verbose)
     {
-      std::cerr << "terroir: vtk: " << LastError << "\n";
+      std::cerr << "terroir: vtk: " << clean << "\n";
     }
   }
   void DisplayWarningText(const char* text) override
@@ -147,7 +152,9 @@ void InstallQuietOutput(bool verbose)
   Verbose = verbose;
   vtkNew<QuietOutputWindow> window;
   vtkOutputWindow::SetInstance(window);
-  vtkLogger::SetStderrVerbosity(verbose ? vtkLogger::VERBOSITY_INFO : vtkLogger::VERBOSITY_WARNING);
+  // VTK 9.1 also logs every error and warning through vtkLogger; the output window above
+  // prints them as single clean lines, so the logger stays quiet unless asked.
+  vtkLogger::SetStderrVerbosity(verbose ? vtkLogger::VERBOSITY_INFO : vtkLogger::VERBOSITY_OFF);
 }
 
 std::string TakeLastVTKError()

@@ -14,6 +14,8 @@
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationStringKey.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"

@@ -56,7 +56,8 @@ class TerroirCommandLine(unittest.TestCase):
             self.assertTrue(os.path.getsize(path) > 0, name)
         # No temporary files are left behind.
         self.assertEqual(sorted(os.listdir(out)), sorted(expected))
-        report = json.load(open(os.path.join(out, "report.json")))
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
         self.assertEqual(report["grid"]["nx"], 786)
         self.assertEqual(report["grid"]["ny"], 720)
         self.assertAlmostEqual(report["georeference"]["center_lat"], 39.43, delta=0.05)
@@ -84,7 +85,8 @@ class TerroirCommandLine(unittest.TestCase):
         r = terroir("slope", DEM, out)
         self.assertEqual(r.returncode, 1)
         self.assertIn("--overwrite", r.stderr)
-        self.assertEqual(open(out).read(), "precious")
+        with open(out) as f:
+            self.assertEqual(f.read(), "precious")
         r = terroir("slope", DEM, out, "--overwrite")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(gdal.Open(out).RasterCount, 1)
@@ -121,7 +123,8 @@ class TerroirCommandLine(unittest.TestCase):
         monthly = ",".join(str(v) for v in range(12))
         r = terroir("temperature", DEM, out, "--monthly", monthly, "--lapse-rate", "5")
         self.assertEqual(r.returncode, 0, r.stderr)
-        z = gdal.Open(DEM).GetRasterBand(1).ReadAsArray().astype(np.float64)
+        dem = gdal.Open(DEM)
+        z = dem.GetRasterBand(1).ReadAsArray().astype(np.float64)
         t = gdal.Open(out)
         for m in (0, 6, 11):
             got = t.GetRasterBand(m + 1).ReadAsArray().astype(np.float64)
