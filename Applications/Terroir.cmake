@@ -8,6 +8,7 @@ target_compile_options(terroir PRIVATE -Wall -Wextra)
 set(_terroir_app_modules ${terroir_modules} VTK::CommonCore VTK::CommonDataModel
   VTK::CommonExecutionModel VTK::IOXML VTK::RenderingOpenGL2 VTK::RenderingFreeType
   VTK::InteractionStyle)
-target_link_libraries(terroir PRIVATE ${_terroir_app_modules} nlohmann_json::nlohmann_json)
+target_link_libraries(terroir PRIVATE ${_terroir_app_modules} TerroirTerrainCore
+  nlohmann_json::nlohmann_json)
 vtk_module_autoinit(TARGETS terroir MODULES ${_terroir_app_modules})
 install(TARGETS terroir RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")

@@ -106,8 +106,12 @@ void OnProgress(vtkObject* caller, unsigned long, void* clientData, void* callDa
     }
     const int width = 30;
     const int filled = percent * width / 100;
-    std::fprintf(stderr, "\r%-14s [%s%s] %3d%%", state->Label.c_str(),
-      std::string(filled, '#').c_str(), std::string(width - filled, ' ').c_str(), percent);
+    std::fprintf(stderr,
+      "\r%-14s [%s%s] %3d%%",
+      state->Label.c_str(),
+      std::string(filled, '#').c_str(),
+      std::string(width - filled, ' ').c_str(),
+      percent);
     if (percent == 100)
     {
       std::fputc('\n', stderr);
@@ -202,7 +206,9 @@ bool HasExtension(const std::string& path, const std::string& ext)
   {
     return false;
   }
-  return std::equal(ext.rbegin(), ext.rend(), path.rbegin(),
+  return std::equal(ext.rbegin(),
+    ext.rend(),
+    path.rbegin(),
     [](char a, char b) { return std::tolower(a) == std::tolower(b); });
 }
 
@@ -291,8 +297,10 @@ void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
   }
 }
 
-void WriteGeoTIFF(
-  vtkImageData* image, const std::string& array, const std::string& path, bool overwrite)
+void WriteGeoTIFF(vtkImageData* image,
+  const std::string& array,
+  const std::string& path,
+  bool overwrite)
 {
   CheckWritable({ path }, overwrite);
   vtkNew<vtkTerroirGeoTIFFWriter> writer;

@@ -52,7 +52,9 @@ void CheckWritable(const std::vector<std::string>& paths, bool overwrite);
 void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite);
 
 /// Writes one point-data array (one band per component) as a georeferenced GeoTIFF.
-void WriteGeoTIFF(vtkImageData* image, const std::string& array, const std::string& path,
+void WriteGeoTIFF(vtkImageData* image,
+  const std::string& array,
+  const std::string& path,
   bool overwrite);
 
 /// True when the file name ends with `ext` (case-insensitive, ext with the dot).

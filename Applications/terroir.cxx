@@ -13,6 +13,7 @@
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationStringKey.h"
@@ -26,6 +27,9 @@
 #include "vtkTerroirOverlayView.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirTemperature.h"
+
+#include "GridView.h"
+#include "SlopeHorn1981.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -46,8 +50,18 @@ using json = nlohmann::json;
 
 namespace
 {
-const char* const MonthNames[12] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep",
-  "Oct", "Nov", "Dec" };
+const char* const MonthNames[12] = { "Jan",
+  "Feb",
+  "Mar",
+  "Apr",
+  "May",
+  "Jun",
+  "Jul",
+  "Aug",
+  "Sep",
+  "Oct",
+  "Nov",
+  "Dec" };
 
 int ParseBackend(const std::string& name)
 {
@@ -83,15 +97,21 @@ struct TemperatureOptions
       ->capture_default_str();
     app->add_option("--warmest", this->Warmest, "Sea-level temperature of the warmest month, C")
       ->capture_default_str();
-    app->add_option("--coldest-month", this->ColdestMonth, "Coldest month 1-12 (default: Jan north, Jul south)")
+    app
+      ->add_option(
+        "--coldest-month", this->ColdestMonth, "Coldest month 1-12 (default: Jan north, Jul south)")
       ->check(CLI::Range(1, 12));
-    app->add_option("--warmest-month", this->WarmestMonth, "Warmest month 1-12 (default: Jul north, Jan south)")
+    app
+      ->add_option(
+        "--warmest-month", this->WarmestMonth, "Warmest month 1-12 (default: Jul north, Jan south)")
       ->check(CLI::Range(1, 12));
-    app->add_option("--monthly", this->Monthly, "12 sea-level temperatures, C, January first (a,b,...)");
+    app->add_option(
+      "--monthly", this->Monthly, "12 sea-level temperatures, C, January first (a,b,...)");
     app->add_option("--lapse-rate", this->LapseRate, "Temperature lapse rate, C per km")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 20.0));
-    app->add_option("--hemisphere", this->Hemisphere, "auto (from the georeference), north or south")
+    app
+      ->add_option("--hemisphere", this->Hemisphere, "auto (from the georeference), north or south")
       ->check(CLI::IsMember({ "auto", "north", "south" }))
       ->capture_default_str();
   }
@@ -178,13 +198,17 @@ Statistics ArrayStatistics(vtkDataArray* array, int component)
 json StatisticsJSON(const Statistics& s)
 {
   auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-  return json{ { "min", num(s.Min) }, { "max", num(s.Max) }, { "mean", num(s.Mean) },
+  return json{ { "min", num(s.Min) },
+    { "max", num(s.Max) },
+    { "mean", num(s.Mean) },
     { "valid_cells", s.Valid } };
 }
 
 /// Runs a filter on `input` with progress and timing; returns the output (shallow copy).
-template <typename Filter>
-vtkSmartPointer<vtkImageData> RunStage(Filter* filter, vtkImageData* input, const std::string& label,
+template<typename Filter>
+vtkSmartPointer<vtkImageData> RunStage(Filter* filter,
+  vtkImageData* input,
+  const std::string& label,
   json& stages)
 {
   filter->SetInputData(input);
@@ -206,8 +230,13 @@ bool HaveDisplay()
   return d && *d;
 }
 
-void WriteOverlay(vtkImageData* image, const std::string& array, int component,
-  const std::string& preset, const std::string& title, const std::string& path, bool overwrite)
+void WriteOverlay(vtkImageData* image,
+  const std::string& array,
+  int component,
+  const std::string& preset,
+  const std::string& title,
+  const std::string& path,
+  bool overwrite)
 {
   terroir::app::CheckWritable({ path }, overwrite);
   vtkNew<vtkTerroirOverlayView> view;
@@ -225,8 +254,13 @@ void WriteOverlay(vtkImageData* image, const std::string& array, int component,
 }
 
 // ---------------------------------------------------------------------------------------------
-int CommandRun(const std::string& demArg, const std::string& outDir, bool overwrite,
-  const std::string& backendName, bool png, bool allowNetwork, const TemperatureOptions& tempOpts)
+int CommandRun(const std::string& demArg,
+  const std::string& outDir,
+  bool overwrite,
+  const std::string& backendName,
+  bool png,
+  bool allowNetwork,
+  const TemperatureOptions& tempOpts)
 {
   const std::string dem = demArg.empty() ? terroir::app::DefaultDEM() : demArg;
   const int backend = ParseBackend(backendName);
@@ -246,8 +280,9 @@ int CommandRun(const std::string& demArg, const std::string& outDir, bool overwr
   const std::string temperatureJulPng = (out / "temperature_jul.png").string();
   const std::string reportMd = (out / "report.md").string();
   const std::string reportJson = (out / "report.json").string();
-  std::vector<std::string> outputs = { vti, slopeTif, aspectTif, temperatureTif, reportMd,
-    reportJson };
+  std::vector<std::string> outputs = {
+    vti, slopeTif, aspectTif, temperatureTif, reportMd, reportJson
+  };
   if (png)
   {
     if (!HaveDisplay())
@@ -273,7 +308,9 @@ int CommandRun(const std::string& demArg, const std::string& outDir, bool overwr
   terrain->GetSpacing(spacing);
   double latLon[2] = { NAN, NAN };
   const bool located = vtkTerroirGeoreference::GetCenterLatLon(terrain, latLon);
-  report["grid"] = json{ { "nx", dims[0] }, { "ny", dims[1] }, { "dx_m", spacing[0] },
+  report["grid"] = json{ { "nx", dims[0] },
+    { "ny", dims[1] },
+    { "dx_m", spacing[0] },
     { "dy_m", spacing[1] },
     { "geographic", vtkTerroirGeoreference::GetRowSpacing(terrain) != nullptr } };
   report["georeference"] = json{ { "has_crs", !vtkTerroirGeoreference::GetCRS(terrain).empty() },
@@ -299,10 +336,20 @@ int CommandRun(const std::string& demArg, const std::string& outDir, bool overwr
   if (png)
   {
     WriteOverlay(result, "Slope", 0, "Slope", "Slope (deg)", slopePng, overwrite);
-    WriteOverlay(result, "Temperature", 0, "Temperature", "Temperature, January (C)",
-      temperatureJanPng, overwrite);
-    WriteOverlay(result, "Temperature", 6, "Temperature", "Temperature, July (C)",
-      temperatureJulPng, overwrite);
+    WriteOverlay(result,
+      "Temperature",
+      0,
+      "Temperature",
+      "Temperature, January (C)",
+      temperatureJanPng,
+      overwrite);
+    WriteOverlay(result,
+      "Temperature",
+      6,
+      "Temperature",
+      "Temperature, July (C)",
+      temperatureJulPng,
+      overwrite);
   }
   stages["write"] = json{ { "seconds", terroir::app::Now() - tw } };
   report["stages"] = stages;
@@ -338,7 +385,8 @@ int CommandRun(const std::string& demArg, const std::string& outDir, bool overwr
   report["outputs"] = outputs;
 
   // Report: JSON for scripts, Markdown for people; both temp + rename.
-  auto writeText = [&](const std::string& path, const std::string& text) {
+  auto writeText = [&](const std::string& path, const std::string& text)
+  {
     const std::string tmp = path + ".tmp";
     {
       std::ofstream f(tmp);
@@ -360,12 +408,12 @@ int CommandRun(const std::string& demArg, const std::string& outDir, bool overwr
   md << std::fixed << std::setprecision(2);
   md << "# Terroir run\n\n";
   md << "- input: `" << dem << "`\n";
-  md << "- grid: " << dims[0] << " x " << dims[1] << " cells, " << spacing[0] << " x "
-     << spacing[1] << " m\n";
+  md << "- grid: " << dims[0] << " x " << dims[1] << " cells, " << spacing[0] << " x " << spacing[1]
+     << " m\n";
   if (located)
   {
-    md << std::setprecision(5) << "- centre: " << latLon[0] << ", " << latLon[1]
-       << " (lat, lon)\n" << std::setprecision(2);
+    md << std::setprecision(5) << "- centre: " << latLon[0] << ", " << latLon[1] << " (lat, lon)\n"
+       << std::setprecision(2);
   }
   md << "\n| stage | seconds | backend |\n|---|---|---|\n";
   for (const char* s : { "read", "slope", "temperature", "write" })
@@ -376,7 +424,9 @@ int CommandRun(const std::string& demArg, const std::string& outDir, bool overwr
   md << std::setprecision(2) << "\n| array | units | min | mean | max |\n|---|---|---|---|---|\n";
   for (auto& [name, entry] : arrays.items())
   {
-    const json& st = entry.contains("all") ? entry["all"] : entry.contains("Jul") ? entry["Jul"] : json();
+    const json& st = entry.contains("all") ? entry["all"]
+      : entry.contains("Jul")              ? entry["Jul"]
+                                           : json();
     if (st.is_null() || st["min"].is_null())
     {
       continue;
@@ -405,7 +455,9 @@ int CommandRun(const std::string& demArg, const std::string& outDir, bool overwr
 
 // ---------------------------------------------------------------------------------------------
 /// Writes a single-stage result: GeoTIFF of `array` for .tif/.tiff, every array for .vti.
-void WriteStageResult(vtkImageData* image, const std::string& array, const std::string& path,
+void WriteStageResult(vtkImageData* image,
+  const std::string& array,
+  const std::string& path,
   bool overwrite)
 {
   if (terroir::app::HasExtension(path, ".vti"))
@@ -422,8 +474,13 @@ void WriteStageResult(vtkImageData* image, const std::string& array, const std::
   }
 }
 
-int CommandSlope(const std::string& in, const std::string& outPath, bool overwrite,
-  const std::string& backendName, double zFactor, bool percent, const std::string& aspectPath,
+int CommandSlope(const std::string& in,
+  const std::string& outPath,
+  bool overwrite,
+  const std::string& backendName,
+  double zFactor,
+  bool percent,
+  const std::string& aspectPath,
   bool allowNetwork)
 {
   const int backend = ParseBackend(backendName);
@@ -437,6 +494,10 @@ int CommandSlope(const std::string& in, const std::string& outPath, bool overwri
   vtkNew<vtkTerroirSlope> slope;
   slope->SetBackend(backend);
   slope->SetZFactor(zFactor);
+  // Only what is written: a .tif gets Slope (and Aspect when asked); a .vti gets everything.
+  const bool everything = terroir::app::HasExtension(outPath, ".vti");
+  slope->SetComputeAspect(everything || !aspectPath.empty());
+  slope->SetComputeNormals(everything);
   if (percent)
   {
     slope->SetSlopeUnitsToPercent();
@@ -451,8 +512,12 @@ int CommandSlope(const std::string& in, const std::string& outPath, bool overwri
   return 0;
 }
 
-int CommandTemperature(const std::string& in, const std::string& outPath, bool overwrite,
-  const std::string& backendName, bool allowNetwork, const TemperatureOptions& opts)
+int CommandTemperature(const std::string& in,
+  const std::string& outPath,
+  bool overwrite,
+  const std::string& backendName,
+  bool allowNetwork,
+  const TemperatureOptions& opts)
 {
   const int backend = ParseBackend(backendName);
   terroir::app::CheckWritable({ outPath }, overwrite);
@@ -508,9 +573,10 @@ double MeasureCopyBandwidth(int repeat)
   for (int r = 0; r < repeat; ++r)
   {
     const double t0 = terroir::app::Now();
-    vtkSMPTools::For(0, static_cast<vtkIdType>(n), 1 << 20, [&](vtkIdType i0, vtkIdType i1) {
-      std::copy(a.data() + i0, a.data() + i1, b.data() + i0);
-    });
+    vtkSMPTools::For(0,
+      static_cast<vtkIdType>(n),
+      1 << 20,
+      [&](vtkIdType i0, vtkIdType i1) { std::copy(a.data() + i0, a.data() + i1, b.data() + i0); });
     const double dt = terroir::app::Now() - t0;
     best = std::max(best, 2.0 * sizeof(float) * static_cast<double>(n) / dt);
   }
@@ -521,7 +587,59 @@ double MeasureCopyBandwidth(int repeat)
   return best;
 }
 
-int CommandBench(int size, int repeat, const std::string& backends, bool bandwidth,
+/// Best time of the slope kernel alone (core SlopeHorn1981Rows over row blocks with
+/// vtkSMPTools, outputs allocated and touched beforehand), seconds.
+double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
+{
+  int dims[3];
+  terrain->GetDimensions(dims);
+  auto* z = vtkFloatArray::SafeDownCast(terrain->GetPointData()->GetArray("Elevation"));
+  if (!z)
+  {
+    throw Failure("bench: the synthetic DEM has no float Elevation array");
+  }
+  terroir::GridView<float> view;
+  view.data = z->GetPointer(0);
+  view.nx = dims[0];
+  view.ny = dims[1];
+  double spacing[3];
+  terrain->GetSpacing(spacing);
+  view.dx = spacing[0];
+  view.dy = spacing[1];
+  const std::size_t n = view.Size();
+  std::vector<float> slope(n, 0.0f), aspect(allOutputs ? n : 0, 0.0f),
+    normals(allOutputs ? 3 * n : 0, 0.0f);
+  const terroir::terrain::SlopeParams params;
+  double best = 1e300;
+  for (int r = 0; r < repeat + 1; ++r) // the first run warms caches and page tables
+  {
+    const double t0 = terroir::app::Now();
+    vtkSMPTools::For(0,
+      view.ny,
+      16,
+      [&](vtkIdType j0, vtkIdType j1)
+      {
+        terroir::terrain::SlopeHorn1981Rows(view,
+          params,
+          slope.data(),
+          allOutputs ? aspect.data() : nullptr,
+          allOutputs ? normals.data() : nullptr,
+          static_cast<int>(j0),
+          static_cast<int>(j1));
+      });
+    const double dt = terroir::app::Now() - t0;
+    if (r > 0)
+    {
+      best = std::min(best, dt);
+    }
+  }
+  return best;
+}
+
+int CommandBench(int size,
+  int repeat,
+  const std::string& backends,
+  bool bandwidth,
   const std::string& jsonPath)
 {
   vtkNew<vtkTerroirFractalTerrainSource> source;
@@ -542,8 +660,8 @@ int CommandBench(int size, int repeat, const std::string& backends, bool bandwid
     const int b = ParseBackend(item);
     if (b == vtkTerroirComputeContext::GPU && !vtkTerroirComputeContext::IsAvailable())
     {
-      std::cerr << "terroir bench: GPU skipped: " << vtkTerroirComputeContext::GetUnavailableReason()
-                << "\n";
+      std::cerr << "terroir bench: GPU skipped: "
+                << vtkTerroirComputeContext::GetUnavailableReason() << "\n";
       continue;
     }
     backendList.push_back(b);
@@ -594,7 +712,9 @@ int CommandBench(int size, int repeat, const std::string& backends, bool bandwid
       std::cout << std::left << std::setw(14) << stage << std::setw(8) << bname << std::right
                 << std::setw(12) << best * 1e3 << std::setw(14) << best * 1e3 / mcells
                 << std::setw(14) << mcells / best << "\n";
-      results.push_back(json{ { "stage", stage }, { "backend", bname }, { "seconds", best },
+      results.push_back(json{ { "stage", stage },
+        { "backend", bname },
+        { "seconds", best },
         { "ms_per_mcell", best * 1e3 / mcells } });
       if (std::string(stage) == "slope" && b == vtkTerroirComputeContext::CPU)
       {
@@ -608,13 +728,28 @@ int CommandBench(int size, int repeat, const std::string& backends, bool bandwid
     const double bw = MeasureCopyBandwidth(std::max(3, repeat));
     // The slope filter reads one float and writes Slope, Aspect and 3 Normals components.
     const double bytesPerCell = 4.0 + 4.0 * (1 + 1 + 3);
-    std::cout << "memory bandwidth (parallel copy, 256 MiB): " << bw / 1e9 << " GB/s\n";
+    std::cout << "memory bandwidth (parallel copy, 256 MiB, "
+              << vtkSMPTools::GetEstimatedNumberOfThreads() << " threads): " << bw / 1e9
+              << " GB/s\n";
     doc["copy_bandwidth_GBps"] = bw / 1e9;
+    // The kernel alone, without allocation or pipeline work: bytes = 4 read + 4 per output.
+    for (bool all : { false, true })
+    {
+      const double sec = TimeSlopeKernel(terrain, all, std::max(3, repeat));
+      const double bytes = (all ? bytesPerCell : 8.0) * mcells * 1e6;
+      const char* what = all ? "slope kernel (Slope+Aspect+Normals)" : "slope kernel (Slope only)";
+      std::cout << what << ": " << std::setprecision(2) << sec * 1e3 / mcells << " ms/Mcell, "
+                << bytes / sec / 1e9 << " GB/s = " << std::setprecision(0)
+                << 100.0 * bytes / sec / bw << " % of copy bandwidth\n"
+                << std::setprecision(2);
+      doc[all ? "slope_kernel_all_GBps" : "slope_kernel_slope_only_GBps"] = bytes / sec / 1e9;
+    }
     if (slopeCpuSeconds > 0)
     {
       const double eff = bytesPerCell * mcells * 1e6 / slopeCpuSeconds;
-      std::cout << "slope CPU filter effective bandwidth: " << eff / 1e9 << " GB/s = "
-                << std::setprecision(0) << 100.0 * eff / bw << " % of copy bandwidth\n";
+      std::cout << "slope CPU filter effective bandwidth: " << eff / 1e9
+                << " GB/s = " << std::setprecision(0) << 100.0 * eff / bw
+                << " % of copy bandwidth\n";
       doc["slope_cpu_effective_GBps"] = eff / 1e9;
       doc["slope_cpu_fraction_of_bandwidth"] = eff / bw;
     }
@@ -654,17 +789,20 @@ int main(int argc, char** argv)
   std::string backend = "auto";
   bool overwrite = false;
   bool allowNetwork = false;
-  auto addCommon = [&](CLI::App* sub) {
+  auto addCommon = [&](CLI::App* sub)
+  {
     sub->add_option("--backend", backend, "auto, cpu or gpu (TERROIR_BACKEND overrides auto)")
       ->check(CLI::IsMember({ "auto", "cpu", "gpu" }))
       ->capture_default_str();
     sub->add_flag("--overwrite", overwrite, "Replace existing output files");
-    sub->add_flag("--allow-network-paths", allowNetwork,
+    sub->add_flag("--allow-network-paths",
+      allowNetwork,
       "Allow GDAL network and archive paths (/vsicurl/, /vsizip/, ...)");
   };
 
   // run
-  CLI::App* run = app.add_subcommand("run", "Run every filter on a DEM (default: bundled Sagehen DEM)");
+  CLI::App* run =
+    app.add_subcommand("run", "Run every filter on a DEM (default: bundled Sagehen DEM)");
   std::string runDem;
   std::string runOut = "terroir-out";
   bool noPng = false;
@@ -710,7 +848,8 @@ int main(int argc, char** argv)
     ->check(CLI::Range(1, 100))
     ->capture_default_str();
   bench->add_option("--backends", backends, "Comma-separated backends")->capture_default_str();
-  bench->add_flag("--bandwidth", bandwidth, "Also measure memory bandwidth and the slope kernel's share");
+  bench->add_flag(
+    "--bandwidth", bandwidth, "Also measure memory bandwidth and the slope kernel's share");
   bench->add_option("--json", benchJson, "Also write the results as JSON here");
 
   // info
@@ -720,7 +859,8 @@ int main(int argc, char** argv)
   info->add_flag("--allow-network-paths", allowNetwork, "Allow GDAL network and archive paths");
 
   // fractal
-  CLI::App* fractal = app.add_subcommand("fractal", "Write a seeded synthetic DEM (benchmarks, tests)");
+  CLI::App* fractal =
+    app.add_subcommand("fractal", "Write a seeded synthetic DEM (benchmarks, tests)");
   std::string fractalOut;
   int fractalSize = 1024, fractalSeed = 1;
   double fractalSpacing = 10.0;
@@ -752,8 +892,8 @@ int main(int argc, char** argv)
     }
     if (*slope)
     {
-      return CommandSlope(slopeIn, slopeOut, overwrite, backend, zFactor, percent, aspectOut,
-        allowNetwork);
+      return CommandSlope(
+        slopeIn, slopeOut, overwrite, backend, zFactor, percent, aspectOut, allowNetwork);
     }
     if (*temp)
     {

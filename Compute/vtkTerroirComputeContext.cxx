@@ -187,8 +187,8 @@ bool vtkTerroirComputeContext::IsSoftwareRenderer()
   {
     c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
-  for (const char* name : { "llvmpipe", "softpipe", "swiftshader", "swrast", "software rasterizer",
-         "lavapipe" })
+  for (const char* name :
+    { "llvmpipe", "softpipe", "swiftshader", "swrast", "software rasterizer", "lavapipe" })
   {
     if (r.find(name) != std::string::npos)
     {

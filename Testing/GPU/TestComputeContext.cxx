@@ -611,8 +611,8 @@ TEST(TerroirComputeContext, ResolveBackendRules)
   }
   {
     ScopedBackendEnv env("auto");
-    EXPECT_EQ(C::ResolveBackend(C::Auto, true, why),
-      gpu && !C::IsSoftwareRenderer() ? C::GPU : C::CPU);
+    EXPECT_EQ(
+      C::ResolveBackend(C::Auto, true, why), gpu && !C::IsSoftwareRenderer() ? C::GPU : C::CPU);
     EXPECT_TRUE(Contains(why, "auto")) << why;
   }
   {
