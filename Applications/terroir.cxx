@@ -50,19 +50,6 @@ using json = nlohmann::json;
 
 namespace
 {
-const char* const MonthNames[12] = { "Jan",
-  "Feb",
-  "Mar",
-  "Apr",
-  "May",
-  "Jun",
-  "Jul",
-  "Aug",
-  "Sep",
-  "Oct",
-  "Nov",
-  "Dec" };
-
 int ParseBackend(const std::string& name)
 {
   if (name == "auto")
@@ -372,7 +359,7 @@ int CommandRun(const std::string& demArg,
     {
       for (int c = 0; c < 12; ++c)
       {
-        entry[MonthNames[c]] = StatisticsJSON(ArrayStatistics(arr, c));
+        entry[vtkTerroirTemperature::GetMonthName(c)] = StatisticsJSON(ArrayStatistics(arr, c));
       }
     }
     else if (arr->GetNumberOfComponents() == 1)

@@ -53,75 +53,27 @@ private:
 
 vtkTerroirGeoTIFFWriter::vtkTerroirGeoTIFFWriter()
 {
-  this->SetArrayName(vtkTerroirGeoreference::ElevationName());
   GDALAllRegister();
 }
 
-vtkTerroirGeoTIFFWriter::~vtkTerroirGeoTIFFWriter()
-{
-  this->SetFileName(nullptr);
-  this->SetArrayName(nullptr);
-}
+vtkTerroirGeoTIFFWriter::~vtkTerroirGeoTIFFWriter() {}
 
 void vtkTerroirGeoTIFFWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
-  os << indent << "ArrayName: " << (this->ArrayName ? this->ArrayName : "(none)") << "\n";
-  os << indent << "Overwrite: " << this->Overwrite << "\n";
   os << indent << "Compress: " << this->Compress << "\n";
-}
-
-int vtkTerroirGeoTIFFWriter::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-  return 1;
-}
-
-void vtkTerroirGeoTIFFWriter::Fail(const std::string& problem)
-{
-  this->ErrorMessage =
-    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
-    problem;
-  this->SetErrorCode(vtkErrorCode::UserError);
-  vtkErrorMacro(<< this->ErrorMessage);
 }
 
 void vtkTerroirGeoTIFFWriter::WriteData()
 {
-  this->ErrorMessage.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  if (!this->FileName || !*this->FileName)
-  {
-    this->Fail("no file name set");
-    return;
-  }
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  vtkDataArray* array = nullptr;
+  vtkImageData* input = this->ValidatedInput(array);
   if (!input)
   {
-    this->Fail("input is not a vtkImageData");
     return;
   }
   int dims[3];
   input->GetDimensions(dims);
-  if (dims[2] != 1 || dims[0] < 1 || dims[1] < 1)
-  {
-    this->Fail("input is not a 2-D image");
-    return;
-  }
-  vtkDataArray* array =
-    this->ArrayName ? input->GetPointData()->GetArray(this->ArrayName) : nullptr;
-  if (!array)
-  {
-    this->Fail(
-      std::string("input has no point array '") + (this->ArrayName ? this->ArrayName : "") + "'");
-    return;
-  }
-  if (!this->Overwrite && terroir::io::detail::FileExists(this->FileName))
-  {
-    this->Fail("file exists (turn Overwrite on to replace it)");
-    return;
-  }
   const int nx = dims[0];
   const int ny = dims[1];
   const int nc = array->GetNumberOfComponents();

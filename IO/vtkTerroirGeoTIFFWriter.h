@@ -29,35 +29,14 @@
 #define vtkTerroirGeoTIFFWriter_h
 
 #include "vtkTerroirIOModule.h" // For export macro
-#include "vtkWriter.h"
+#include "vtkTerroirImageWriter.h"
 
-#include <string> // For std::string
-
-class VTKTERROIRIO_EXPORT vtkTerroirGeoTIFFWriter : public vtkWriter
+class VTKTERROIRIO_EXPORT vtkTerroirGeoTIFFWriter : public vtkTerroirImageWriter
 {
 public:
   static vtkTerroirGeoTIFFWriter* New();
-  vtkTypeMacro(vtkTerroirGeoTIFFWriter, vtkWriter);
+  vtkTypeMacro(vtkTerroirGeoTIFFWriter, vtkTerroirImageWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The GeoTIFF file to write. Default: none.
-  vtkSetStringMacro(FileName);
-  vtkGetStringMacro(FileName);
-  ///@}
-
-  ///@{
-  /// Point array to write (any number of components). Default: "Elevation".
-  vtkSetStringMacro(ArrayName);
-  vtkGetStringMacro(ArrayName);
-  ///@}
-
-  ///@{
-  /// Replace an existing file. Default: off (an existing file is an error).
-  vtkSetMacro(Overwrite, bool);
-  vtkGetMacro(Overwrite, bool);
-  vtkBooleanMacro(Overwrite, bool);
-  ///@}
 
   ///@{
   /// Compress with DEFLATE (floating-point predictor for float bands). Default off, like
@@ -67,27 +46,17 @@ public:
   vtkBooleanMacro(Compress, bool);
   ///@}
 
-  /// The last error as one line "<file>: <problem>", or "" after a successful write.
-  const char* GetErrorMessage() const { return this->ErrorMessage.c_str(); }
-
 protected:
   vtkTerroirGeoTIFFWriter();
   ~vtkTerroirGeoTIFFWriter() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   void WriteData() override;
 
-  char* FileName = nullptr;
-  char* ArrayName = nullptr;
-  bool Overwrite = false;
   bool Compress = false;
-  std::string ErrorMessage;
 
 private:
   vtkTerroirGeoTIFFWriter(const vtkTerroirGeoTIFFWriter&) = delete;
   void operator=(const vtkTerroirGeoTIFFWriter&) = delete;
-
-  void Fail(const std::string& problem);
 };
 
 #endif

@@ -19,79 +19,27 @@
 
 vtkStandardNewMacro(vtkTerroirTerragenWriter);
 
-vtkTerroirTerragenWriter::vtkTerroirTerragenWriter()
-{
-  this->SetArrayName(vtkTerroirGeoreference::ElevationName());
-}
+vtkTerroirTerragenWriter::vtkTerroirTerragenWriter() {}
 
-vtkTerroirTerragenWriter::~vtkTerroirTerragenWriter()
-{
-  this->SetFileName(nullptr);
-  this->SetArrayName(nullptr);
-}
+vtkTerroirTerragenWriter::~vtkTerroirTerragenWriter() {}
 
 void vtkTerroirTerragenWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
-  os << indent << "ArrayName: " << (this->ArrayName ? this->ArrayName : "(none)") << "\n";
-  os << indent << "Overwrite: " << this->Overwrite << "\n";
-}
-
-int vtkTerroirTerragenWriter::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-  return 1;
-}
-
-void vtkTerroirTerragenWriter::Fail(const std::string& problem)
-{
-  this->ErrorMessage =
-    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
-    problem;
-  this->SetErrorCode(vtkErrorCode::UserError);
-  vtkErrorMacro(<< this->ErrorMessage);
 }
 
 void vtkTerroirTerragenWriter::WriteData()
 {
-  this->ErrorMessage.clear();
-  this->SetErrorCode(vtkErrorCode::NoError);
-  if (!this->FileName || !*this->FileName)
-  {
-    this->Fail("no file name set");
-    return;
-  }
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  vtkDataArray* array = nullptr;
+  vtkImageData* input = this->ValidatedInput(array);
   if (!input)
   {
-    this->Fail("input is not a vtkImageData");
-    return;
-  }
-  int dims[3];
-  input->GetDimensions(dims);
-  if (dims[2] != 1)
-  {
-    this->Fail("input is not a 2-D image (" + std::to_string(dims[2]) + " slices)");
-    return;
-  }
-  vtkDataArray* array =
-    this->ArrayName ? input->GetPointData()->GetArray(this->ArrayName) : nullptr;
-  if (!array)
-  {
-    this->Fail(
-      std::string("input has no point array '") + (this->ArrayName ? this->ArrayName : "") + "'");
     return;
   }
   if (array->GetNumberOfComponents() != 1)
   {
     this->Fail(std::string("array '") + this->ArrayName + "' has " +
       std::to_string(array->GetNumberOfComponents()) + " components, Terragen stores one");
-    return;
-  }
-  if (!this->Overwrite && terroir::io::detail::FileExists(this->FileName))
-  {
-    this->Fail("file exists (turn Overwrite on to replace it)");
     return;
   }
   vtkDataArray* mask = input->GetPointData()->GetArray(vtkTerroirGeoreference::ValidMaskName());
@@ -103,6 +51,8 @@ void vtkTerroirTerragenWriter::WriteData()
     heights[k] = valid ? static_cast<float>(array->GetComponent(k, 0))
                        : std::numeric_limits<float>::quiet_NaN();
   }
+  int dims[3];
+  input->GetDimensions(dims);
   double spacing[3];
   input->GetSpacing(spacing);
   std::vector<std::uint8_t> bytes;

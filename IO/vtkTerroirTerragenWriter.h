@@ -26,58 +26,26 @@
 #define vtkTerroirTerragenWriter_h
 
 #include "vtkTerroirIOModule.h" // For export macro
-#include "vtkWriter.h"
-
-#include <string> // For std::string
+#include "vtkTerroirImageWriter.h"
 
 class vtkImageData;
 
-class VTKTERROIRIO_EXPORT vtkTerroirTerragenWriter : public vtkWriter
+class VTKTERROIRIO_EXPORT vtkTerroirTerragenWriter : public vtkTerroirImageWriter
 {
 public:
   static vtkTerroirTerragenWriter* New();
-  vtkTypeMacro(vtkTerroirTerragenWriter, vtkWriter);
+  vtkTypeMacro(vtkTerroirTerragenWriter, vtkTerroirImageWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /// The `.ter` file to write. Default: none.
-  vtkSetStringMacro(FileName);
-  vtkGetStringMacro(FileName);
-  ///@}
-
-  ///@{
-  /// Point array to write (one component, metres). Default: "Elevation".
-  vtkSetStringMacro(ArrayName);
-  vtkGetStringMacro(ArrayName);
-  ///@}
-
-  ///@{
-  /// Replace an existing file. Default: off (an existing file is an error).
-  vtkSetMacro(Overwrite, bool);
-  vtkGetMacro(Overwrite, bool);
-  vtkBooleanMacro(Overwrite, bool);
-  ///@}
-
-  /// The last error as one line "<file>: <problem>", or "" after a successful write.
-  const char* GetErrorMessage() const { return this->ErrorMessage.c_str(); }
 
 protected:
   vtkTerroirTerragenWriter();
   ~vtkTerroirTerragenWriter() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   void WriteData() override;
-
-  char* FileName = nullptr;
-  char* ArrayName = nullptr;
-  bool Overwrite = false;
-  std::string ErrorMessage;
 
 private:
   vtkTerroirTerragenWriter(const vtkTerroirTerragenWriter&) = delete;
   void operator=(const vtkTerroirTerragenWriter&) = delete;
-
-  void Fail(const std::string& problem);
 };
 
 #endif

@@ -34,6 +34,15 @@ const char* const kMonthNames[12] = { "Jan",
   "Nov",
   "Dec" };
 
+} // namespace
+
+const char* vtkTerroirTemperature::GetMonthName(int month)
+{
+  return month >= 0 && month < 12 ? kMonthNames[month] : nullptr;
+}
+
+namespace
+{
 struct TemperatureFunctor
 {
   const terroir::GridView<float>* View;

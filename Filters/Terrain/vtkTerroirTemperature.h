@@ -45,6 +45,8 @@ public:
 
   /// Output array name.
   static const char* TemperatureName() { return "Temperature"; }
+  /// Component names of monthly arrays: "Jan" ... "Dec" for month 0..11 (nullptr otherwise).
+  static const char* GetMonthName(int month);
 
   enum HemisphereType
   {
