@@ -1,14 +1,28 @@
-# The `terroir` program.
+# The `terroir` program, and its overlay module (loaded with dlopen by `terroir run`, so that
+# the other commands do not pay for loading VTK's rendering libraries).
 find_path(CLI11_INCLUDE_DIR CLI/CLI.hpp REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
-add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h)
+
+add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h TerroirOverlayPlugin.h)
 target_include_directories(terroir PRIVATE "${CLI11_INCLUDE_DIR}")
-target_compile_definitions(terroir PRIVATE "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\"")
+target_compile_definitions(terroir PRIVATE
+  "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\""
+  "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
 target_compile_options(terroir PRIVATE -Wall -Wextra)
-set(_terroir_app_modules ${terroir_modules} VTK::CommonCore VTK::CommonDataModel
-  VTK::CommonExecutionModel VTK::IOXML VTK::RenderingOpenGL2 VTK::RenderingFreeType
-  VTK::InteractionStyle)
+set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersTerrain
+  VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::IOXML)
 target_link_libraries(terroir PRIVATE ${_terroir_app_modules} TerroirTerrainCore
-  nlohmann_json::nlohmann_json)
+  nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})
 vtk_module_autoinit(TARGETS terroir MODULES ${_terroir_app_modules})
 install(TARGETS terroir RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
+
+add_library(terroir-overlay MODULE TerroirOverlayPlugin.cxx TerroirOverlayPlugin.h)
+set_target_properties(terroir-overlay PROPERTIES PREFIX "" OUTPUT_NAME "terroir-overlay"
+  CXX_VISIBILITY_PRESET hidden)
+target_compile_options(terroir-overlay PRIVATE -Wall -Wextra)
+set(_terroir_overlay_modules Terroir::Rendering VTK::CommonCore VTK::CommonDataModel
+  VTK::RenderingOpenGL2 VTK::RenderingFreeType VTK::InteractionStyle)
+target_link_libraries(terroir-overlay PRIVATE ${_terroir_overlay_modules})
+vtk_module_autoinit(TARGETS terroir-overlay MODULES ${_terroir_overlay_modules})
+add_dependencies(terroir terroir-overlay)
+install(TARGETS terroir-overlay LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")

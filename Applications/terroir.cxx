@@ -10,6 +10,7 @@
 // Errors are one line on stderr ("terroir: error: ...") and exit code 1; outputs are written
 // under a temporary name and renamed, and existing files are kept unless --overwrite.
 #include "TerroirApp.h"
+#include "TerroirOverlayPlugin.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -24,7 +25,6 @@
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoreference.h"
-#include "vtkTerroirOverlayView.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirTemperature.h"
 
@@ -37,6 +37,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -217,6 +218,47 @@ bool HaveDisplay()
   return d && *d;
 }
 
+/// Loads the overlay module (see TerroirOverlayPlugin.cxx) once; throws when it is missing.
+TerroirWriteOverlayFunction OverlayWriter()
+{
+  static TerroirWriteOverlayFunction writer = nullptr;
+  if (writer)
+  {
+    return writer;
+  }
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("TERROIR_OVERLAY_PLUGIN"))
+  {
+    candidates.emplace_back(env);
+  }
+  std::error_code ec;
+  const fs::path exeDir = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  if (!ec)
+  {
+    for (const char* rel : { "../lib", "../" TERROIR_INSTALL_LIBDIR })
+    {
+      candidates.push_back((exeDir / rel / TERROIR_OVERLAY_PLUGIN_NAME).string());
+    }
+  }
+  std::string failures;
+  for (const auto& path : candidates)
+  {
+    if (void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL))
+    {
+      writer = reinterpret_cast<TerroirWriteOverlayFunction>(
+        ::dlsym(handle, TERROIR_OVERLAY_PLUGIN_SYMBOL));
+      if (writer)
+      {
+        return writer;
+      }
+    }
+    const char* why = ::dlerror();
+    failures += (failures.empty() ? "" : "; ") + (why ? std::string(why) : path);
+  }
+  throw Failure(
+    "PNG overlays unavailable: cannot load " TERROIR_OVERLAY_PLUGIN_NAME " (" + failures + ")");
+}
+
 void WriteOverlay(vtkImageData* image,
   const std::string& array,
   int component,
@@ -226,17 +268,10 @@ void WriteOverlay(vtkImageData* image,
   bool overwrite)
 {
   terroir::app::CheckWritable({ path }, overwrite);
-  vtkNew<vtkTerroirOverlayView> view;
-  view->SetInputData(image);
-  view->SetArrayName(array.c_str());
-  view->SetArrayComponent(component);
-  view->SetPreset(preset.c_str());
-  view->SetTitle(title.c_str());
-  view->SetModeToRelief();
-  view->SetShowLegend(true);
-  if (!view->WritePNG(path.c_str()))
+  if (const char* error = OverlayWriter()(
+        image, array.c_str(), component, preset.c_str(), title.c_str(), path.c_str()))
   {
-    throw Failure(path + ": " + view->GetLastError());
+    throw Failure(path + ": " + error);
   }
 }
 
@@ -322,19 +357,19 @@ int CommandRun(const std::string& demArg,
   terroir::app::WriteGeoTIFF(result, "Temperature", temperatureTif, overwrite);
   if (png)
   {
-    WriteOverlay(result, "Slope", 0, "Slope", "Slope (deg)", slopePng, overwrite);
+    WriteOverlay(result, "Slope", 0, "Slope", "Slope (°)", slopePng, overwrite);
     WriteOverlay(result,
       "Temperature",
       0,
       "Temperature",
-      "Temperature, January (C)",
+      "Temperature, January (°C)",
       temperatureJanPng,
       overwrite);
     WriteOverlay(result,
       "Temperature",
       6,
       "Temperature",
-      "Temperature, July (C)",
+      "Temperature, July (°C)",
       temperatureJulPng,
       overwrite);
   }

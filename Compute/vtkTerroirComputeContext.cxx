@@ -159,6 +159,13 @@ int vtkTerroirComputeContext::ResolveBackend(int requested, bool hasGPUPath, std
     reason = "CPU (auto: filter has no GPU path)";
     return CPU;
   }
+  if (!terroir::gpu::Context::Global().HasHardwareDevice())
+  {
+    // Decided without making a context (that costs 20-40 ms): EGL lists no hardware device.
+    reason = "CPU (auto: EGL lists no hardware GPU, only software rasterizers; set "
+             "TERROIR_BACKEND=gpu or Backend=GPU to run the GPU path on one)";
+    return CPU;
+  }
   if (!IsAvailable())
   {
     reason = "CPU (auto: no GPU compute context: " + GetUnavailableReason() + ")";

@@ -152,6 +152,12 @@ public:
   bool IsAvailable();
   /// Why the context is unavailable (empty when available).
   std::string UnavailableReason();
+
+  /// Cheap probe, done once and without making a context: does EGL enumerate a hardware
+  /// device (one without EGL_MESA_device_software)? False when EGL is missing or lists only
+  /// software rasterizers (llvmpipe). Used by `Auto` to avoid starting a context that it would
+  /// not use.
+  bool HasHardwareDevice();
   /// Limits probed when the context was made (zeros when unavailable).
   Limits GetLimits();
 

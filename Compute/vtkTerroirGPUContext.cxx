@@ -700,6 +700,44 @@ std::string Context::UnavailableReason()
   return this->Impl->Status == Internals::State::Ready ? std::string() : this->Impl->Reason;
 }
 
+bool Context::HasHardwareDevice()
+{
+  static std::once_flag once;
+  static bool hardware = false;
+  std::call_once(once,
+    []
+    {
+      std::string why;
+      if (!LibrariesPresent(why))
+      {
+        return;
+      }
+      const char* clientExt = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+      if (!clientExt || !HasExtension(clientExt, "EGL_EXT_platform_device") ||
+        !(HasExtension(clientExt, "EGL_EXT_device_base") ||
+          HasExtension(clientExt, "EGL_EXT_device_enumeration")))
+      {
+        return;
+      }
+      EGLint count = 0;
+      if (!eglQueryDevicesEXT(0, nullptr, &count) || count <= 0)
+      {
+        return;
+      }
+      std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
+      eglQueryDevicesEXT(count, devices.data(), &count);
+      for (EGLint i = 0; i < count; ++i)
+      {
+        const char* devExt = eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS);
+        if (!HasExtension(devExt, "EGL_MESA_device_software"))
+        {
+          hardware = true;
+        }
+      }
+    });
+  return hardware;
+}
+
 Limits Context::GetLimits()
 {
   this->Impl->EnsureStarted();

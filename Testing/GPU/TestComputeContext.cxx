@@ -576,7 +576,8 @@ TEST(TerroirComputeContext, ResolveBackendRules)
     EXPECT_EQ(C::ResolveBackend(C::Auto, false, why), C::CPU);
     EXPECT_TRUE(Contains(why, "filter has no GPU path")) << why;
     // Auto never picks a software rasterizer (llvmpipe here): the CPU path is faster.
-    const bool hardware = gpu && !C::IsSoftwareRenderer();
+    const bool hardware =
+      gpu && terroir::gpu::Context::Global().HasHardwareDevice() && !C::IsSoftwareRenderer();
     EXPECT_EQ(C::ResolveBackend(C::Auto, true, why), hardware ? C::GPU : C::CPU);
     if (hardware)
     {
@@ -585,7 +586,7 @@ TEST(TerroirComputeContext, ResolveBackendRules)
     }
     else if (gpu)
     {
-      EXPECT_TRUE(Contains(why, "software rasterizer, " + renderer)) << why;
+      EXPECT_TRUE(Contains(why, "software rasterizer")) << why;
     }
     else
     {
