@@ -721,16 +721,28 @@ int CommandBench(int size,
       }
       filter->SetBackend(b);
       filter->SetInputData(terrain);
-      terroir::app::UpdateOrThrow(filter, stage); // warm-up: shader compile, first touch
-      double best = 1e300;
-      for (int r = 0; r < repeat; ++r)
-      {
-        filter->Modified();
-        const double t0 = terroir::app::Now();
-        terroir::app::UpdateOrThrow(filter, stage);
-        best = std::min(best, terroir::app::Now() - t0);
-      }
       const char* bname = vtkTerroirComputeContext::GetBackendName(b);
+      double best = 1e300;
+      try
+      {
+        terroir::app::UpdateOrThrow(filter, stage); // warm-up: shader compile, first touch
+        for (int r = 0; r < repeat; ++r)
+        {
+          filter->Modified();
+          const double t0 = terroir::app::Now();
+          terroir::app::UpdateOrThrow(filter, stage);
+          best = std::min(best, terroir::app::Now() - t0);
+        }
+      }
+      catch (const Failure& e)
+      {
+        // One stage failing on one backend (e.g. a grid too large for the GPU) does not
+        // stop the others.
+        std::cout << std::left << std::setw(14) << stage << std::setw(8) << bname
+                  << "failed: " << e.what() << "\n";
+        results.push_back(json{ { "stage", stage }, { "backend", bname }, { "error", e.what() } });
+        continue;
+      }
       std::cout << std::left << std::setw(14) << stage << std::setw(8) << bname << std::right
                 << std::setw(12) << best * 1e3 << std::setw(14) << best * 1e3 / mcells
                 << std::setw(14) << mcells / best << "\n";

@@ -7,11 +7,15 @@
 //   1  readonly  uint  validMask[(n+3)/4]    byte k of word w = validity of cell 4w+k (uHasMask)
 //   2  readonly  vec4  rowCoef[ny]           (1/(8dx) north row, centre row, south row, 1/(8dy)),
 //                                            times the z factor
-//   3  writeonly float slope[nx*ny]          degrees, or percent when uPercent
-//   4  writeonly float aspect[nx*ny]         degrees clockwise from true north (if uAspect)
-//   5  writeonly float normals[3*nx*ny]      unit normal x, y, z (if uNormals)
-// Uniforms: int uNx, uNy, uHasMask, uPercent, uAspect, uNormals; float uConvergence (degrees).
-// Work group LOCAL_X x LOCAL_Y (defines, 16 x 16 by default); dispatch ceil(nx/16) x ceil(ny/16).
+//   3  writeonly float slope[nx*rows]        degrees, or percent when uPercent
+//   4  writeonly float aspect[nx*rows]       degrees clockwise from true north (if uAspect)
+//   5  writeonly float normals[3*nx*rows]    unit normal x, y, z (if uNormals)
+// Outputs cover the band of rows [uRowStart, uRowEnd) (rows = uRowEnd - uRowStart), so that
+// grids whose outputs exceed one storage buffer run band by band; inputs cover the whole grid.
+// Uniforms: int uNx, uNy, uRowStart, uRowEnd, uHasMask, uPercent, uAspect, uNormals;
+// float uConvergence (degrees).
+// Work group LOCAL_X x LOCAL_Y (defines, 16 x 16 by default); dispatch ceil(nx/16) x
+// ceil(rows/16).
 
 #ifndef LOCAL_X
 #define LOCAL_X 16
@@ -31,6 +35,8 @@ layout(std430, binding = 5) writeonly buffer NormalsBuffer { float normalsOut[];
 
 uniform int uNx;
 uniform int uNy;
+uniform int uRowStart;
+uniform int uRowEnd;
 uniform int uHasMask;
 uniform int uPercent;
 uniform int uAspect;
@@ -69,12 +75,12 @@ vec2 extrapolate(vec2 a, vec2 b)
 void main()
 {
   int i = int(gl_GlobalInvocationID.x);
-  int j = int(gl_GlobalInvocationID.y);
-  if (i >= uNx || j >= uNy)
+  int j = uRowStart + int(gl_GlobalInvocationID.y);
+  if (i >= uNx || j >= uRowEnd || j >= uNy)
   {
     return;
   }
-  int idx = j * uNx + i;
+  int idx = (j - uRowStart) * uNx + i; // index into this band's outputs
   if (!cellValid(i, j))
   {
     float nan = uintBitsToFloat(0x7fc00000u);

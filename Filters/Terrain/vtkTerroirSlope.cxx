@@ -72,11 +72,18 @@ void RunSlopeGPU(const terroir::GridView<float>& v,
   }
   auto& ctx = terroir::gpu::Context::Global();
   const long long maxBlock = ctx.GetLimits().MaxShaderStorageBlockSize;
-  const long long largest = static_cast<long long>((normals ? 3 : 1) * n * sizeof(float));
-  if (maxBlock > 0 && largest > maxBlock)
+  if (maxBlock > 0 && static_cast<long long>(n * sizeof(float)) > maxBlock)
   {
-    throw terroir::gpu::Error("grid too large for one GPU storage buffer (" +
-      std::to_string(largest) + " > " + std::to_string(maxBlock) + " bytes)");
+    throw terroir::gpu::Error("grid too large for one GPU storage buffer (elevation " +
+      std::to_string(n * sizeof(float)) + " > " + std::to_string(maxBlock) + " bytes)");
+  }
+  // Outputs are computed in bands of rows that fit one storage buffer each (the normals need
+  // 12 B per cell: 4096^2 cells exceed llvmpipe's 128 MiB limit). Inputs stay whole.
+  const long long bytesPerRow = static_cast<long long>((normals ? 3 : 1) * v.nx * sizeof(float));
+  int bandRows = v.ny;
+  if (maxBlock > 0 && bytesPerRow * v.ny > maxBlock)
+  {
+    bandRows = std::max(16, static_cast<int>(maxBlock / bytesPerRow) / 16 * 16);
   }
   ctx.Run(
     [&]
@@ -84,9 +91,10 @@ void RunSlopeGPU(const terroir::GridView<float>& v,
       terroir::gpu::StorageBuffer bz(n * sizeof(float), v.data);
       terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
       terroir::gpu::StorageBuffer bcoef(coef.size() * sizeof(float), coef.data());
-      terroir::gpu::StorageBuffer bslope(n * sizeof(float));
-      terroir::gpu::StorageBuffer baspect(aspect ? n * sizeof(float) : sizeof(float));
-      terroir::gpu::StorageBuffer bnormals(normals ? 3 * n * sizeof(float) : sizeof(float));
+      const std::size_t bandCells = static_cast<std::size_t>(bandRows) * v.nx;
+      terroir::gpu::StorageBuffer bslope(bandCells * sizeof(float));
+      terroir::gpu::StorageBuffer baspect(aspect ? bandCells * sizeof(float) : sizeof(float));
+      terroir::gpu::StorageBuffer bnormals(normals ? 3 * bandCells * sizeof(float) : sizeof(float));
       auto& prog = ctx.GetProgram("Slope.comp", vtkTerroirSlopeCS, { "LOCAL_X 16", "LOCAL_Y 16" });
       prog.Use();
       prog.SetInt("uNx", v.nx);
@@ -102,15 +110,23 @@ void RunSlopeGPU(const terroir::GridView<float>& v,
       bslope.Bind(3);
       baspect.Bind(4);
       bnormals.Bind(5);
-      prog.Dispatch((v.nx + 15) / 16, (v.ny + 15) / 16);
-      bslope.Download(slope, n * sizeof(float));
-      if (aspect)
+      for (int j0 = 0; j0 < v.ny; j0 += bandRows)
       {
-        baspect.Download(aspect, n * sizeof(float));
-      }
-      if (normals)
-      {
-        bnormals.Download(normals, 3 * n * sizeof(float));
+        const int j1 = std::min(v.ny, j0 + bandRows);
+        const std::size_t cells = static_cast<std::size_t>(j1 - j0) * v.nx;
+        const std::size_t first = static_cast<std::size_t>(j0) * v.nx;
+        prog.SetInt("uRowStart", j0);
+        prog.SetInt("uRowEnd", j1);
+        prog.Dispatch((v.nx + 15) / 16, static_cast<unsigned>((j1 - j0 + 15) / 16));
+        bslope.Download(slope + first, cells * sizeof(float));
+        if (aspect)
+        {
+          baspect.Download(aspect + first, cells * sizeof(float));
+        }
+        if (normals)
+        {
+          bnormals.Download(normals + 3 * first, 3 * cells * sizeof(float));
+        }
       }
     });
 }

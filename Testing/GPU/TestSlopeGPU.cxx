@@ -6,6 +6,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkPointData.h"
 #include "vtkTerroirComputeContext.h"
+#include "vtkTerroirGPU.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTimerLog.h"
@@ -165,6 +166,25 @@ TEST(SlopeGPU, MatchesCPUOnSyntheticGridWithNoDataAndRowSpacing)
   auto cpu = RunSlope(in, vtkTerroirComputeContext::CPU);
   auto gpu = RunSlope(in, vtkTerroirComputeContext::GPU);
   Compare(cpu, gpu, "synthetic with holes");
+}
+
+// Outputs larger than one storage buffer are computed band by band: the band edges must not
+// show (each band reads its halo rows from the whole-grid elevation buffer).
+TEST(SlopeGPU, MatchesCPUWhenOutputsExceedOneStorageBuffer)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  const long long maxBlock = terroir::gpu::Context::Global().GetLimits().MaxShaderStorageBlockSize;
+  const int nx = 2048;
+  // The normals (12 B per cell) of this many rows overflow one buffer by a few bands.
+  const long long rows = maxBlock / (12LL * nx) + 37;
+  if (rows * nx > 30000000LL)
+  {
+    GTEST_SKIP() << "storage buffers of " << maxBlock << " bytes: no banding below 30 Mcells";
+  }
+  auto in = Synthetic(nx, static_cast<int>(rows), true);
+  auto cpu = RunSlope(in, vtkTerroirComputeContext::CPU);
+  auto gpu = RunSlope(in, vtkTerroirComputeContext::GPU);
+  Compare(cpu, gpu, "banded");
 }
 
 TEST(SlopeGPU, Timing2048)
