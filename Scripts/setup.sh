@@ -56,7 +56,9 @@ install_packages
 build_terroir
 case "$mode" in
   build) ;;
-  run) with_display "$build/bin/terroir" run "$@" ;;
+  # The set-up's own job replaces its own earlier results (terroir itself refuses to overwrite
+  # files unless asked), so running this command twice gives the same outcome.
+  run) with_display "$build/bin/terroir" run --overwrite "$@" ;;
   test)
     # The GPU path is exercised for real on llvmpipe: a missing compute context is a failure.
     export TERROIR_REQUIRE_GPU=${TERROIR_REQUIRE_GPU:-1}
