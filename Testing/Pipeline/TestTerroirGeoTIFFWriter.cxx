@@ -237,3 +237,41 @@ TEST(TerroirGeoTIFFWriter, TemporaryFileAndOverwrite)
     ::chmod(ro.c_str(), 0755);
   }
 }
+
+// Compress: DEFLATE with the floating-point predictor is lossless and smaller for a DEM;
+// uncompressed (the default, like gdaldem) holds exactly nx * ny * 4 bytes of pixels.
+TEST(TerroirGeoTIFFWriter, CompressionIsLosslessAndOptional)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("tif_compress");
+  vtkNew<vtkTerroirDEMReader> reader;
+  reader->SetFileName(kUTM.c_str());
+  reader->Update();
+  vtkImageData* dem = reader->GetOutput();
+  vtkNew<vtkTerroirGeoTIFFWriter> writer;
+  writer->SetInputData(dem);
+  EXPECT_FALSE(writer->GetCompress());
+  writer->SetFileName((dir + "/plain.tif").c_str());
+  ASSERT_EQ(writer->Write(), 1) << writer->GetErrorMessage();
+  writer->CompressOn();
+  writer->SetFileName((dir + "/deflate.tif").c_str());
+  ASSERT_EQ(writer->Write(), 1) << writer->GetErrorMessage();
+
+  const std::size_t pixels = static_cast<std::size_t>(dem->GetNumberOfPoints()) * 4;
+  const std::size_t plain = terroir::testing::ReadWholeFile(dir + "/plain.tif").size();
+  const std::size_t deflate = terroir::testing::ReadWholeFile(dir + "/deflate.tif").size();
+  EXPECT_GE(plain, pixels);
+  EXPECT_LT(plain, pixels + 64 * 1024); // header, tags and CRS only
+  EXPECT_LT(deflate, plain * 3 / 4) << "DEFLATE with predictor 3 should shrink a smooth DEM";
+
+  vtkNew<vtkTerroirDEMReader> back;
+  back->SetFileName((dir + "/deflate.tif").c_str());
+  back->Update();
+  ASSERT_STREQ(back->GetErrorMessage(), "");
+  vtkDataArray* a = dem->GetPointData()->GetArray("Elevation");
+  vtkDataArray* b = back->GetOutput()->GetPointData()->GetArray("Elevation");
+  ASSERT_EQ(a->GetNumberOfTuples(), b->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
+  {
+    ASSERT_EQ(a->GetComponent(k, 0), b->GetComponent(k, 0)) << k;
+  }
+}
