@@ -18,9 +18,9 @@ packages=(
   build-essential cmake pkg-config git
   libvtk9-dev python3-vtk9 python3-numpy
   libgdal-dev gdal-bin python3-gdal
-  libgeographiclib-dev libglm-dev
-  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils
-  libgtest-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  libgeographiclib-dev
+  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+  libgtest-dev libcli11-dev nlohmann-json3-dev
   glslang-tools xvfb xauth time
 )
 
