@@ -19,7 +19,7 @@ packages=(
   libvtk9-dev python3-vtk9 python3-numpy
   libgdal-dev gdal-bin python3-gdal
   libgeographiclib-dev
-  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
+  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libx11-dev
   libgtest-dev libcli11-dev nlohmann-json3-dev
   glslang-tools xvfb xauth time
 )
