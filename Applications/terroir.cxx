@@ -818,6 +818,7 @@ int main(int argc, char** argv)
 {
   CLI::App app{ "terroir: terrain resources (slope, temperature, ...) from a DEM, as VTK filters" };
   app.require_subcommand(1);
+  app.fallthrough(); // -v is accepted after the command too
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose, "Show VTK's log (backend choice, timings)");
 
