@@ -133,6 +133,26 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 1)
         self.assertIn("12 values", r.stderr)
 
+    def test_fractal_is_seeded_and_bench_reports_every_stage(self):
+        a, b, c = (os.path.join(self.work, n) for n in ("a.tif", "b.tif", "c.tif"))
+        for path, seed in ((a, "3"), (b, "3"), (c, "4")):
+            r = terroir("fractal", path, "--size", "96", "--seed", seed, "--spacing", "5")
+            self.assertEqual(r.returncode, 0, r.stderr)
+        ds = [gdal.Open(p) for p in (a, b, c)]
+        za, zb, zc = (d.GetRasterBand(1).ReadAsArray() for d in ds)
+        self.assertEqual(za.shape, (96, 96))
+        self.assertEqual(ds[0].GetGeoTransform()[1], 5.0)
+        np.testing.assert_array_equal(za, zb)
+        self.assertGreater(np.max(np.abs(za - zc)), 1.0)
+        r = terroir("bench", "--size", "64", "--repeat", "1", "--backends", "cpu",
+                    "--json", os.path.join(self.work, "bench.json"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.work, "bench.json")) as f:
+            bench = json.load(f)
+        stages = sorted(x["stage"] for x in bench["results"])
+        self.assertEqual(stages, ["slope", "temperature"])
+        self.assertTrue(all(x["seconds"] > 0 for x in bench["results"]))
+
     def test_terragen_input(self):
         ter = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.ter")
         r = terroir("info", ter)
