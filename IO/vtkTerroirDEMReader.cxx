@@ -487,14 +487,13 @@ int vtkTerroirDEMReader::RequestInformation(vtkInformation*,
     }
     return 0;
   }
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int extent[6] = { 0, d.nx - 1, 0, d.ny - 1, 0, 0 };
-  double spacing[3] = { d.spacing[0], d.spacing[1], 1.0 };
-  double origin[3] = { d.origin[0], d.origin[1], 0.0 };
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
-  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
-  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 1);
+  terroir::io::detail::SetTerrainInformation(outputVector->GetInformationObject(0),
+    d.nx,
+    d.ny,
+    d.spacing[0],
+    d.spacing[1],
+    d.origin[0],
+    d.origin[1]);
   return 1;
 }
 

@@ -12,6 +12,7 @@
 #include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTerroirGeoreference.h"
+#include "vtkTerroirIOPrivate.h"
 
 #include <cmath>
 
@@ -80,14 +81,13 @@ int vtkTerroirFractalTerrainSource::RequestInformation(vtkInformation*,
     }
     return 0;
   }
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int extent[6] = { 0, this->Dimensions[0] - 1, 0, this->Dimensions[1] - 1, 0, 0 };
-  double spacing[3] = { this->Spacing, this->Spacing, 1.0 };
-  double origin[3] = { 0.0, 0.0, 0.0 };
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
-  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
-  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 1);
+  terroir::io::detail::SetTerrainInformation(outputVector->GetInformationObject(0),
+    this->Dimensions[0],
+    this->Dimensions[1],
+    this->Spacing,
+    this->Spacing,
+    0.0,
+    0.0);
   return 1;
 }
 

@@ -1,5 +1,9 @@
 #include "vtkTerroirIOPrivate.h"
 
+#include "vtkDataObject.h"
+#include "vtkInformation.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -57,6 +61,23 @@ bool FileExists(const std::string& path)
 {
   struct stat st;
   return ::stat(path.c_str(), &st) == 0;
+}
+
+void SetTerrainInformation(vtkInformation* outInfo,
+  int nx,
+  int ny,
+  double dx,
+  double dy,
+  double x0,
+  double y0)
+{
+  int extent[6] = { 0, nx - 1, 0, ny - 1, 0, 0 };
+  double spacing[3] = { dx, dy, 1.0 };
+  double origin[3] = { x0, y0, 0.0 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 1);
 }
 
 } // namespace detail

@@ -11,6 +11,7 @@
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTerroirGeoreference.h"
+#include "vtkTerroirIOPrivate.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -85,14 +86,13 @@ int vtkTerroirTerragenReader::RequestInformation(vtkInformation*,
     }
     return 0;
   }
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int extent[6] = { 0, terrain.nx - 1, 0, terrain.ny - 1, 0, 0 };
-  double spacing[3] = { terrain.scale[0], terrain.scale[1], 1.0 };
-  double origin[3] = { 0.0, 0.0, 0.0 };
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
-  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
-  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_FLOAT, 1);
+  terroir::io::detail::SetTerrainInformation(outputVector->GetInformationObject(0),
+    terrain.nx,
+    terrain.ny,
+    terrain.scale[0],
+    terrain.scale[1],
+    0.0,
+    0.0);
   return 1;
 }
 
