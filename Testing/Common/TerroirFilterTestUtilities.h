@@ -66,4 +66,21 @@ bool GPUAvailable(bool& mustFail, std::string& reason);
 
 } // namespace terroir_test
 
+/// In a GoogleTest body: skip when no GPU compute context can be made, or FAIL when
+/// TERROIR_REQUIRE_GPU=1 (as CI sets it), naming the reason either way.
+#define TERROIR_REQUIRE_GPU_OR_SKIP()                                                              \
+  do                                                                                               \
+  {                                                                                                \
+    bool terroirMustFail = false;                                                                  \
+    std::string terroirWhy;                                                                        \
+    if (!terroir_test::GPUAvailable(terroirMustFail, terroirWhy))                                  \
+    {                                                                                              \
+      if (terroirMustFail)                                                                         \
+      {                                                                                            \
+        FAIL() << "TERROIR_REQUIRE_GPU=1 but no GPU compute context: " << terroirWhy;              \
+      }                                                                                            \
+      GTEST_SKIP() << "no GPU compute context: " << terroirWhy;                                    \
+    }                                                                                              \
+  } while (false)
+
 #endif

@@ -1,6 +1,7 @@
 // Tests of Terroir::Compute: the headless EGL compute context, programs, storage buffers, the
 // worker thread and the backend rule. Runs on Mesa llvmpipe here (EGL surfaceless) and on
 // NVIDIA through the EGL device platform.
+#include "TerroirFilterTestUtilities.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirGPU.h"
 
@@ -29,21 +30,6 @@ using terroir::gpu::Context;
 using terroir::gpu::Error;
 using terroir::gpu::Program;
 using terroir::gpu::StorageBuffer;
-
-// Skip when no compute context can be made, unless TERROIR_REQUIRE_GPU=1 (then fail).
-#define TERROIR_REQUIRE_COMPUTE()                                                                  \
-  do                                                                                               \
-  {                                                                                                \
-    if (!Context::Global().IsAvailable())                                                          \
-    {                                                                                              \
-      const char* req = std::getenv("TERROIR_REQUIRE_GPU");                                        \
-      if (req && std::string(req) == "1")                                                          \
-      {                                                                                            \
-        FAIL() << "no GPU compute context: " << Context::Global().UnavailableReason();             \
-      }                                                                                            \
-      GTEST_SKIP() << "no GPU compute context: " << Context::Global().UnavailableReason();         \
-    }                                                                                              \
-  } while (false)
 
 // y = a*x + b, one invocation per element; `precise` forbids contraction into an fma, so the
 // result is the correctly rounded float32 a*x, then + b, as on the CPU.
@@ -143,7 +129,7 @@ std::vector<float> SaxpyInput(std::size_t n)
 //------------------------------------------------------------------------------
 TEST(TerroirComputeContext, ContextIsAvailableWithGL43)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   const auto lim = Context::Global().GetLimits();
   EXPECT_TRUE(lim.MajorVersion > 4 || (lim.MajorVersion == 4 && lim.MinorVersion >= 3))
     << lim.Version;
@@ -177,7 +163,7 @@ TEST(TerroirComputeContext, ContextIsAvailableWithGL43)
 
 TEST(TerroirComputeContext, SaxpyMatchesCPUExactly)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   const std::size_t n = 1000003; // not a multiple of the work-group size
   const unsigned local = 256;
   const float a = 2.7182817f;
@@ -217,7 +203,7 @@ TEST(TerroirComputeContext, SaxpyMatchesCPUExactly)
 
 TEST(TerroirComputeContext, UploadDownloadRoundTripWithOffsets)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   const std::size_t count = 1000;
   std::vector<std::int32_t> expected(count, 0);
   std::vector<std::int32_t> all(count, -1);
@@ -270,7 +256,7 @@ TEST(TerroirComputeContext, GLObjectsOutsideRunThrow)
 
 TEST(TerroirComputeContext, SyntaxErrorNamesShaderAndDriverLog)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   const char* broken = "layout(local_size_x = 1) in;\n"
                        "void main()\n"
                        "{\n"
@@ -301,7 +287,7 @@ TEST(TerroirComputeContext, SyntaxErrorNamesShaderAndDriverLog)
 
 TEST(TerroirComputeContext, CommonHelpersArePrepended)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   const unsigned nx = 5, ny = 3;
   const float inf = std::numeric_limits<float>::infinity();
   std::vector<float> values(nx * ny, 1.5f);
@@ -331,7 +317,7 @@ TEST(TerroirComputeContext, CommonHelpersArePrepended)
 
 TEST(TerroirComputeContext, ExceptionInsideRunPropagates)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   auto& ctx = Context::Global();
   try
   {
@@ -351,7 +337,7 @@ TEST(TerroirComputeContext, ExceptionInsideRunPropagates)
 
 TEST(TerroirComputeContext, RunFromTwoThreadsIsSerialised)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   auto& ctx = Context::Global();
   std::thread::id contextThread;
   ctx.Run([&] { contextThread = std::this_thread::get_id(); });
@@ -418,7 +404,7 @@ TEST(TerroirComputeContext, RunFromTwoThreadsIsSerialised)
 
 TEST(TerroirComputeContext, ReentrantRunRunsInline)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   auto& ctx = Context::Global();
   std::thread::id outer, inner;
   int order = 0;
@@ -444,7 +430,7 @@ TEST(TerroirComputeContext, ReentrantRunRunsInline)
 
 TEST(TerroirComputeContext, ProgramCacheIsKeyedByDefines)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   auto& ctx = Context::Global();
   std::uint32_t size64 = 0, size32 = 0, sizeDefault = 0;
   ctx.Run(
@@ -478,7 +464,7 @@ TEST(TerroirComputeContext, ProgramCacheIsKeyedByDefines)
 
 TEST(TerroirComputeContext, DispatchWithTooManyGroupsThrows)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   auto& ctx = Context::Global();
   const auto lim = ctx.GetLimits();
   std::string message;
@@ -695,7 +681,7 @@ TEST(TerroirComputeContextDeathTest, ExitWhileAnotherThreadRunsJobsIsClean)
 // CPU under Auto, and exit at once (no wait for a worker that does not exist).
 TEST(TerroirComputeContext, ForkedChildFallsBackAndExits)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   const auto t0 = std::chrono::steady_clock::now();
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
@@ -744,7 +730,7 @@ TEST(TerroirComputeContext, ForkedChildFallsBackAndExits)
 // Measurement: bandwidth of a trivial copy kernel on 64 MB (read 64 MB + write 64 MB).
 TEST(TerroirComputeContext, CopyKernelBandwidth64MB)
 {
-  TERROIR_REQUIRE_COMPUTE();
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   const std::size_t n = (64u << 20) / sizeof(std::uint32_t);
   std::vector<std::uint32_t> src(n), dst(n, 0);
   for (std::size_t i = 0; i < n; ++i)

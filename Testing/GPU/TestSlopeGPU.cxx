@@ -20,21 +20,6 @@
 namespace
 {
 
-#define TERROIR_REQUIRE_GPU_OR_SKIP()                                                              \
-  do                                                                                               \
-  {                                                                                                \
-    bool mustFail = false;                                                                         \
-    std::string why;                                                                               \
-    if (!terroir_test::GPUAvailable(mustFail, why))                                                \
-    {                                                                                              \
-      if (mustFail)                                                                                \
-      {                                                                                            \
-        FAIL() << "TERROIR_REQUIRE_GPU=1 but no GPU compute context: " << why;                     \
-      }                                                                                            \
-      GTEST_SKIP() << "no GPU compute context: " << why;                                           \
-    }                                                                                              \
-  } while (false)
-
 vtkSmartPointer<vtkImageData> RunSlope(vtkImageData* in, int backend, double* seconds = nullptr)
 {
   auto f = vtkSmartPointer<vtkTerroirSlope>::New();

@@ -77,16 +77,7 @@ void Compare(vtkImageData* cpu, vtkImageData* gpu)
 
 TEST(TemperatureGPU, MatchesCPUOnBundledDEMAndSyntheticGridWithNoData)
 {
-  bool mustFail = false;
-  std::string why;
-  if (!terroir_test::GPUAvailable(mustFail, why))
-  {
-    if (mustFail)
-    {
-      FAIL() << "TERROIR_REQUIRE_GPU=1 but no GPU compute context: " << why;
-    }
-    GTEST_SKIP() << "no GPU compute context: " << why;
-  }
+  TERROIR_REQUIRE_GPU_OR_SKIP();
   auto dem =
     terroir_test::ReadDEM(terroir_test::DataFile("sagehen_creek_ca/sagehen_dem_utm11n_10m.tif"));
   ASSERT_NE(dem, nullptr);
