@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <unistd.h>
 
@@ -288,6 +289,30 @@ void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
   {
     fs::remove(tmp, ec);
     throw Failure(path + ": could not be written" + (err.empty() ? "" : " (" + err + ")"));
+  }
+  fs::rename(tmp, path, ec);
+  if (ec)
+  {
+    fs::remove(tmp, ec);
+    throw Failure(path + ": could not be renamed into place: " + ec.message());
+  }
+}
+
+void WriteTextFile(const std::string& path, const std::string& text, bool overwrite)
+{
+  CheckWritable({ path }, overwrite);
+  const std::string tmp = TempNameBeside(path);
+  std::error_code ec;
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    f.flush();
+    if (!f)
+    {
+      f.close();
+      fs::remove(tmp, ec);
+      throw Failure(path + ": could not be written");
+    }
   }
   fs::rename(tmp, path, ec);
   if (ec)

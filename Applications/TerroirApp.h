@@ -51,6 +51,9 @@ void CheckWritable(const std::vector<std::string>& paths, bool overwrite);
 /// Writes every array of `image` as VTK XML image data (.vti), temp file then rename.
 void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite);
 
+/// Writes `text` to `path` through a temporary file in the same folder, renamed on success.
+void WriteTextFile(const std::string& path, const std::string& text, bool overwrite);
+
 /// Writes one point-data array (one band per component) as a georeferenced GeoTIFF.
 void WriteGeoTIFF(vtkImageData* image,
   const std::string& array,

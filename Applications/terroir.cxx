@@ -407,25 +407,7 @@ int CommandRun(const std::string& demArg,
   report["outputs"] = outputs;
 
   // Report: JSON for scripts, Markdown for people; both temp + rename.
-  auto writeText = [&](const std::string& path, const std::string& text)
-  {
-    const std::string tmp = path + ".tmp";
-    {
-      std::ofstream f(tmp);
-      f << text;
-      if (!f)
-      {
-        fs::remove(tmp, ec);
-        throw Failure(path + ": could not be written");
-      }
-    }
-    fs::rename(tmp, path, ec);
-    if (ec)
-    {
-      throw Failure(path + ": could not be renamed into place");
-    }
-  };
-  writeText(reportJson, report.dump(2) + "\n");
+  terroir::app::WriteTextFile(reportJson, report.dump(2) + "\n", overwrite);
   std::ostringstream md;
   md << std::fixed << std::setprecision(2);
   md << "# Terroir run\n\n";
@@ -462,7 +444,7 @@ int CommandRun(const std::string& demArg,
   {
     md << "- `" << fs::path(o).filename().string() << "`\n";
   }
-  writeText(reportMd, md.str());
+  terroir::app::WriteTextFile(reportMd, md.str(), overwrite);
 
   std::cout << "terroir run: " << dims[0] << "x" << dims[1] << " cells from " << dem << "\n";
   for (const char* s : { "slope", "temperature" })
@@ -791,12 +773,7 @@ int CommandBench(int size,
   }
   if (!jsonPath.empty())
   {
-    std::ofstream f(jsonPath);
-    f << doc.dump(2) << "\n";
-    if (!f)
-    {
-      throw Failure(jsonPath + ": could not be written");
-    }
+    terroir::app::WriteTextFile(jsonPath, doc.dump(2) + "\n", true);
   }
   return 0;
 }
