@@ -150,12 +150,12 @@ bool ReadTerragen(const std::uint8_t* bytes,
       for (int k = 0; k < 3; ++k)
       {
         const float s = GetFloat32(tag + 4 + 4 * k);
-        if (!std::isfinite(s) || s <= 0.0f || s > 1.0e7f)
+        if (!(s >= kTerragenMinScale && s <= kTerragenMaxScale))
         {
           return Fail(error,
             terrain,
             "invalid SCAL component " + std::to_string(k) + " (" + std::to_string(s) +
-              ") at offset " + std::to_string(offset));
+              ") at offset " + std::to_string(offset) + " (must be 1e-6 to 1e7 m)");
         }
         terrain.scale[k] = s;
       }
@@ -268,9 +268,15 @@ bool WriteTerragen(const float* heights,
       " grid as Terragen (2 to 32767 points per side)";
     return false;
   }
-  if (!(dx > 0.0) || !(dy > 0.0) || !std::isfinite(dx) || !std::isfinite(dy))
+  // SCAL is stored as float32; the reader accepts what rounds into [min, max].
+  auto storable = [](double v)
   {
-    error = "invalid spacing for Terragen (must be positive and finite)";
+    const float f = static_cast<float>(v);
+    return f >= kTerragenMinScale && f <= kTerragenMaxScale;
+  };
+  if (!storable(dx) || !storable(dy))
+  {
+    error = "invalid spacing for Terragen (must be 1e-6 to 1e7 m)";
     return false;
   }
   const std::size_t count = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
@@ -298,26 +304,42 @@ bool WriteTerragen(const float* heights,
     warning = std::to_string(nanCount) + " NaN heights written as the minimum height " +
       std::to_string(lo) + " m";
   }
-  // Vertical unit: dx (as GDAL writes), grown until BaseHeight and HeightScale fit int16.
+  // Vertical unit: dx (as GDAL writes), doubled until BaseHeight and HeightScale fit int16;
+  // when doubling overshoots what SCAL may hold (the reader refuses more), the smallest unit
+  // that fits, found from the centre and half range. Heights up to 1.6e11 m always fit.
   double dz = dx;
   int base = 0;
-  int heightScale = 1;
-  for (int attempt = 0; attempt < 64; ++attempt, dz *= 2.0)
+  int heightScale = 0;
+  auto fits = [&](double unit)
   {
-    const double mid = std::round(0.5 * (lo + hi) / dz);
-    const double half = std::max(hi / dz - mid, mid - lo / dz);
+    const double mid = std::round(0.5 * (lo + hi) / unit);
+    const double half = std::max(hi / unit - mid, mid - lo / unit);
     const double hs = std::max(1.0, std::ceil(half * 65536.0 / 32767.0));
-    if (std::fabs(mid) <= 32767.0 && hs <= 32767.0)
+    if (!storable(unit) || std::fabs(mid) > 32767.0 || hs > 32767.0)
     {
-      base = static_cast<int>(mid);
-      heightScale = static_cast<int>(hs);
-      break;
-    }
-    if (attempt == 63)
-    {
-      error = "heights out of the range Terragen can store";
       return false;
     }
+    dz = unit;
+    base = static_cast<int>(mid);
+    heightScale = static_cast<int>(hs);
+    return true;
+  };
+  bool found = false;
+  for (double unit = dx; !found && storable(unit); unit *= 2.0)
+  {
+    found = fits(unit);
+  }
+  double unit = std::max(
+    dx, 1.0001 * std::max(std::fabs(0.5 * (lo + hi)) / 32766.0, 0.5 * (hi - lo) / 16382.0));
+  for (int attempt = 0; !found && attempt < 64 && storable(unit); ++attempt, unit *= 1.01)
+  {
+    found = fits(unit);
+  }
+  if (!found)
+  {
+    error = "heights from " + std::to_string(lo) + " to " + std::to_string(hi) +
+      " m are out of the range Terragen can store with this spacing";
+    return false;
   }
   bytes.reserve(80 + 2 * count);
   bytes.insert(bytes.end(), kMagic, kMagic + kMagicSize);

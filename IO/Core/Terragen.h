@@ -26,6 +26,10 @@ namespace terroir
 namespace io
 {
 
+/// Range of SCAL components (metres per terrain unit) the reader accepts and the writer writes.
+constexpr float kTerragenMinScale = 1.0e-6f;
+constexpr float kTerragenMaxScale = 1.0e7f;
+
 /// A decoded Terragen terrain.
 struct TerragenTerrain
 {
@@ -62,15 +66,17 @@ bool ReadTerragen(const std::vector<std::uint8_t>& bytes,
  * @brief Encodes heights (metres, row 0 = south) as a Terragen file.
  *
  * Writes SIZE, XPTS, YPTS, SCAL = (dx, dy, dz), ALTW, EOF. dz = dx (as GDAL's Terragen
- * driver does) unless the heights do not fit int16 terrain units, then dz grows until they
- * do. BaseHeight is the rounded mid-range and HeightScale the smallest integer covering
+ * driver does) unless the heights do not fit int16 terrain units, then dz doubles until they
+ * do, or, if that passes kTerragenMaxScale, the smallest dz that fits (heights up to 1.6e11 m
+ * always fit). BaseHeight is the rounded mid-range and HeightScale the smallest integer covering
  * the half range with raw values in [-32767, 32767], so the quantisation error is at most
- * (range + dz) / 131072 metres. NaN heights are written as the minimum (warning returned).
+ * range / 131068 + dz / 65534 metres. NaN heights are written as the minimum (warning returned).
  *
  * @param[in] heights nx*ny metres, row 0 south
  * @param[out] bytes the encoded file
  * @param[out] warning set to a one-line note when NaNs were replaced ("" otherwise)
- * @param[out] error one-line error when the grid cannot be written (sizes, all NaN)
+ * @param[out] error one-line error when the grid cannot be written (sizes, spacing outside
+ *   [kTerragenMinScale, kTerragenMaxScale], all NaN, heights too large for int16 units)
  * @return true on success
  */
 bool WriteTerragen(const float* heights,

@@ -351,3 +351,97 @@ TEST(TerroirTerragen, WriterRejectsBadInput)
   EXPECT_FALSE(terroir::io::WriteTerragen(h, 2, 2, 0.0, 1.0, bytes, warning, error));
   EXPECT_TRUE(bytes.empty());
 }
+
+// Found by Testing/Fuzz/FuzzTerragen (regressions/Terragen/scal_beyond_reader_limit.ter): heights
+// of ~5e11 m on a 1e7 m grid made the writer double the vertical unit past the largest SCAL the
+// reader accepts, so it wrote a file it could not read back. Now the writer refuses.
+TEST(TerroirTerragen, WriterNeverWritesAScaleItsReaderRefuses)
+{
+  const float huge[4] = { 4.915e11f, 1.63835e11f, 3.2767e11f, 3.27675e11f };
+  Bytes bytes;
+  std::string warning, error;
+  EXPECT_FALSE(terroir::io::WriteTerragen(huge, 2, 2, 1.0e7, 1.0e7, bytes, warning, error));
+  EXPECT_NE(error.find("out of the range Terragen can store"), std::string::npos) << error;
+  EXPECT_TRUE(bytes.empty());
+  // Spacings outside [1e-6, 1e7] m would be refused on reading as well.
+  const float h[4] = { 1, 2, 3, 4 };
+  EXPECT_FALSE(terroir::io::WriteTerragen(h, 2, 2, 2.0e7, 1.0, bytes, warning, error));
+  EXPECT_FALSE(terroir::io::WriteTerragen(h, 2, 2, 1.0, 1.0e-9, bytes, warning, error));
+  EXPECT_NE(error.find("1e-6 to 1e7"), std::string::npos) << error;
+  // The largest heights a 1e7 m grid can hold still round-trip: dz stays 1e7 m.
+  const float big[4] = { 1.5e11f, -1.5e11f, 0.0f, 1.0e11f };
+  ASSERT_TRUE(terroir::io::WriteTerragen(big, 2, 2, 1.0e7, 1.0e7, bytes, warning, error)) << error;
+  terroir::io::TerragenTerrain t;
+  ASSERT_TRUE(terroir::io::ReadTerragen(bytes, t, error)) << error;
+  EXPECT_FLOAT_EQ(t.scale[2], 1.0e7f);
+  for (int k = 0; k < 4; ++k)
+  {
+    EXPECT_NEAR(t.heights[k], big[k], (3.0e11 + 1.0e7) / 131072.0 + 1e-6 * 1.5e11);
+  }
+}
+
+TEST(TerroirTerragen, RejectsScaleOutsideStorableRange)
+{
+  for (float bad : { 0.0f, -1.0f, 1.0e-9f, 2.0e7f, std::nanf("") })
+  {
+    Bytes b = Header();
+    Tag(b, "SIZE");
+    I16(b, 1);
+    I16(b, 0);
+    Tag(b, "SCAL");
+    F32(b, 1.0f);
+    F32(b, 1.0f);
+    F32(b, bad);
+    terroir::io::TerragenTerrain t;
+    std::string error;
+    EXPECT_FALSE(terroir::io::ReadTerragen(b, t, error)) << bad;
+    EXPECT_NE(error.find("invalid SCAL component 2"), std::string::npos) << error;
+    EXPECT_NE(error.find("must be 1e-6 to 1e7 m"), std::string::npos) << error;
+  }
+}
+
+// Found by Testing/Fuzz/FuzzTerragen: with a range small against dz, the error reaches
+// range / 131068 + dz / 65534 (the bound on the writer's page), more than the
+// (range + dz) / 131072 the header used to state. Worked example: dz = 30 m, heights in terrain
+// units 0.125 .. 0.5 -> BaseHeight 0, HeightScale ceil(0.5 * 65536 / 32767) = 2, one raw step
+// = 2 / 65536 * 30 m = 0.000916 m, so up to half a step (0.000458 m) is lost in rounding.
+TEST(TerroirTerragen, QuantisationErrorWithinDocumentedBound)
+{
+  const float h[4] = { 3.75046f, 7.50092f, 11.2514f, 15.0018f };
+  Bytes bytes;
+  std::string warning, error;
+  ASSERT_TRUE(terroir::io::WriteTerragen(h, 2, 2, 30.0, 30.0, bytes, warning, error)) << error;
+  terroir::io::TerragenTerrain t;
+  ASSERT_TRUE(terroir::io::ReadTerragen(bytes, t, error)) << error;
+  EXPECT_EQ(t.heightScale, 2);
+  EXPECT_EQ(t.baseHeight, 0);
+  const double range = 15.0018 - 3.75046;
+  double worst = 0.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    worst = std::max(worst, std::fabs(static_cast<double>(t.heights[k]) - h[k]));
+  }
+  EXPECT_LE(worst, range / 131068.0 + 30.0 / 65534.0);
+  EXPECT_LE(worst, 0.5 * 2.0 / 65536.0 * 30.0 + 1e-6);
+  EXPECT_GT(worst, (range + 30.0) / 131072.0); // the old statement was wrong
+}
+
+// Found by Testing/Fuzz/FuzzTerragen (regressions/Terragen/tiny_spacing_huge_heights.ter): a
+// 3.8e-5 m grid with heights near -1.8e11 m; doubling dz from the spacing jumps from 5.2e6 m
+// (too small) to 1.05e7 m (more than SCAL may hold). The writer now takes the smallest dz that
+// fits instead of failing.
+TEST(TerroirTerragen, WriterFindsAVerticalUnitWhenDoublingOvershoots)
+{
+  const float h[4] = { -1.82033e11f, -1.82029e11f, -1.82031e11f, -1.8203e11f };
+  Bytes bytes;
+  std::string warning, error;
+  ASSERT_TRUE(terroir::io::WriteTerragen(h, 2, 2, 3.8147e-5, 10.0, bytes, warning, error)) << error;
+  terroir::io::TerragenTerrain t;
+  ASSERT_TRUE(terroir::io::ReadTerragen(bytes, t, error)) << error;
+  EXPECT_LE(t.scale[2], terroir::io::kTerragenMaxScale);
+  EXPECT_GT(t.scale[2], 1.82033e11 / 32767.0);
+  for (int k = 0; k < 4; ++k)
+  {
+    EXPECT_NEAR(t.heights[k], h[k], 4.0e6 / 131068.0 + t.scale[2] / 65534.0 + 1e-6 * 1.83e11);
+  }
+}
