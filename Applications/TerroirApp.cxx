@@ -14,11 +14,15 @@
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirTerragenReader.h"
 
+#include "TerroirSafeOutput.h"
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -139,12 +143,6 @@ void DeleteProgressState(void* clientData)
   delete static_cast<ProgressState*>(clientData);
 }
 
-std::string TempNameBeside(const std::string& path)
-{
-  fs::path p(path);
-  return (p.parent_path() / ("." + p.filename().string() + ".tmp" + std::to_string(::getpid())))
-    .string();
-}
 } // namespace
 
 namespace terroir
@@ -275,7 +273,7 @@ void CheckWritable(const std::vector<std::string>& paths, bool overwrite)
 void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
 {
   CheckWritable({ path }, overwrite);
-  const std::string tmp = TempNameBeside(path);
+  const std::string tmp = terroir::TemporaryNameFor(path);
   vtkNew<vtkXMLImageDataWriter> writer;
   writer->SetInputData(image);
   writer->SetFileName(tmp.c_str());
@@ -284,25 +282,22 @@ void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
   TakeLastVTKError();
   const int ok = writer->Write();
   const std::string err = TakeLastVTKError();
-  std::error_code ec;
   if (!ok || writer->GetErrorCode() != 0 || !err.empty())
   {
-    fs::remove(tmp, ec);
+    terroir::DiscardTemporary(tmp);
     throw Failure(path + ": could not be written" + (err.empty() ? "" : " (" + err + ")"));
   }
-  fs::rename(tmp, path, ec);
-  if (ec)
+  std::string error;
+  if (!terroir::CommitTemporary(tmp, path, error))
   {
-    fs::remove(tmp, ec);
-    throw Failure(path + ": could not be renamed into place: " + ec.message());
+    throw Failure(path + ": " + error);
   }
 }
 
 void WriteTextFile(const std::string& path, const std::string& text, bool overwrite)
 {
   CheckWritable({ path }, overwrite);
-  const std::string tmp = TempNameBeside(path);
-  std::error_code ec;
+  const std::string tmp = terroir::TemporaryNameFor(path);
   {
     std::ofstream f(tmp, std::ios::binary);
     f << text;
@@ -310,15 +305,14 @@ void WriteTextFile(const std::string& path, const std::string& text, bool overwr
     if (!f)
     {
       f.close();
-      fs::remove(tmp, ec);
-      throw Failure(path + ": could not be written");
+      terroir::DiscardTemporary(tmp);
+      throw Failure(path + ": could not be written (" + std::strerror(errno) + ")");
     }
   }
-  fs::rename(tmp, path, ec);
-  if (ec)
+  std::string error;
+  if (!terroir::CommitTemporary(tmp, path, error))
   {
-    fs::remove(tmp, ec);
-    throw Failure(path + ": could not be renamed into place: " + ec.message());
+    throw Failure(path + ": " + error);
   }
 }
 

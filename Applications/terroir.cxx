@@ -11,6 +11,7 @@
 // under a temporary name and renamed, and existing files are kept unless --overwrite.
 #include "TerroirApp.h"
 #include "TerroirOverlayPlugin.h"
+#include "TerroirSafeOutput.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -896,6 +897,8 @@ int main(int argc, char** argv)
   }
 
   terroir::app::InstallQuietOutput(verbose);
+  // Interrupted or over `ulimit -f`: remove the temporaries, leave earlier results as they were.
+  terroir::InstallSignalCleanup();
   try
   {
     if (*run)

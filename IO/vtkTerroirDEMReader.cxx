@@ -10,11 +10,14 @@
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirGDALPrivate.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
+
+#include "MemoryBudget.h"
 #include "vtkUnsignedCharArray.h"
 
-#include <cpl_error.h>
+#include <cpl_string.h>
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
@@ -32,30 +35,9 @@ vtkStandardNewMacro(vtkTerroirDEMReader);
 
 namespace
 {
+using terroir::io::detail::GDALErrorCapture;
 constexpr double kFoot = 0.3048;
 constexpr double kUSSurveyFoot = 1200.0 / 3937.0;
-
-/// Collects GDAL's failure messages while alive (scoped CPLPushErrorHandlerEx).
-class GDALErrorCapture
-{
-public:
-  GDALErrorCapture() { CPLPushErrorHandlerEx(&GDALErrorCapture::Handler, this); }
-  ~GDALErrorCapture() { CPLPopErrorHandler(); }
-  GDALErrorCapture(const GDALErrorCapture&) = delete;
-  GDALErrorCapture& operator=(const GDALErrorCapture&) = delete;
-  const std::string& Last() const { return this->LastMessage; }
-
-private:
-  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message)
-  {
-    auto* self = static_cast<GDALErrorCapture*>(CPLGetErrorHandlerUserData());
-    if (self && level >= CE_Failure && message)
-    {
-      self->LastMessage = message;
-    }
-  }
-  std::string LastMessage;
-};
 
 struct DatasetCloser
 {
@@ -100,16 +82,6 @@ std::string Lower(std::string s)
     s.begin(),
     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
-}
-
-bool IsNetworkOrArchivePath(const std::string& path)
-{
-  const std::string l = Lower(path);
-  if (l.rfind("/vsi", 0) == 0 && l.rfind("/vsimem/", 0) != 0)
-  {
-    return true;
-  }
-  return l.find("://") != std::string::npos;
 }
 
 /// Metres per unit for a unit name; 0 when the name is not a length unit we know.
@@ -158,7 +130,7 @@ struct Description
   std::vector<std::string> warnings;
 };
 
-bool Describe(GDALDatasetH ds,
+bool DescribeRaw(GDALDatasetH ds,
   int bandIndex,
   bool requireGeo,
   vtkIdType maxCells,
@@ -232,6 +204,13 @@ bool Describe(GDALDatasetH ds,
     (d.gt[1] == 0.0 || d.gt[5] == 0.0 || !std::isfinite(d.gt[1]) || !std::isfinite(d.gt[5])))
   {
     error = "invalid pixel size in the geotransform";
+    return false;
+  }
+  if (d.hasGeoTransform &&
+    !(std::isfinite(d.gt[0]) && std::isfinite(d.gt[3]) && std::isfinite(d.gt[0] + d.nx * d.gt[1]) &&
+      std::isfinite(d.gt[3] + d.ny * d.gt[5])))
+  {
+    error = "invalid origin in the geotransform (not finite)";
     return false;
   }
   if (!d.hasGeoTransform)
@@ -381,6 +360,62 @@ bool Describe(GDALDatasetH ds,
   d.hasConvergence = true;
   return true;
 }
+
+/// DescribeRaw, then checks that everything derived from what GDAL returned is usable: a CRS
+/// with odd units or a degenerate ellipsoid must not turn into NaN or zero spacings.
+bool Describe(GDALDatasetH ds,
+  int bandIndex,
+  bool requireGeo,
+  vtkIdType maxCells,
+  Description& d,
+  std::string& error)
+{
+  if (!DescribeRaw(ds, bandIndex, requireGeo, maxCells, d, error))
+  {
+    return false;
+  }
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(d.spacing[0]) || !positive(d.spacing[1]))
+  {
+    error = "cell size " + std::to_string(d.spacing[0]) + " x " + std::to_string(d.spacing[1]) +
+      " m derived from the geotransform and CRS units is not positive and finite";
+    return false;
+  }
+  if (!std::isfinite(d.origin[0]) || !std::isfinite(d.origin[1]))
+  {
+    error = "grid origin derived from the geotransform and CRS units is not finite";
+    return false;
+  }
+  for (std::size_t j = 0; j < d.rowDx.size(); ++j)
+  {
+    if (!positive(d.rowDx[j]) || !positive(d.rowDy[j]))
+    {
+      error = "cell size of row " + std::to_string(j) + " on the CRS ellipsoid is " +
+        std::to_string(d.rowDx[j]) + " x " + std::to_string(d.rowDy[j]) +
+        " m (degenerate ellipsoid?)";
+      return false;
+    }
+  }
+  if (d.hasCenter &&
+    !(std::fabs(d.centerLat) <= 90.0 && std::isfinite(d.centerLon) && std::fabs(d.centerLon) < 1e6))
+  {
+    error = "grid centre " + std::to_string(d.centerLat) + ", " + std::to_string(d.centerLon) +
+      " is not a valid latitude, longitude";
+    return false;
+  }
+  if (d.hasConvergence && !std::isfinite(d.convergence))
+  {
+    error = "meridian convergence at the grid centre is not finite";
+    return false;
+  }
+  if (!std::isfinite(d.zScale) || d.zScale <= 0.0 || !std::isfinite(d.bandScale) ||
+    !std::isfinite(d.bandOffset))
+  {
+    error = "band scale, offset or vertical unit is not finite";
+    return false;
+  }
+  return true;
+}
 } // namespace
 
 vtkTerroirDEMReader::vtkTerroirDEMReader()
@@ -417,9 +452,12 @@ void vtkTerroirDEMReader::Fail(const std::string& problem)
 
 namespace
 {
-/// Opens the file after the path checks; on failure returns null and sets `error`.
+/// Opens the file after the path checks; on failure returns null and sets `error`. Without
+/// `allowNetwork` the caller holds a ScopedNetworkRefusal, and a dataset that still needs the
+/// network (a server driver, or a file naming remote or archived data) is refused here.
 DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& error)
 {
+  using terroir::io::detail::IsNetworkOrArchivePath;
   if (!fileName || !*fileName)
   {
     error = "no file name set";
@@ -433,9 +471,9 @@ DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& erro
             "turn AllowNetworkPaths on to read them";
     return DatasetPtr();
   }
-  if (!remote && path.rfind("/vsimem/", 0) != 0 && !terroir::io::detail::FileExists(path))
+  if (!remote && path.rfind("/vsimem/", 0) != 0 &&
+    !terroir::io::detail::CheckInputFile(path, error))
   {
-    error = "no such file";
     return DatasetPtr();
   }
   GDALErrorCapture capture;
@@ -446,13 +484,33 @@ DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& erro
     nullptr));
   if (!ds)
   {
-    error = "not a raster GDAL can read";
-    if (!capture.Last().empty())
+    error = "not a raster GDAL can read" + capture.Suffix();
+    return ds;
+  }
+  if (allowNetwork)
+  {
+    return ds;
+  }
+  auto dataset = static_cast<GDALDatasetH>(ds.get());
+  const char* driver = GDALGetDriverShortName(GDALGetDatasetDriver(dataset));
+  if (driver && terroir::io::detail::IsServerDriver(driver))
+  {
+    error = std::string("the ") + driver +
+      " driver reads from a server: network access is refused; turn AllowNetworkPaths on";
+    return DatasetPtr();
+  }
+  char** files = GDALGetFileList(dataset);
+  for (char** f = files; f && *f; ++f)
+  {
+    if (IsNetworkOrArchivePath(*f))
     {
-      error += " (" + capture.Last() + ")";
+      error = std::string("refers to '") + *f +
+        "', a network or archive path: refused; turn AllowNetworkPaths on to read it";
+      break;
     }
   }
-  return ds;
+  CSLDestroy(files);
+  return error.empty() ? std::move(ds) : DatasetPtr();
 }
 } // namespace
 
@@ -462,6 +520,11 @@ int vtkTerroirDEMReader::RequestInformation(vtkInformation*,
 {
   this->ErrorMessage.clear();
   std::string error;
+  std::unique_ptr<terroir::io::detail::ScopedNetworkRefusal> offline;
+  if (!this->AllowNetworkPaths)
+  {
+    offline.reset(new terroir::io::detail::ScopedNetworkRefusal);
+  }
   DatasetPtr ds = OpenRaster(this->FileName, this->AllowNetworkPaths, error);
   Description d;
   if (ds)
@@ -472,10 +535,9 @@ int vtkTerroirDEMReader::RequestInformation(vtkInformation*,
           this->RequireGeoreference,
           this->MaxCells,
           d,
-          error) &&
-      !capture.Last().empty())
+          error))
     {
-      error += " (" + capture.Last() + ")";
+      error += capture.Suffix();
     }
   }
   if (!error.empty())
@@ -505,6 +567,11 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   output->Initialize();
   this->ErrorMessage.clear();
   std::string error;
+  std::unique_ptr<terroir::io::detail::ScopedNetworkRefusal> offline;
+  if (!this->AllowNetworkPaths)
+  {
+    offline.reset(new terroir::io::detail::ScopedNetworkRefusal);
+  }
   DatasetPtr ds = OpenRaster(this->FileName, this->AllowNetworkPaths, error);
   if (!ds)
   {
@@ -516,13 +583,24 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   Description d;
   if (!Describe(dataset, this->Band, this->RequireGeoreference, this->MaxCells, d, error))
   {
-    this->Fail(error + (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
+    this->Fail(error + capture.Suffix());
     return 0;
   }
   this->VerticalUnitToMetres = d.zScale;
 
   const vtkIdType nx = d.nx;
   const vtkIdType ny = d.ny;
+  // Elevation (4 B) and mask (1 B) per cell, plus one block of rows read as doubles.
+  const int chunkRows =
+    std::max(1, std::min(d.ny, static_cast<int>((std::size_t(4) << 20) / d.nx)));
+  error = terroir::CheckMemory(static_cast<double>(nx) * static_cast<double>(ny) * 5.0 +
+      8.0 * static_cast<double>(nx) * chunkRows,
+    "reading the raster");
+  if (!error.empty())
+  {
+    this->Fail(error);
+    return 0;
+  }
   vtkNew<vtkFloatArray> elevation;
   elevation->SetName(vtkTerroirGeoreference::ElevationName());
   elevation->SetNumberOfTuples(nx * ny);
@@ -535,8 +613,6 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
 
   GDALRasterBandH band = GDALGetRasterBand(dataset, this->Band);
   const bool northUp = d.gt[5] < 0.0;
-  const int chunkRows =
-    std::max(1, std::min(d.ny, static_cast<int>((std::size_t(4) << 20) / d.nx)));
   const float nodataF = static_cast<float>(d.nodata);
   const double factor = d.bandScale * d.zScale;
   const double offset = d.bandOffset * d.zScale;
@@ -558,8 +634,7 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
       if (GDALRasterIO(band, GF_Read, 0, r0, d.nx, rows, buffer.data(), d.nx, rows, ioType, 0, 0) !=
         CE_None)
       {
-        this->Fail("read failed at row " + std::to_string(r0) +
-          (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
+        this->Fail("read failed at row " + std::to_string(r0) + capture.Suffix());
         return false;
       }
       for (int r = 0; r < rows; ++r)
@@ -577,10 +652,13 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
           {
             isValid = d.floatBand ? static_cast<float>(v) != nodataF : v != nodataS;
           }
+          // A value that is, or scales to, infinity is no height either.
+          const float h = !isValid ? std::numeric_limits<float>::quiet_NaN()
+            : scaled               ? static_cast<float>(v * factor + offset)
+                                   : static_cast<float>(v);
+          isValid = isValid && std::isfinite(h);
           vdst[i] = isValid ? 1 : 0;
-          dst[i] = !isValid ? std::numeric_limits<float>::quiet_NaN()
-            : scaled        ? static_cast<float>(v * factor + offset)
-                            : static_cast<float>(v);
+          dst[i] = isValid ? h : std::numeric_limits<float>::quiet_NaN();
           invalidCount += isValid ? 0 : 1;
         }
       }

@@ -14,6 +14,8 @@
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
 
+#include "MemoryBudget.h"
+
 #include <cmath>
 
 vtkStandardNewMacro(vtkTerroirFractalTerrainSource);
@@ -103,6 +105,13 @@ int vtkTerroirFractalTerrainSource::RequestData(vtkInformation*,
   }
   const int nx = this->Dimensions[0];
   const int ny = this->Dimensions[1];
+  const std::string memory = terroir::CheckMemory(4.0 * nx * ny, "the fractal terrain");
+  if (!memory.empty())
+  {
+    this->ErrorMessage = "vtkTerroirFractalTerrainSource: " + memory;
+    vtkErrorMacro(<< this->ErrorMessage);
+    return 0;
+  }
   output->SetExtent(0, nx - 1, 0, ny - 1, 0, 0);
   output->SetSpacing(this->Spacing, this->Spacing, 1.0);
   output->SetOrigin(0.0, 0.0, 0.0);

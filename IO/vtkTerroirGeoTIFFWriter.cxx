@@ -1,5 +1,6 @@
 #include "vtkTerroirGeoTIFFWriter.h"
 
+#include "TerroirSafeOutput.h"
 #include "vtkDataArray.h"
 #include "vtkErrorCode.h"
 #include "vtkFloatArray.h"
@@ -7,49 +8,19 @@
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkTerroirGDALPrivate.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
 #include "vtkUnsignedCharArray.h"
 
-#include <algorithm>
-#include <vector>
-
-#include <cpl_error.h>
-#include <cpl_vsi.h>
 #include <gdal.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 vtkStandardNewMacro(vtkTerroirGeoTIFFWriter);
-
-namespace
-{
-class ErrorCapture
-{
-public:
-  ErrorCapture() { CPLPushErrorHandlerEx(&ErrorCapture::Handler, this); }
-  ~ErrorCapture() { CPLPopErrorHandler(); }
-  ErrorCapture(const ErrorCapture&) = delete;
-  ErrorCapture& operator=(const ErrorCapture&) = delete;
-  const std::string& Last() const { return this->LastMessage; }
-  bool Failed() const { return this->Failure; }
-
-private:
-  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message)
-  {
-    auto* self = static_cast<ErrorCapture*>(CPLGetErrorHandlerUserData());
-    if (self && level >= CE_Failure)
-    {
-      self->Failure = true;
-      self->LastMessage = message ? message : "";
-    }
-  }
-  std::string LastMessage;
-  bool Failure = false;
-};
-} // namespace
 
 vtkTerroirGeoTIFFWriter::vtkTerroirGeoTIFFWriter()
 {
@@ -127,16 +98,16 @@ void vtkTerroirGeoTIFFWriter::WriteData()
     return;
   }
   const std::string target = this->FileName;
-  const std::string temp = terroir::io::detail::TemporaryNameFor(target);
-  ErrorCapture capture;
+  const std::string temp = terroir::TemporaryNameFor(target);
+  terroir::io::detail::GDALErrorCapture capture;
   auto discard = [&](GDALDatasetH ds, const std::string& problem)
   {
     if (ds)
     {
       GDALClose(ds);
     }
-    VSIUnlink(temp.c_str());
-    this->Fail(problem + (capture.Last().empty() ? "" : " (" + capture.Last() + ")"));
+    terroir::DiscardTemporary(temp);
+    this->Fail(problem + capture.Suffix());
   };
   // Uncompressed by default, like gdaldem; DEFLATE (floating-point predictor for float bands)
   // on request. Multi-band rasters are band-interleaved so each band is written in one pass.
@@ -236,7 +207,7 @@ void vtkTerroirGeoTIFFWriter::WriteData()
     return;
   }
   std::string error;
-  if (!terroir::io::detail::CommitTemporary(temp, target, error))
+  if (!terroir::CommitTemporary(temp, target, error))
   {
     this->Fail(error);
   }

@@ -4,7 +4,6 @@
 #include "vtkInformation.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
-#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -28,39 +27,42 @@ std::string DirectoryOf(const std::string& path)
   return slash == 0 ? "/" : path.substr(0, slash);
 }
 
-std::string TemporaryNameFor(const std::string& target)
-{
-  static std::atomic<unsigned> counter{ 0 };
-  const std::size_t slash = target.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "" : target.substr(0, slash + 1);
-  const std::string base = slash == std::string::npos ? target : target.substr(slash + 1);
-  const std::size_t dot = base.find_last_of('.');
-  const std::string ext = dot == std::string::npos ? "" : base.substr(dot);
-  std::string name;
-  do
-  {
-    name = dir + "." + base + ".tmp" + std::to_string(static_cast<long>(getpid())) + "_" +
-      std::to_string(counter++) + ext;
-  } while (FileExists(name));
-  return name;
-}
-
-bool CommitTemporary(const std::string& from, const std::string& to, std::string& error)
-{
-  if (std::rename(from.c_str(), to.c_str()) != 0)
-  {
-    error =
-      std::string("cannot rename the temporary file into place (") + std::strerror(errno) + ")";
-    std::remove(from.c_str());
-    return false;
-  }
-  return true;
-}
-
 bool FileExists(const std::string& path)
 {
   struct stat st;
   return ::stat(path.c_str(), &st) == 0;
+}
+
+bool CheckInputFile(const std::string& path, std::string& error, double* size)
+{
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0)
+  {
+    error = errno == ENOENT || errno == ENOTDIR
+      ? "no such file"
+      : std::string("cannot be read (") + std::strerror(errno) + ")";
+    return false;
+  }
+  if (S_ISDIR(st.st_mode))
+  {
+    error = "is a directory, not a file";
+    return false;
+  }
+  if (!S_ISREG(st.st_mode))
+  {
+    error = "not a regular file";
+    return false;
+  }
+  if (::access(path.c_str(), R_OK) != 0)
+  {
+    error = std::string("cannot be read (") + std::strerror(errno) + ")";
+    return false;
+  }
+  if (size)
+  {
+    *size = static_cast<double>(st.st_size);
+  }
+  return true;
 }
 
 void SetTerrainInformation(vtkInformation* outInfo,

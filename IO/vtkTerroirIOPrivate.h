@@ -1,7 +1,8 @@
 /**
  * @file vtkTerroirIOPrivate.h
  * @brief Helpers shared by the Terroir::IO readers and writers (not installed): the terrain
- * output information every source reports, and the write-to-temporary-then-rename step.
+ * output information every source reports and the checks of files to read (outputs go through
+ * TerroirSafeOutput.h).
  */
 #ifndef vtkTerroirIOPrivate_h
 #define vtkTerroirIOPrivate_h
@@ -20,13 +21,15 @@ namespace detail
 /// Folder part of a path ("." when there is none).
 std::string DirectoryOf(const std::string& path);
 
-/// A new, unused temporary file name in the folder of `target` (hidden, same extension).
-std::string TemporaryNameFor(const std::string& target);
-
-/// Renames `from` to `to` (replacing `to`); on failure removes `from` and sets `error`.
-bool CommitTemporary(const std::string& from, const std::string& to, std::string& error);
-
 bool FileExists(const std::string& path);
+
+/**
+ * Checks a path a reader is about to open: it must exist, be a regular file (not a folder, a
+ * FIFO or a device, which could block a read forever) and be readable by this process.
+ * On failure returns false with `error` = "no such file", "is a directory, not a file",
+ * "not a regular file", or "cannot be read (Permission denied)". `size` gets the file size.
+ */
+bool CheckInputFile(const std::string& path, std::string& error, double* size = nullptr);
 
 /// Sets what a terrain source reports in RequestInformation: whole extent nx x ny x 1, spacing
 /// (dx, dy, 1), origin (x0, y0, 0) and one float32 point scalar (Elevation).

@@ -13,6 +13,8 @@
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
 
+#include "MemoryBudget.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
@@ -56,15 +58,34 @@ bool vtkTerroirTerragenReader::Load(void* terrainPtr)
     this->Fail("no file name set");
     return false;
   }
-  std::ifstream in(this->FileName, std::ios::binary);
-  if (!in)
+  std::string error;
+  double size = 0.0;
+  if (!terroir::io::detail::CheckInputFile(this->FileName, error, &size))
   {
-    this->Fail(std::string("cannot open file (") + std::strerror(errno) + ")");
+    this->Fail(error);
     return false;
   }
-  std::vector<std::uint8_t> bytes(
-    (std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::string error;
+  if (size > terroir::io::kTerragenMaxFileBytes)
+  {
+    this->Fail("file of " + terroir::FormatBytes(size) +
+      " is larger than any Terragen terrain (32767 x 32767 heights, 2.0 GiB)");
+    return false;
+  }
+  // The file, its raw int16 values (1 B per file byte) and float heights (2 B per file byte),
+  // then the output array (2 B per file byte).
+  error = terroir::CheckMemory(6.0 * size, "reading the Terragen file");
+  if (!error.empty())
+  {
+    this->Fail(error);
+    return false;
+  }
+  std::ifstream in(this->FileName, std::ios::binary);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
+  if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))
+  {
+    this->Fail(std::string("cannot be read (") + std::strerror(errno) + ")");
+    return false;
+  }
   if (!terroir::io::ReadTerragen(bytes, terrain, error))
   {
     this->Fail(error);

@@ -1,6 +1,9 @@
 #include "vtkTerroirTerragenWriter.h"
 
 #include "Terragen.h"
+#include "TerroirSafeOutput.h"
+
+#include "MemoryBudget.h"
 #include "vtkDataArray.h"
 #include "vtkErrorCode.h"
 #include "vtkImageData.h"
@@ -44,6 +47,13 @@ void vtkTerroirTerragenWriter::WriteData()
   }
   vtkDataArray* mask = input->GetPointData()->GetArray(vtkTerroirGeoreference::ValidMaskName());
   const vtkIdType n = array->GetNumberOfTuples();
+  // A float copy of the heights (4 B per cell) and the encoded file (2 B per cell).
+  const std::string memory = terroir::CheckMemory(6.0 * n, "encoding the Terragen file");
+  if (!memory.empty())
+  {
+    this->Fail(memory);
+    return;
+  }
   std::vector<float> heights(static_cast<std::size_t>(n));
   for (vtkIdType k = 0; k < n; ++k)
   {
@@ -74,7 +84,7 @@ void vtkTerroirTerragenWriter::WriteData()
     vtkWarningMacro(<< this->FileName << ": " << warning);
   }
   const std::string target = this->FileName;
-  const std::string temp = terroir::io::detail::TemporaryNameFor(target);
+  const std::string temp = terroir::TemporaryNameFor(target);
   FILE* f = std::fopen(temp.c_str(), "wb");
   if (!f)
   {
@@ -87,11 +97,11 @@ void vtkTerroirTerragenWriter::WriteData()
   const bool closed = std::fclose(f) == 0;
   if (!written || !closed)
   {
-    std::remove(temp.c_str());
+    terroir::DiscardTemporary(temp);
     this->Fail(std::string("write failed (") + std::strerror(writeErrno) + ")");
     return;
   }
-  if (!terroir::io::detail::CommitTemporary(temp, target, error))
+  if (!terroir::CommitTemporary(temp, target, error))
   {
     this->Fail(error);
   }

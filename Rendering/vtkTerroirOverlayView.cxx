@@ -1,5 +1,7 @@
 #include "vtkTerroirOverlayView.h"
 
+#include "TerroirSafeOutput.h"
+
 #include "vtkActor.h"
 #include "vtkActor2D.h"
 #include "vtkAutoInit.h"
@@ -658,19 +660,20 @@ bool vtkTerroirOverlayView::WritePNG(const char* fileName)
     return this->Fail("vtkTerroirOverlayView: WritePNG needs a file name");
   }
   const std::string target = fileName;
-  const std::string temp = target + ".tmp" + std::to_string(static_cast<long>(getpid())) + ".png";
+  const std::string temp = terroir::TemporaryNameFor(target);
   // Make sure the folder accepts a new file before rendering anything.
   FILE* probe = std::fopen(temp.c_str(), "wb");
   if (!probe)
   {
-    return this->Fail("vtkTerroirOverlayView: cannot write '" + target +
-      "': " + vtksys::SystemTools::GetLastSystemError());
+    const std::string why = vtksys::SystemTools::GetLastSystemError();
+    terroir::DiscardTemporary(temp);
+    return this->Fail("vtkTerroirOverlayView: cannot write '" + target + "': " + why);
   }
   std::fclose(probe);
   vtkNew<vtkImageData> image;
   if (!this->GetImage(image))
   {
-    std::remove(temp.c_str());
+    terroir::DiscardTemporary(temp);
     return false;
   }
   vtkNew<vtkPNGWriter> writer;
@@ -679,14 +682,13 @@ bool vtkTerroirOverlayView::WritePNG(const char* fileName)
   writer->Write();
   if (writer->GetErrorCode() != 0)
   {
-    std::remove(temp.c_str());
+    terroir::DiscardTemporary(temp);
     return this->Fail("vtkTerroirOverlayView: writing '" + target + "' failed");
   }
-  if (std::rename(temp.c_str(), target.c_str()) != 0)
+  std::string error;
+  if (!terroir::CommitTemporary(temp, target, error))
   {
-    const std::string why = vtksys::SystemTools::GetLastSystemError();
-    std::remove(temp.c_str());
-    return this->Fail("vtkTerroirOverlayView: cannot rename the image to '" + target + "': " + why);
+    return this->Fail("vtkTerroirOverlayView: '" + target + "': " + error);
   }
   return true;
 }

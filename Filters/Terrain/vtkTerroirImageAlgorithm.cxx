@@ -11,9 +11,12 @@
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirTerrainInput.h"
 
+#include "MemoryBudget.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <mutex>
+#include <new>
 #include <set>
 
 //------------------------------------------------------------------------------
@@ -91,19 +94,49 @@ int vtkTerroirImageAlgorithm::RequestData(vtkInformation*,
     vtkErrorMacro(<< "input is missing or not a vtkImageData");
     return 0;
   }
-  vtkDataArray* elevation = this->GetInputArrayToProcess(0, inputVector);
-  terroir::TerrainInput terrain;
-  std::string error;
-  if (!terroir::ExtractTerrain(input, elevation, terrain, error, this->GetMinimumGridSize()))
+  std::string error = this->CheckParameters();
+  if (!error.empty())
   {
     vtkErrorMacro(<< this->SourcePrefix(input) << error);
     return 0;
   }
-  this->UpdateProgress(0.0);
-  output->ShallowCopy(input);
-  if (!this->RequestTerrainData(input, terrain, output))
+  vtkDataArray* elevation = this->GetInputArrayToProcess(0, inputVector);
+  int dims[3];
+  input->GetDimensions(dims);
+  if (dims[2] == 1 && elevation)
+  {
+    // ExtractTerrain may copy a non-float elevation (4 B per cell) and build a mask (1 B).
+    const double cells = static_cast<double>(dims[0]) * dims[1];
+    const double needed = this->EstimateMemory(dims[0], dims[1]) +
+      cells * ((elevation->GetDataType() == VTK_FLOAT ? 0.0 : 4.0) + 1.0);
+    error = terroir::CheckMemory(needed, this->GetClassName());
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << error);
+      return 0;
+    }
+  }
+  try
+  {
+    terroir::TerrainInput terrain;
+    if (!terroir::ExtractTerrain(input, elevation, terrain, error, this->GetMinimumGridSize()))
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << error);
+      return 0;
+    }
+    this->UpdateProgress(0.0);
+    output->ShallowCopy(input);
+    if (!this->RequestTerrainData(input, terrain, output))
+    {
+      output->Initialize();
+      return 0;
+    }
+  }
+  catch (const std::bad_alloc&)
   {
     output->Initialize();
+    vtkErrorMacro(<< this->SourcePrefix(input) << "out of memory in " << this->GetClassName()
+                  << " (" << dims[0] << " x " << dims[1] << " cells)");
     return 0;
   }
   this->UpdateProgress(1.0);

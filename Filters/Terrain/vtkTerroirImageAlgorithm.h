@@ -19,9 +19,12 @@
  * - streaming: `RequestUpdateExtent` asks for the requested extent grown by `GetHaloWidth()`
  *   cells (clamped to the whole extent, as vtkImageGradient), or the whole extent when the
  *   halo is -1. The output covers the input's extent.
- * - `RequestData`: validates the input (one clear error naming the source file and the problem,
- *   and an empty output, on bad input), shallow-copies it, reports progress and calls
- *   `RequestTerrainData` with a terroir::TerrainInput (vtkTerroirTerrainInput.h).
+ * - `RequestData`: validates the parameters (`CheckParameters`) and the input, checks that the
+ *   memory the filter will allocate (`EstimateMemory`, plus any conversion of the input) is
+ *   available (terroir::CheckMemory, Common/Core/MemoryBudget.h), then shallow-copies the input,
+ *   reports progress and calls `RequestTerrainData` with a terroir::TerrainInput
+ *   (vtkTerroirTerrainInput.h). Any failure gives one clear error naming the source file and
+ *   the problem, and an empty output; an allocation that fails anyway is reported the same way.
  *
  * @sa vtkTerroirSlope vtkTerroirTemperature vtkTerroirComputeContext
  */
@@ -74,6 +77,14 @@ protected:
   virtual int GetMinimumGridSize() { return 1; }
   /// Whether the subclass has a GPU path (false by default).
   virtual bool HasGPUPath() { return false; }
+  /**
+   * Bytes the filter allocates for an nx x ny terrain besides its input: output arrays and
+   * working buffers, on whichever backend needs more host memory. RequestData refuses to run
+   * when less memory is available.
+   */
+  virtual double EstimateMemory(double nx, double ny) = 0;
+  /// One line naming the first parameter out of range, or "" when every parameter is usable.
+  virtual std::string CheckParameters() { return std::string(); }
 
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;

@@ -14,6 +14,7 @@
 #include "SlopeHorn1981.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -146,6 +147,26 @@ void vtkTerroirSlope::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SlopeUnits: " << (this->SlopeUnits == Percent ? "Percent" : "Degrees") << "\n";
   os << indent << "ComputeAspect: " << (this->ComputeAspect ? "On" : "Off") << "\n";
   os << indent << "ComputeNormals: " << (this->ComputeNormals ? "On" : "Off") << "\n";
+}
+
+//------------------------------------------------------------------------------
+double vtkTerroirSlope::EstimateMemory(double nx, double ny)
+{
+  // Outputs (Slope 4 B, Aspect 4 B, Normals 12 B per cell); the GPU path adds a packed mask
+  // (1 B) and, on a software rasterizer, elevation and mask storage buffers in host memory.
+  const double perCell = 4.0 + (this->ComputeAspect ? 4.0 : 0.0) +
+    (this->ComputeNormals ? 12.0 : 0.0) + (this->Backend == 1 ? 0.0 : 6.0);
+  return nx * ny * perCell;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirSlope::CheckParameters()
+{
+  if (!std::isfinite(this->ZFactor) || this->ZFactor <= 0.0)
+  {
+    return "ZFactor " + std::to_string(this->ZFactor) + " must be finite and positive";
+  }
+  return std::string();
 }
 
 //------------------------------------------------------------------------------

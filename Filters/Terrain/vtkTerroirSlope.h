@@ -59,7 +59,7 @@ public:
   };
 
   ///@{
-  /// Elevation multiplier (e.g. 0.3048 for feet to metres). Default 1.
+  /// Elevation multiplier (e.g. 0.3048 for feet to metres). Default 1; must be finite and > 0.
   vtkSetMacro(ZFactor, double);
   vtkGetMacro(ZFactor, double);
   ///@}
@@ -89,6 +89,8 @@ protected:
   int GetHaloWidth() override { return 1; }
   int GetMinimumGridSize() override { return 2; }
   bool HasGPUPath() override { return true; }
+  double EstimateMemory(double nx, double ny) override;
+  std::string CheckParameters() override;
 #ifndef __VTK_WRAP__
   int RequestTerrainData(vtkImageData* input,
     const terroir::TerrainInput& terrain,

@@ -166,6 +166,49 @@ bool vtkTerroirTemperature::ComputeSeaLevelTemperatures(int hemisphere, double m
 }
 
 //------------------------------------------------------------------------------
+double vtkTerroirTemperature::EstimateMemory(double nx, double ny)
+{
+  // Temperature (12 x 4 B per cell); the GPU path adds a packed mask (1 B) and, on a software
+  // rasterizer, its mask storage buffer in host memory.
+  return nx * ny * (48.0 + (this->Backend == 1 ? 0.0 : 2.0));
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirTemperature::CheckParameters()
+{
+  auto outside = [](double t) { return !(t >= -90.0 && t <= 60.0); };
+  if (!(this->LapseRate >= 0.0 && this->LapseRate <= 20.0))
+  {
+    return "LapseRate " + std::to_string(this->LapseRate) + " C/km is outside [0, 20]";
+  }
+  if (this->UseMonthlyTemperatures)
+  {
+    for (int m = 0; m < 12; ++m)
+    {
+      if (outside(this->MonthlySeaLevelTemperatures[m]))
+      {
+        return std::string("sea-level temperature of ") + kMonthNames[m] + " " +
+          std::to_string(this->MonthlySeaLevelTemperatures[m]) + " C is outside [-90, 60]";
+      }
+    }
+    return std::string();
+  }
+  if (outside(this->SeaLevelTemperatureColdest) || outside(this->SeaLevelTemperatureWarmest))
+  {
+    return "sea-level temperatures " + std::to_string(this->SeaLevelTemperatureColdest) +
+      " (coldest) and " + std::to_string(this->SeaLevelTemperatureWarmest) +
+      " C (warmest) must lie in [-90, 60]";
+  }
+  if (this->SeaLevelTemperatureColdest > this->SeaLevelTemperatureWarmest)
+  {
+    return "the coldest month's sea-level temperature " +
+      std::to_string(this->SeaLevelTemperatureColdest) + " C is above the warmest month's " +
+      std::to_string(this->SeaLevelTemperatureWarmest) + " C";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
 int vtkTerroirTemperature::RequestTerrainData(vtkImageData* input,
   const terroir::TerrainInput& terrain,
   vtkImageData* output)

@@ -56,7 +56,8 @@ public:
   };
 
   ///@{
-  /// Sea-level temperature of the coldest month, °C. Default 2.
+  /// Sea-level temperature of the coldest month, °C. Default 2. Every sea-level temperature must
+  /// lie in [-90, 60] °C (the records are -89.2 and 56.7), the coldest not above the warmest.
   vtkSetMacro(SeaLevelTemperatureColdest, double);
   vtkGetMacro(SeaLevelTemperatureColdest, double);
   ///@}
@@ -87,7 +88,7 @@ public:
   ///@}
 
   ///@{
-  /// Temperature decrease with height, °C per km. Default 6.4.
+  /// Temperature decrease with height, °C per km. Default 6.4; must lie in [0, 20].
   vtkSetMacro(LapseRate, double);
   vtkGetMacro(LapseRate, double);
   ///@}
@@ -121,6 +122,8 @@ protected:
 
   int GetHaloWidth() override { return 0; }
   bool HasGPUPath() override { return true; }
+  double EstimateMemory(double nx, double ny) override;
+  std::string CheckParameters() override;
 #ifndef __VTK_WRAP__
   int RequestTerrainData(vtkImageData* input,
     const terroir::TerrainInput& terrain,

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <new>
 #include <sstream>
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -93,6 +94,13 @@ bool ExtractTerrain(vtkImageData* image,
   image->GetSpacing(spacing);
   v.dx = std::fabs(spacing[0]);
   v.dy = std::fabs(spacing[1]);
+  if (!(v.dx > 0.0) || !(v.dy > 0.0) || !std::isfinite(v.dx) || !std::isfinite(v.dy))
+  {
+    std::ostringstream os;
+    os << "spacing " << spacing[0] << " x " << spacing[1] << " m: must be positive and finite";
+    error = os.str();
+    return false;
+  }
   if (elevation->GetDataType() == VTK_FLOAT)
   {
     v.data = static_cast<const float*>(elevation->GetVoidPointer(0));
@@ -159,6 +167,15 @@ bool ExtractTerrain(vtkImageData* image,
     {
       out.rowDx[j] = std::fabs(rows->GetComponent(offset + j, 0));
       out.rowDy[j] = std::fabs(rows->GetComponent(offset + j, 1));
+      if (!(out.rowDx[j] > 0.0) || !(out.rowDy[j] > 0.0) || !std::isfinite(out.rowDx[j]) ||
+        !std::isfinite(out.rowDy[j]))
+      {
+        std::ostringstream os;
+        os << "'" << vtkTerroirGeoreference::RowSpacingName() << "' of row " << j << " is "
+           << out.rowDx[j] << " x " << out.rowDy[j] << " m: must be positive and finite";
+        error = os.str();
+        return false;
+      }
     }
     v.rowDx = out.rowDx.data();
     v.rowDy = out.rowDy.data();
@@ -207,6 +224,11 @@ vtkFloatArray* NewOutputArray(const char* name,
     }
   }
   a->SetNumberOfTuples(static_cast<vtkIdType>(tuples));
+  if (a->GetNumberOfTuples() != static_cast<vtkIdType>(tuples))
+  {
+    a->Delete();
+    throw std::bad_alloc();
+  }
   AdviseHugePages(a->GetVoidPointer(0), static_cast<std::size_t>(a->GetDataSize()) * sizeof(float));
   if (units)
   {

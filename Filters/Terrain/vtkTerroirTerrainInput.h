@@ -11,7 +11,8 @@
  * - the validity mask is `vtkValidPointMask` (unsigned char, 1 = valid) when present, and a
  *   cell whose elevation is NaN is invalid too; when neither occurs `view.valid` is null;
  * - spacing: `vtkImageData::GetSpacing()` (metres), or per row `TerroirRowSpacing` (field
- *   data, ny tuples of (dx, dy) metres, rows of the input extent) for geographic grids.
+ *   data, ny tuples of (dx, dy) metres, rows of the input extent) for geographic grids; every
+ *   spacing must be positive and finite (its sign is ignored).
  * On failure it returns false and fills `error` with one line naming the problem.
  */
 #ifndef vtkTerroirTerrainInput_h
@@ -50,7 +51,8 @@ VTKTERROIRFILTERSTERRAIN_EXPORT bool ExtractTerrain(vtkImageData* image,
   int minSize = 1);
 
 /// A new float array named `name` with `components` components and `tuples` tuples, with
-/// component names (may be null) and `vtkDataArray::UNITS_LABEL()` set to `units`.
+/// component names (may be null) and `vtkDataArray::UNITS_LABEL()` set to `units`. Throws
+/// std::bad_alloc when the values cannot be allocated.
 VTKTERROIRFILTERSTERRAIN_EXPORT vtkFloatArray* NewOutputArray(const char* name,
   int components,
   long long tuples,

@@ -30,6 +30,9 @@ namespace io
 constexpr float kTerragenMinScale = 1.0e-6f;
 constexpr float kTerragenMaxScale = 1.0e7f;
 
+/// No Terragen file is larger: 32767 x 32767 int16 heights (2 bytes each) plus its chunks.
+constexpr double kTerragenMaxFileBytes = 2.0 * 32767.0 * 32767.0 + 1024.0;
+
 /// A decoded Terragen terrain.
 struct TerragenTerrain
 {

@@ -32,8 +32,11 @@ public:
   int Seen = 0;
   const float* SeenData = nullptr;
 
+  double BytesPerCell = 8.0;
+
 protected:
   int GetHaloWidth() override { return -1; }
+  double EstimateMemory(double nx, double ny) override { return nx * ny * this->BytesPerCell; }
   int RequestTerrainData(vtkImageData*, const terroir::TerrainInput& t, vtkImageData*) override
   {
     if (this->SelectBackend(this->HasGPUPath()) < 0)
@@ -200,3 +203,55 @@ TEST(TerroirImageAlgorithm, ExtractTerrainMasksAndRowSpacing)
 }
 
 } // namespace
+
+TEST(TerroirImageAlgorithm, RefusesBeforeAllocatingWhenMemoryIsShort)
+{
+  // 300 x 300 cells at 8 B each (the test filter's estimate) + 1 B for a possible mask:
+  // 810,000 B = 791 KiB needed. A limit of 500 KiB must refuse, naming both figures and the
+  // source file.
+  auto in = terroir_test::MakeTerrain(300, 300, 1.0, 1.0, [](int i, int) { return i; });
+  vtkTerroirGeoreference::SetSourceFile(in, "big.tif");
+  const char* old = std::getenv("TERROIR_MEMORY_LIMIT");
+  const std::string saved = old ? old : "";
+  setenv("TERROIR_MEMORY_LIMIT", "500K", 1);
+  auto f = vtkSmartPointer<GlobalTestFilter>::New();
+  f->SetInputData(in);
+  auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
+  f->AddObserver(vtkCommand::ErrorEvent, obs);
+  f->Update();
+  EXPECT_EQ(f->Seen, 0); // RequestTerrainData never ran
+  EXPECT_EQ(f->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_NE(obs->Errors.find("big.tif: not enough memory for GlobalTestFilter: needs 791 KiB, "
+                             "500 KiB available (TERROIR_MEMORY_LIMIT)"),
+    std::string::npos)
+    << obs->Errors;
+  // Enough memory: it runs.
+  setenv("TERROIR_MEMORY_LIMIT", "1M", 1);
+  f->Modified();
+  f->Update();
+  EXPECT_EQ(f->Seen, 300 * 300);
+  if (old)
+  {
+    setenv("TERROIR_MEMORY_LIMIT", saved.c_str(), 1);
+  }
+  else
+  {
+    unsetenv("TERROIR_MEMORY_LIMIT");
+  }
+}
+
+TEST(TerroirImageAlgorithm, RejectsZeroOrNonFiniteSpacing)
+{
+  for (double dx : { 0.0, std::nan(""), static_cast<double>(INFINITY) })
+  {
+    auto in = terroir_test::MakeTerrain(4, 4, 1.0, 1.0, [](int i, int) { return i; });
+    in->SetSpacing(dx, 1.0, 1.0);
+    auto f = vtkSmartPointer<GlobalTestFilter>::New();
+    f->SetInputData(in);
+    auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
+    f->AddObserver(vtkCommand::ErrorEvent, obs);
+    f->Update();
+    EXPECT_EQ(f->Seen, 0);
+    EXPECT_NE(obs->Errors.find("must be positive and finite"), std::string::npos) << obs->Errors;
+  }
+}

@@ -377,3 +377,22 @@ TEST(TerroirSlope, AspectAddsMeridianConvergenceAndRowSpacingIsUsed)
 }
 
 } // namespace
+
+TEST(TerroirSlope, ZFactorMustBeFiniteAndPositive)
+{
+  auto in = MakeTerrain(4, 4, 10.0, 10.0, [](int i, int) { return 1.0 * i; });
+  vtkTerroirGeoreference::SetSourceFile(in, "plane.tif");
+  for (double z : { 0.0, -2.0, std::nan(""), static_cast<double>(INFINITY) })
+  {
+    auto slope = vtkSmartPointer<vtkTerroirSlope>::New();
+    slope->SetBackendToCPU();
+    slope->SetZFactor(z);
+    slope->SetInputData(in);
+    auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
+    slope->AddObserver(vtkCommand::ErrorEvent, obs);
+    slope->Update();
+    EXPECT_NE(obs->Errors.find("plane.tif: ZFactor "), std::string::npos) << obs->Errors;
+    EXPECT_NE(obs->Errors.find(" must be finite and positive"), std::string::npos) << obs->Errors;
+    EXPECT_EQ(slope->GetOutput()->GetPointData()->GetArray("Slope"), nullptr);
+  }
+}

@@ -14,7 +14,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <sstream>
+#include <vector>
 
 namespace
 {
@@ -227,3 +229,42 @@ TEST(TerroirTemperature, PointwiseUpdateExtentIsNotGrown)
 }
 
 } // namespace
+
+TEST(TerroirTemperature, AbsurdParametersAreErrorsNamingTheValue)
+{
+  struct Case
+  {
+    std::function<void(vtkTerroirTemperature*)> set;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+    { [](vtkTerroirTemperature* f) { f->SetLapseRate(-1.0); },
+      "LapseRate -1.000000 C/km is outside [0, 20]" },
+    { [](vtkTerroirTemperature* f) { f->SetLapseRate(std::nan("")); },
+      "LapseRate nan C/km is outside [0, 20]" },
+    { [](vtkTerroirTemperature* f) { f->SetSeaLevelTemperatureWarmest(100.0); },
+      "sea-level temperatures 2.000000 (coldest) and 100.000000 C (warmest) must lie in [-90, "
+      "60]" },
+    { [](vtkTerroirTemperature* f) { f->SetSeaLevelTemperatureColdest(25.0); },
+      "the coldest month's sea-level temperature 25.000000 C is above the warmest month's "
+      "20.000000 C" },
+    { [](vtkTerroirTemperature* f)
+      {
+        double m[12] = { 0, 1, 2, 3, 4, 5, INFINITY, 7, 8, 9, 10, 11 };
+        f->SetMonthlySeaLevelTemperatures(m);
+        f->UseMonthlyTemperaturesOn();
+      },
+      "sea-level temperature of Jul inf C is outside [-90, 60]" },
+  };
+  for (const Case& c : cases)
+  {
+    auto f = vtkSmartPointer<vtkTerroirTemperature>::New();
+    f->SetBackendToCPU();
+    c.set(f);
+    auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
+    f->AddObserver(vtkCommand::ErrorEvent, obs);
+    RunTemperature(ThreeHeights(), f);
+    EXPECT_NE(obs->Errors.find(c.message), std::string::npos) << obs->Errors;
+    EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("Temperature"), nullptr);
+  }
+}

@@ -82,7 +82,10 @@ TEST(TerroirTerragenReader, ReportsBadFiles)
     EXPECT_NE(m.find(expected), std::string::npos) << m;
     EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 0);
   };
-  fails(dir + "/missing.ter", "cannot open file");
+  fails(dir + "/missing.ter", "no such file");
+  fails(dir, "is a directory, not a file");
+  terroir::testing::WriteTextFile(dir + "/empty.ter", "");
+  fails(dir + "/empty.ter", "not a Terragen file");
   terroir::testing::WriteTextFile(dir + "/text.ter", "hello, not a terrain file");
   fails(dir + "/text.ter", "not a Terragen file");
   // The bundled file cut in the middle of its ALTW chunk.

@@ -382,15 +382,16 @@ TEST(TerroirTerragen, WriterNeverWritesAScaleItsReaderRefuses)
 
 TEST(TerroirTerragen, RejectsScaleOutsideStorableRange)
 {
+  Bytes prefix = Header();
+  Tag(prefix, "SIZE");
+  I16(prefix, 1);
+  I16(prefix, 0);
+  Tag(prefix, "SCAL");
+  F32(prefix, 1.0f);
+  F32(prefix, 1.0f);
   for (float bad : { 0.0f, -1.0f, 1.0e-9f, 2.0e7f, std::nanf("") })
   {
-    Bytes b = Header();
-    Tag(b, "SIZE");
-    I16(b, 1);
-    I16(b, 0);
-    Tag(b, "SCAL");
-    F32(b, 1.0f);
-    F32(b, 1.0f);
+    Bytes b = prefix;
     F32(b, bad);
     terroir::io::TerragenTerrain t;
     std::string error;

@@ -1,0 +1,137 @@
+#include "vtkTerroirGDALPrivate.h"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_http.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+
+namespace terroir
+{
+namespace io
+{
+namespace detail
+{
+namespace
+{
+constexpr const char* kNoURL = "terroir:network-access-refused";
+
+std::string Lower(std::string s)
+{
+  std::transform(s.begin(),
+    s.end(),
+    s.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+CPLHTTPResult* RefuseFetch(const char* url,
+  CSLConstList,
+  GDALProgressFunc,
+  void*,
+  CPLHTTPFetchWriteFunc,
+  void*,
+  void* userData)
+{
+  auto* refusedURL = static_cast<std::string*>(userData);
+  if (refusedURL && refusedURL->empty() && url)
+  {
+    *refusedURL = url;
+  }
+  auto* result = static_cast<CPLHTTPResult*>(CPLCalloc(1, sizeof(CPLHTTPResult)));
+  result->nStatus = 1;
+  result->pszErrBuf = CPLStrdup("network access refused (turn AllowNetworkPaths on)");
+  return result;
+}
+} // namespace
+
+GDALErrorCapture::GDALErrorCapture()
+{
+  CPLPushErrorHandlerEx([](CPLErr level, CPLErrorNum number, const char* message)
+    { GDALErrorCapture::Handler(static_cast<int>(level), number, message); },
+    this);
+}
+
+GDALErrorCapture::~GDALErrorCapture()
+{
+  CPLPopErrorHandler();
+}
+
+void GDALErrorCapture::Handler(int level, int, const char* message)
+{
+  auto* self = static_cast<GDALErrorCapture*>(CPLGetErrorHandlerUserData());
+  if (self && level >= CE_Failure)
+  {
+    self->Failure = true;
+    self->LastMessage = message ? message : "";
+    std::replace(self->LastMessage.begin(), self->LastMessage.end(), '\n', ' ');
+  }
+}
+
+std::string GDALErrorCapture::Suffix() const
+{
+  return this->LastMessage.empty() ? std::string() : " (" + this->LastMessage + ")";
+}
+
+ScopedNetworkRefusal::ScopedNetworkRefusal()
+{
+  if (const char* old = CPLGetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", nullptr))
+  {
+    this->OldAllowedFilename = old;
+    this->HadOldAllowedFilename = true;
+  }
+  CPLSetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME", kNoURL);
+  CPLHTTPPushFetchCallback(&RefuseFetch, &this->URL);
+}
+
+ScopedNetworkRefusal::~ScopedNetworkRefusal()
+{
+  CPLHTTPPopFetchCallback();
+  CPLSetThreadLocalConfigOption("CPL_VSIL_CURL_ALLOWED_FILENAME",
+    this->HadOldAllowedFilename ? this->OldAllowedFilename.c_str() : nullptr);
+}
+
+bool IsNetworkOrArchivePath(const std::string& path)
+{
+  const std::string l = Lower(path);
+  if (l.rfind("/vsi", 0) == 0 && l.rfind("/vsimem/", 0) != 0)
+  {
+    return true;
+  }
+  return l.find("://") != std::string::npos;
+}
+
+bool IsServerDriver(const std::string& shortName)
+{
+  static const char* const servers[] = { "WMS",
+    "WMTS",
+    "WCS",
+    "HTTP",
+    "DAAS",
+    "EEDA",
+    "EEDAI",
+    "OGCAPI",
+    "PLMOSAIC",
+    "PLSCENES",
+    "NGW",
+    "STACTA",
+    "STACIT",
+    "POSTGISRASTER" };
+  const std::string upper = [&]
+  {
+    std::string u = shortName;
+    std::transform(u.begin(),
+      u.end(),
+      u.begin(),
+      [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    return u;
+  }();
+  return std::any_of(
+    std::begin(servers), std::end(servers), [&](const char* s) { return upper == s; });
+}
+
+} // namespace detail
+} // namespace io
+} // namespace terroir

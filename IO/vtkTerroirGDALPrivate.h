@@ -1,0 +1,74 @@
+/**
+ * @file vtkTerroirGDALPrivate.h
+ * @brief GDAL helpers shared by the Terroir::IO classes (not installed): GDAL's error messages
+ * captured for one-line reports, and the refusal of network access while a file that is
+ * supposed to be local is opened and read.
+ */
+#ifndef vtkTerroirGDALPrivate_h
+#define vtkTerroirGDALPrivate_h
+
+#include <string>
+#include <vector>
+
+namespace terroir
+{
+namespace io
+{
+namespace detail
+{
+
+/// Collects GDAL's failure messages on this thread while alive (a scoped error handler).
+class GDALErrorCapture
+{
+public:
+  GDALErrorCapture();
+  ~GDALErrorCapture();
+  GDALErrorCapture(const GDALErrorCapture&) = delete;
+  GDALErrorCapture& operator=(const GDALErrorCapture&) = delete;
+  /// The last failure message ("" when none).
+  const std::string& Last() const { return this->LastMessage; }
+  /// True when GDAL reported a failure since construction.
+  bool Failed() const { return this->Failure; }
+  /// " (<last message>)" or "" when none: the suffix of Terroir's one-line errors.
+  std::string Suffix() const;
+
+private:
+  static void Handler(int level, int number, const char* message);
+  std::string LastMessage;
+  bool Failure = false;
+};
+
+/**
+ * While alive, GDAL may not reach the network from this thread: /vsicurl/ and the file systems
+ * built on it (/vsis3/, /vsigs/, /vsiaz/, /vsihttp...) refuse every file
+ * (CPL_VSIL_CURL_ALLOWED_FILENAME set to a name no URL has), and CPLHTTPFetch, which the
+ * server drivers (WMS, WCS, ...) use, answers every request with an error. A local file that
+ * names remote data (a VRT source, a WMS description) therefore cannot make Terroir go online.
+ */
+class ScopedNetworkRefusal
+{
+public:
+  ScopedNetworkRefusal();
+  ~ScopedNetworkRefusal();
+  ScopedNetworkRefusal(const ScopedNetworkRefusal&) = delete;
+  ScopedNetworkRefusal& operator=(const ScopedNetworkRefusal&) = delete;
+  /// The first URL a driver tried to fetch while refused ("" when none).
+  const std::string& RefusedURL() const { return this->URL; }
+
+private:
+  std::string OldAllowedFilename;
+  bool HadOldAllowedFilename = false;
+  std::string URL;
+};
+
+/// True for GDAL paths that are not plain local files: /vsi* (but /vsimem/), or a "://" URL.
+bool IsNetworkOrArchivePath(const std::string& path);
+
+/// Short names of the GDAL raster drivers that read from servers by design (WMS, WCS, ...).
+bool IsServerDriver(const std::string& shortName);
+
+} // namespace detail
+} // namespace io
+} // namespace terroir
+
+#endif
