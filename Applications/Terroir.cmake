@@ -3,16 +3,22 @@
 find_path(CLI11_INCLUDE_DIR CLI/CLI.hpp REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 
+# The command-line parser alone (CLI11, no VTK): unit tests and the fuzz harness link it too.
+add_library(TerroirCommandLine STATIC TerroirCommandLine.cxx TerroirCommandLine.h)
+target_include_directories(TerroirCommandLine PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
+  PRIVATE "${CLI11_INCLUDE_DIR}")
+target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
+target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
+
 add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h TerroirOverlayPlugin.h)
-target_include_directories(terroir PRIVATE "${CLI11_INCLUDE_DIR}")
 target_compile_definitions(terroir PRIVATE
   "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\""
   "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
 target_compile_options(terroir PRIVATE -Wall -Wextra)
 set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersTerrain
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::IOXML)
-target_link_libraries(terroir PRIVATE ${_terroir_app_modules} TerroirTerrainCore
-  nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})
+target_link_libraries(terroir PRIVATE TerroirCommandLine ${_terroir_app_modules}
+  TerroirTerrainCore TerroirIOCore nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})
 vtk_module_autoinit(TARGETS terroir MODULES ${_terroir_app_modules})
 install(TARGETS terroir RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 

@@ -10,6 +10,7 @@
 // Errors are one line on stderr ("terroir: error: ...") and exit code 1; outputs are written
 // under a temporary name and renamed, and existing files are kept unless --overwrite.
 #include "TerroirApp.h"
+#include "TerroirCommandLine.h"
 #include "TerroirOverlayPlugin.h"
 #include "TerroirSafeOutput.h"
 
@@ -29,10 +30,10 @@
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirTemperature.h"
 
+#include "ClimateTable.h"
 #include "GridView.h"
 #include "SlopeHorn1981.h"
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -68,88 +69,50 @@ int ParseBackend(const std::string& name)
   throw Failure("--backend: '" + name + "' is not auto, cpu or gpu");
 }
 
-/// Options of the temperature model shared by `run` and `temperature`.
-struct TemperatureOptions
+/// Reads the climate table of --climate (before any other work) into the 12 monthly sea-level
+/// temperatures.
+void LoadClimate(terroir::app::TemperatureSettings& t)
 {
-  double Coldest = 2.0;
-  double Warmest = 20.0;
-  int ColdestMonth = 0; // 0 = the hemisphere's default
-  int WarmestMonth = 0;
-  std::string Monthly;
-  double LapseRate = 6.4;
-  std::string Hemisphere = "auto";
-
-  void Add(CLI::App* app)
+  if (t.ClimateFile.empty())
   {
-    app->add_option("--coldest", this->Coldest, "Sea-level temperature of the coldest month, C")
-      ->capture_default_str();
-    app->add_option("--warmest", this->Warmest, "Sea-level temperature of the warmest month, C")
-      ->capture_default_str();
-    app
-      ->add_option(
-        "--coldest-month", this->ColdestMonth, "Coldest month 1-12 (default: Jan north, Jul south)")
-      ->check(CLI::Range(1, 12));
-    app
-      ->add_option(
-        "--warmest-month", this->WarmestMonth, "Warmest month 1-12 (default: Jul north, Jan south)")
-      ->check(CLI::Range(1, 12));
-    app->add_option(
-      "--monthly", this->Monthly, "12 sea-level temperatures, C, January first (a,b,...)");
-    app->add_option("--lapse-rate", this->LapseRate, "Temperature lapse rate, C per km")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 20.0));
-    app
-      ->add_option("--hemisphere", this->Hemisphere, "auto (from the georeference), north or south")
-      ->check(CLI::IsMember({ "auto", "north", "south" }))
-      ->capture_default_str();
+    return;
   }
-
-  void Apply(vtkTerroirTemperature* filter) const
+  terroir::io::ClimateTable table;
+  std::string error;
+  if (!terroir::io::ReadClimateTableFile(t.ClimateFile, table, error))
   {
-    filter->SetSeaLevelTemperatureColdest(this->Coldest);
-    filter->SetSeaLevelTemperatureWarmest(this->Warmest);
-    if (this->ColdestMonth > 0)
-    {
-      filter->SetColdestMonth(this->ColdestMonth);
-    }
-    if (this->WarmestMonth > 0)
-    {
-      filter->SetWarmestMonth(this->WarmestMonth);
-    }
-    filter->SetLapseRate(this->LapseRate);
-    filter->SetHemisphere(this->Hemisphere == "north" ? vtkTerroirTemperature::North
-        : this->Hemisphere == "south"                 ? vtkTerroirTemperature::South
-                                                      : vtkTerroirTemperature::AutoHemisphere);
-    if (!this->Monthly.empty())
-    {
-      std::vector<double> values;
-      std::stringstream ss(this->Monthly);
-      std::string item;
-      while (std::getline(ss, item, ','))
-      {
-        try
-        {
-          std::size_t used = 0;
-          values.push_back(std::stod(item, &used));
-          if (used != item.size())
-          {
-            throw std::invalid_argument(item);
-          }
-        }
-        catch (const std::exception&)
-        {
-          throw Failure("--monthly: '" + item + "' is not a number");
-        }
-      }
-      if (values.size() != 12)
-      {
-        throw Failure("--monthly: expected 12 values, got " + std::to_string(values.size()));
-      }
-      filter->SetMonthlySeaLevelTemperatures(values.data());
-      filter->SetUseMonthlyTemperatures(true);
-    }
+    throw Failure(error);
   }
-};
+  if (!table.hasTemperature)
+  {
+    throw Failure(t.ClimateFile + ": no temperature_c values (needed by the temperature model)");
+  }
+  t.Monthly.assign(table.temperatureC.begin(), table.temperatureC.end());
+}
+
+/// Sets the temperature filter from the command line's temperature settings.
+void ApplyTemperature(const terroir::app::TemperatureSettings& t, vtkTerroirTemperature* filter)
+{
+  filter->SetSeaLevelTemperatureColdest(t.Coldest);
+  filter->SetSeaLevelTemperatureWarmest(t.Warmest);
+  if (t.ColdestMonth > 0)
+  {
+    filter->SetColdestMonth(t.ColdestMonth);
+  }
+  if (t.WarmestMonth > 0)
+  {
+    filter->SetWarmestMonth(t.WarmestMonth);
+  }
+  filter->SetLapseRate(t.LapseRate);
+  filter->SetHemisphere(t.Hemisphere == "north" ? vtkTerroirTemperature::North
+      : t.Hemisphere == "south"                 ? vtkTerroirTemperature::South
+                                                : vtkTerroirTemperature::AutoHemisphere);
+  if (!t.Monthly.empty())
+  {
+    filter->SetMonthlySeaLevelTemperatures(t.Monthly.data());
+    filter->SetUseMonthlyTemperatures(true);
+  }
+}
 
 struct Statistics
 {
@@ -282,7 +245,7 @@ int CommandRun(const std::string& demArg,
   const std::string& backendName,
   bool png,
   bool allowNetwork,
-  const TemperatureOptions& tempOpts)
+  const terroir::app::TemperatureSettings& tempOpts)
 {
   const std::string dem = demArg.empty() ? terroir::app::DefaultDEM() : demArg;
   const int backend = ParseBackend(backendName);
@@ -346,7 +309,7 @@ int CommandRun(const std::string& demArg,
 
   vtkNew<vtkTerroirTemperature> temperature;
   temperature->SetBackend(backend);
-  tempOpts.Apply(temperature);
+  ApplyTemperature(tempOpts, temperature);
   vtkSmartPointer<vtkImageData> result =
     RunStage(temperature.Get(), withSlope, "temperature", stages);
 
@@ -521,14 +484,14 @@ int CommandTemperature(const std::string& in,
   bool overwrite,
   const std::string& backendName,
   bool allowNetwork,
-  const TemperatureOptions& opts)
+  const terroir::app::TemperatureSettings& opts)
 {
   const int backend = ParseBackend(backendName);
   terroir::app::CheckWritable({ outPath }, overwrite);
   vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
   vtkNew<vtkTerroirTemperature> temperature;
   temperature->SetBackend(backend);
-  opts.Apply(temperature);
+  ApplyTemperature(opts, temperature);
   json stages;
   vtkSmartPointer<vtkImageData> result =
     RunStage(temperature.Get(), terrain, "temperature", stages);
@@ -793,138 +756,61 @@ int CommandFractal(const std::string& outPath, int size, int seed, double spacin
 
 int main(int argc, char** argv)
 {
-  CLI::App app{ "terroir: terrain resources (slope, temperature, ...) from a DEM, as VTK filters" };
-  app.require_subcommand(1);
-  app.fallthrough(); // -v is accepted after the command too
-  bool verbose = false;
-  app.add_flag("-v,--verbose", verbose, "Show VTK's log (backend choice, timings)");
-
-  std::string backend = "auto";
-  bool overwrite = false;
-  bool allowNetwork = false;
-  auto addCommon = [&](CLI::App* sub)
+  terroir::app::CommandLine c;
+  const terroir::app::ParseOutcome parsed = terroir::app::ParseCommandLine(argc, argv, c);
+  if (!parsed.Run)
   {
-    sub->add_option("--backend", backend, "auto, cpu or gpu (TERROIR_BACKEND overrides auto)")
-      ->check(CLI::IsMember({ "auto", "cpu", "gpu" }))
-      ->capture_default_str();
-    sub->add_flag("--overwrite", overwrite, "Replace existing output files");
-    sub->add_flag("--allow-network-paths",
-      allowNetwork,
-      "Allow GDAL network and archive paths (/vsicurl/, /vsizip/, ...)");
-  };
-
-  // run
-  CLI::App* run =
-    app.add_subcommand("run", "Run every filter on a DEM (default: bundled Sagehen DEM)");
-  std::string runDem;
-  std::string runOut = "terroir-out";
-  bool noPng = false;
-  TemperatureOptions runTemp;
-  run->add_option("DEM", runDem, "DEM file (GeoTIFF, .img, USGS .dem, Terragen .ter, ...)");
-  run->add_option("-o,--out", runOut, "Output folder")->capture_default_str();
-  run->add_flag("--no-png", noPng, "Skip the PNG overlays (they need an X display)");
-  addCommon(run);
-  runTemp.Add(run);
-
-  // slope
-  CLI::App* slope = app.add_subcommand("slope", "Slope in degrees (Horn 1981, as gdaldem slope)");
-  std::string slopeIn, slopeOut, aspectOut;
-  double zFactor = 1.0;
-  bool percent = false;
-  slope->add_option("IN", slopeIn, "Input DEM")->required();
-  slope->add_option("OUT", slopeOut, "Output .tif (Slope band) or .vti (all arrays)")->required();
-  slope->add_option("-z,--zfactor", zFactor, "Vertical exaggeration of the elevations")
-    ->capture_default_str();
-  slope->add_flag("-p,--percent", percent, "Slope in percent instead of degrees");
-  slope->add_option("--aspect", aspectOut, "Also write Aspect (degrees from true north) here");
-  addCommon(slope);
-
-  // temperature
-  CLI::App* temp = app.add_subcommand("temperature", "Monthly temperature from a lapse rate");
-  std::string tempIn, tempOut;
-  TemperatureOptions tempOpts;
-  temp->add_option("IN", tempIn, "Input DEM")->required();
-  temp->add_option("OUT", tempOut, "Output .tif (12 bands, Jan..Dec) or .vti")->required();
-  tempOpts.Add(temp);
-  addCommon(temp);
-
-  // bench
-  CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
-  int size = 2048, repeat = 3;
-  std::string backends = "cpu,gpu";
-  bool bandwidth = false;
-  std::string benchJson;
-  bench->add_option("-s,--size", size, "DEM is SIZE x SIZE cells")
-    ->check(CLI::Range(16, 32768))
-    ->capture_default_str();
-  bench->add_option("-r,--repeat", repeat, "Timed runs per stage (best is reported)")
-    ->check(CLI::Range(1, 100))
-    ->capture_default_str();
-  bench->add_option("--backends", backends, "Comma-separated backends")->capture_default_str();
-  bench->add_flag(
-    "--bandwidth", bandwidth, "Also measure memory bandwidth and the slope kernel's share");
-  bench->add_option("--json", benchJson, "Also write the results as JSON here");
-
-  // info
-  CLI::App* info = app.add_subcommand("info", "Grid and georeference of a DEM");
-  std::string infoIn;
-  info->add_option("IN", infoIn, "Input DEM")->required();
-  info->add_flag("--allow-network-paths", allowNetwork, "Allow GDAL network and archive paths");
-
-  // fractal
-  CLI::App* fractal =
-    app.add_subcommand("fractal", "Write a seeded synthetic DEM (benchmarks, tests)");
-  std::string fractalOut;
-  int fractalSize = 1024, fractalSeed = 1;
-  double fractalSpacing = 10.0;
-  fractal->add_option("OUT", fractalOut, "Output .tif or .vti")->required();
-  fractal->add_option("-s,--size", fractalSize, "SIZE x SIZE cells")
-    ->check(CLI::Range(2, 65536))
-    ->capture_default_str();
-  fractal->add_option("--seed", fractalSeed, "Random seed")->capture_default_str();
-  fractal->add_option("--spacing", fractalSpacing, "Cell size, metres")
-    ->check(CLI::PositiveNumber)
-    ->capture_default_str();
-  fractal->add_flag("--overwrite", overwrite, "Replace an existing output file");
-
-  try
-  {
-    app.parse(argc, argv);
-  }
-  catch (const CLI::ParseError& e)
-  {
-    return app.exit(e);
+    std::cout << parsed.Stdout;
+    if (!parsed.Error.empty())
+    {
+      std::cerr << "terroir: error: " << parsed.Error << "\n";
+    }
+    return parsed.ExitCode;
   }
 
-  terroir::app::InstallQuietOutput(verbose);
+  terroir::app::InstallQuietOutput(c.Verbose);
   // Interrupted or over `ulimit -f`: remove the temporaries, leave earlier results as they were.
   terroir::InstallSignalCleanup();
   try
   {
-    if (*run)
+    LoadClimate(c.Temperature);
+    if (c.Command == "run")
     {
-      return CommandRun(runDem, runOut, overwrite, backend, !noPng, allowNetwork, runTemp);
+      return CommandRun(
+        c.Input, c.Output, c.Overwrite, c.Backend, !c.NoPng, c.AllowNetwork, c.Temperature);
     }
-    if (*slope)
+    if (c.Command == "slope")
     {
-      return CommandSlope(
-        slopeIn, slopeOut, overwrite, backend, zFactor, percent, aspectOut, allowNetwork);
+      return CommandSlope(c.Input,
+        c.Output,
+        c.Overwrite,
+        c.Backend,
+        c.ZFactor,
+        c.Percent,
+        c.AspectOutput,
+        c.AllowNetwork);
     }
-    if (*temp)
+    if (c.Command == "temperature")
     {
-      return CommandTemperature(tempIn, tempOut, overwrite, backend, allowNetwork, tempOpts);
+      return CommandTemperature(
+        c.Input, c.Output, c.Overwrite, c.Backend, c.AllowNetwork, c.Temperature);
     }
-    if (*bench)
+    if (c.Command == "bench")
     {
-      return CommandBench(size, repeat, backends, bandwidth, benchJson);
+      std::string backends;
+      for (const std::string& b : c.BenchBackends)
+      {
+        backends += (backends.empty() ? "" : ",") + b;
+      }
+      return CommandBench(c.BenchSize, c.BenchRepeat, backends, c.BenchBandwidth, c.BenchJson);
     }
-    if (*info)
+    if (c.Command == "info")
     {
-      return CommandInfo(infoIn, allowNetwork);
+      return CommandInfo(c.Input, c.AllowNetwork);
     }
-    if (*fractal)
+    if (c.Command == "fractal")
     {
-      return CommandFractal(fractalOut, fractalSize, fractalSeed, fractalSpacing, overwrite);
+      return CommandFractal(c.Output, c.FractalSize, c.FractalSeed, c.FractalSpacing, c.Overwrite);
     }
   }
   catch (const std::exception& e)

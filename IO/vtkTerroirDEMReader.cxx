@@ -37,6 +37,8 @@ namespace
 {
 using terroir::io::detail::GDALErrorCapture;
 constexpr double kFoot = 0.3048;
+/// Larger magnitudes (and NaN, infinities) are no-data: no terrain is 1e30 m high.
+constexpr float kLargestHeight = 1.0e30f;
 constexpr double kUSSurveyFoot = 1200.0 / 3937.0;
 
 struct DatasetCloser
@@ -260,6 +262,14 @@ bool DescribeRaw(GDALDatasetH ds,
   OGRErr err = OGRERR_NONE;
   const double a = OSRGetSemiMajor(srs, &err);
   const double invf = OSRGetInvFlattening(srs, &err);
+  // GeographicLib throws on a degenerate ellipsoid; no body a file may describe needs more
+  // than a flattening of 1/2.
+  if (!(a > 0.0 && a <= 1e10) || !(invf == 0.0 || (invf > 2.0 && std::isfinite(invf))))
+  {
+    error = "the CRS ellipsoid (semi-major axis " + std::to_string(a) + " m, inverse flattening " +
+      std::to_string(invf) + ") is not usable";
+    return false;
+  }
   const double f = invf > 0.0 ? 1.0 / invf : 0.0;
   const GeographicLib::Geodesic geod(a, f);
 
@@ -370,8 +380,17 @@ bool Describe(GDALDatasetH ds,
   Description& d,
   std::string& error)
 {
-  if (!DescribeRaw(ds, bandIndex, requireGeo, maxCells, d, error))
+  try
   {
+    if (!DescribeRaw(ds, bandIndex, requireGeo, maxCells, d, error))
+    {
+      return false;
+    }
+  }
+  catch (const std::exception& e)
+  {
+    // GeographicLib reports what it cannot compute (e.g. latitudes beyond the poles) by throwing.
+    error = std::string("the georeference cannot be evaluated (") + e.what() + ")";
     return false;
   }
   auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -652,11 +671,12 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
           {
             isValid = d.floatBand ? static_cast<float>(v) != nodataF : v != nodataS;
           }
-          // A value that is, or scales to, infinity is no height either.
+          // A value that is, or scales to, infinity is no height either, nor a float sentinel
+          // such as -3.4e38 (ESRI's default no-data) left undeclared.
           const float h = !isValid ? std::numeric_limits<float>::quiet_NaN()
             : scaled               ? static_cast<float>(v * factor + offset)
                                    : static_cast<float>(v);
-          isValid = isValid && std::isfinite(h);
+          isValid = isValid && std::fabs(h) <= kLargestHeight;
           vdst[i] = isValid ? 1 : 0;
           dst[i] = isValid ? h : std::numeric_limits<float>::quiet_NaN();
           invalidCount += isValid ? 0 : 1;

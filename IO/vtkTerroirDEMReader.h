@@ -7,11 +7,12 @@
  * times the band's GDAL scale plus offset, times 0.3048 (or 1200/3937) when the band unit is
  * feet or the CRS's vertical unit is feet), and, when some cells are no-data (the band's
  * nodata value, or NaN), `vtkValidPointMask` (unsigned char, 1 = valid) with NaN in
- * `Elevation` at those cells. Row j = 0 is the SOUTH row (GDAL's row 0, the north one,
- * becomes j = ny - 1 for north-up rasters). Field data (see vtkTerroirGeoreference):
- * `TerroirCRS` (WKT), `TerroirGeoTransform` (as in the file), `TerroirCenterLatLon`,
- * `TerroirMeridianConvergence` (degrees), `TerroirSourceFile`, and for geographic grids
- * `TerroirRowSpacing`.
+ * `Elevation` at those cells; values that are infinite, or larger than 1e30 m in magnitude
+ * (float sentinels such as ESRI's -3.4e38 left undeclared), are no-data too. Row j = 0 is
+ * the SOUTH row (GDAL's row 0, the north one, becomes j = ny - 1 for north-up rasters). Field
+ * data (see vtkTerroirGeoreference): `TerroirCRS` (WKT), `TerroirGeoTransform` (as in the file),
+ * `TerroirCenterLatLon`, `TerroirMeridianConvergence` (degrees), `TerroirSourceFile`, and for
+ * geographic grids `TerroirRowSpacing`.
  *
  * - Projected CRS: spacing = |pixel size| times the CRS linear unit (metres), origin = the
  *   south-west cell centre in CRS coordinates converted to metres. Meridian convergence at
@@ -30,9 +31,15 @@
  * RequestInformation reports WHOLE_EXTENT, spacing and origin without reading pixels.
  * Errors (one line "<file>: <problem>", GetErrorMessage() and vtkErrorMacro, empty output):
  * missing file, not a raster GDAL reads (GDAL's own message included), band out of range,
- * more cells than MaxCells, rotated or sheared geotransform, every cell no-data, missing
- * CRS with RequireGeoreference, network or archive paths (`/vsicurl/`, `/vsizip/`,
- * `http://`, ...) unless AllowNetworkPaths is on.
+ * a folder, FIFO or unreadable file, more cells than MaxCells or than the memory available
+ * (terroir::CheckMemory), rotated or sheared geotransform, a non-finite origin or a CRS whose
+ * units give non-finite spacings, every cell no-data, missing CRS with RequireGeoreference.
+ *
+ * Network: unless AllowNetworkPaths is on, network and archive paths (`/vsicurl/`,
+ * `/vsizip/`, `http://`, ...) are refused, and so are local files that need the network: a
+ * server driver's description (WMS, WCS, ...) or a file naming remote or archived data (a VRT
+ * source); while the file is opened and read GDAL cannot reach the network from this thread
+ * (see vtkTerroirGDALPrivate.h).
  *
  * @par Correctness
  * TerroirDEMReader.* pipeline tests: UTM GeoTIFF origin/spacing/CRS and convergence
@@ -86,7 +93,8 @@ public:
   ///@}
 
   ///@{
-  /// Allow GDAL network and archive paths (/vsicurl/, /vsizip/, http://, ...). Default: off.
+  /// Allow GDAL network and archive paths (/vsicurl/, /vsizip/, http://, ...), and local files
+  /// that name remote data. Default: off.
   vtkSetMacro(AllowNetworkPaths, bool);
   vtkGetMacro(AllowNetworkPaths, bool);
   vtkBooleanMacro(AllowNetworkPaths, bool);

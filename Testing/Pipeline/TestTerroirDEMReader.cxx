@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <sys/stat.h>
 
 namespace
 {
@@ -384,4 +385,116 @@ TEST(TerroirDEMReader, NonUTMProjectionConvergenceAndFeet)
   EXPECT_NEAR(spacing[0], 10 * 0.304800609601219, 1e-12);
   EXPECT_NEAR(origin[0], 217900.0 * 0.304800609601219, 1e-6);
   EXPECT_NEAR(origin[1], 4370060.0 * 0.304800609601219, 1e-6);
+}
+
+// A local file can name remote data: a VRT whose source is a URL, or a description file for a
+// server driver. Without AllowNetworkPaths the reader refuses both without going online (the
+// sandbox has no network, so a request would fail anyway: the messages prove the refusal).
+TEST(TerroirDEMReader, LocalFilesNamingRemoteDataAreRefused)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("dem_remote");
+  vtkNew<vtkTerroirDEMReader> reader;
+  // SourceProperties let GDAL open the VRT without opening its source.
+  const std::string vrt = dir + "/remote.vrt";
+  terroir::testing::WriteTextFile(vrt,
+    "<VRTDataset rasterXSize=\"3\" rasterYSize=\"2\">\n"
+    "  <GeoTransform>0, 10, 0, 20, 0, -10</GeoTransform>\n"
+    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
+    "    <SimpleSource><SourceFilename relativeToVRT=\"0\">"
+    "/vsicurl/http://127.0.0.1:9/dem.tif</SourceFilename><SourceBand>1</SourceBand>"
+    "<SourceProperties RasterXSize=\"3\" RasterYSize=\"2\" DataType=\"Float32\" "
+    "BlockXSize=\"3\" BlockYSize=\"1\"/></SimpleSource>\n"
+    "  </VRTRasterBand>\n</VRTDataset>\n");
+  std::string m = ExpectFailure(reader, vrt);
+  EXPECT_NE(m.find("refers to '/vsicurl/http://127.0.0.1:9/dem.tif', a network or archive path"),
+    std::string::npos)
+    << m;
+  EXPECT_NE(m.find("AllowNetworkPaths"), std::string::npos) << m;
+
+  const std::string wms = dir + "/tiles.xml";
+  terroir::testing::WriteTextFile(wms,
+    "<GDAL_WMS><Service name=\"TMS\"><ServerUrl>http://127.0.0.1:9/${z}/${x}/${y}.png"
+    "</ServerUrl></Service><DataWindow><UpperLeftX>-20037508.34</UpperLeftX>"
+    "<UpperLeftY>20037508.34</UpperLeftY><LowerRightX>20037508.34</LowerRightX>"
+    "<LowerRightY>-20037508.34</LowerRightY><TileLevel>1</TileLevel><TileCountX>1</TileCountX>"
+    "<TileCountY>1</TileCountY><YOrigin>top</YOrigin></DataWindow><Projection>EPSG:3857"
+    "</Projection><BlockSizeX>256</BlockSizeX><BlockSizeY>256</BlockSizeY><BandsCount>1"
+    "</BandsCount></GDAL_WMS>\n");
+  m = ExpectFailure(reader, wms);
+  EXPECT_NE(
+    m.find("the WMS driver reads from a server: network access is refused"), std::string::npos)
+    << m;
+}
+
+TEST(TerroirDEMReader, FoldersFifosAndEmptyFilesAreClearErrors)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("dem_kinds");
+  vtkNew<vtkTerroirDEMReader> reader;
+  EXPECT_EQ(ExpectFailure(reader, dir), dir + ": is a directory, not a file");
+  const std::string fifo = dir + "/pipe.tif";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  // Opening a FIFO would block until a writer comes: it must be refused, not read.
+  EXPECT_EQ(ExpectFailure(reader, fifo), fifo + ": not a regular file");
+  const std::string empty = dir + "/empty.tif";
+  terroir::testing::WriteTextFile(empty, "");
+  EXPECT_NE(ExpectFailure(reader, empty).find("not a raster GDAL can read"), std::string::npos);
+}
+
+TEST(TerroirDEMReader, InfiniteValuesAreNoDataAndNonFiniteOriginIsAnError)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("dem_inf");
+  // An ASCII grid whose values overflow float32 (1e39) or are written as inf: no heights.
+  const std::string grid = dir + "/inf.asc";
+  terroir::testing::WriteTextFile(
+    grid, terroir::testing::AsciiGrid(3, 1, 0, 0, 10, -9999, { "1e39 inf 7.5" }));
+  vtkNew<vtkTerroirDEMReader> reader;
+  reader->SetFileName(grid.c_str());
+  reader->Update();
+  ASSERT_STREQ(reader->GetErrorMessage(), "");
+  vtkImageData* img = reader->GetOutput();
+  vtkDataArray* z = img->GetPointData()->GetArray("Elevation");
+  vtkDataArray* mask = img->GetPointData()->GetArray("vtkValidPointMask");
+  ASSERT_NE(mask, nullptr);
+  EXPECT_EQ(mask->GetComponent(0, 0), 0.0);
+  EXPECT_EQ(mask->GetComponent(1, 0), 0.0);
+  EXPECT_EQ(mask->GetComponent(2, 0), 1.0);
+  EXPECT_TRUE(std::isnan(z->GetComponent(0, 0)));
+  EXPECT_TRUE(std::isnan(z->GetComponent(1, 0)));
+  EXPECT_EQ(z->GetComponent(2, 0), 7.5);
+
+  const std::string vrt = dir + "/nan_origin.vrt";
+  terroir::testing::WriteTextFile(vrt,
+    "<VRTDataset rasterXSize=\"3\" rasterYSize=\"1\">\n"
+    "  <GeoTransform>nan, 10, 0, 20, 0, -10</GeoTransform>\n"
+    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
+    "    <SimpleSource><SourceFilename relativeToVRT=\"1\">inf.asc</SourceFilename>"
+    "<SourceBand>1</SourceBand></SimpleSource>\n"
+    "  </VRTRasterBand>\n</VRTDataset>\n");
+  EXPECT_NE(ExpectFailure(reader, vrt).find("invalid origin in the geotransform (not finite)"),
+    std::string::npos);
+}
+
+// Found by Testing/Fuzz/FuzzDEMReader (corpus seed built_degenerate_ellipsoid): a CRS whose
+// ellipsoid has a semi-major axis of 1 m and an inverse flattening of 0.5 made GeographicLib
+// throw from inside the pipeline, which ended the program. Now it is a one-line error.
+TEST(TerroirDEMReader, DegenerateEllipsoidIsAnErrorNotACrash)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("dem_ellipsoid");
+  terroir::testing::WriteTextFile(
+    dir + "/ok.asc", terroir::testing::AsciiGrid(3, 2, 0, 0, 10, -9999, { "1 2 3", "4 5 6" }));
+  const std::string vrt = dir + "/odd.vrt";
+  terroir::testing::WriteTextFile(vrt,
+    "<VRTDataset rasterXSize=\"3\" rasterYSize=\"2\">\n"
+    "  <SRS>GEOGCS[\"odd\",DATUM[\"odd\",SPHEROID[\"odd\",1,0.5]],PRIMEM[\"Greenwich\",0],"
+    "UNIT[\"degree\",0.0174532925199433]]</SRS>\n"
+    "  <GeoTransform>10, 0.001, 0, 40, 0, -0.001</GeoTransform>\n"
+    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
+    "    <SimpleSource><SourceFilename relativeToVRT=\"1\">ok.asc</SourceFilename>"
+    "<SourceBand>1</SourceBand></SimpleSource>\n"
+    "  </VRTRasterBand>\n</VRTDataset>\n");
+  vtkNew<vtkTerroirDEMReader> reader;
+  EXPECT_EQ(ExpectFailure(reader, vrt),
+    vrt +
+      ": the CRS ellipsoid (semi-major axis 1.000000 m, inverse flattening 0.500000) is not "
+      "usable");
 }

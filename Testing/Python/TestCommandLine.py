@@ -129,9 +129,39 @@ class TerroirCommandLine(unittest.TestCase):
         for m in (0, 6, 11):
             got = t.GetRasterBand(m + 1).ReadAsArray().astype(np.float64)
             np.testing.assert_allclose(got, m - 5.0 * z / 1000.0, atol=1e-3)
+        # A bad command line is a usage error (exit status 2), found before any work is done.
         r = terroir("temperature", DEM, os.path.join(self.work, "u.tif"), "--monthly", "1,2,3")
+        self.assertEqual(r.returncode, 2)
+        self.assertEqual(r.stderr, "terroir: error: --monthly: expected 12 values, got 3\n")
+
+    def test_temperature_from_a_climate_file(self):
+        # The same 12 sea-level temperatures from a CSV climate table and from --monthly give
+        # the same raster; a table without temperature_c is refused before any work.
+        monthly = [-2, -1.5, 1, 4, 8, 12, 16, 15.5, 12, 7, 2, -1]
+        names = ["Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"]
+        climate = os.path.join(self.work, "climate.csv")
+        with open(climate, "w") as f:
+            f.write("month,temperature_c\n")
+            for name, t in reversed(list(zip(names, monthly))):
+                f.write(f"{name},{t}\n")
+        a, b = os.path.join(self.work, "a.tif"), os.path.join(self.work, "b.tif")
+        r = terroir("temperature", DEM, a, "--climate", climate)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        r = terroir("temperature", DEM, b, "--monthly", ",".join(str(t) for t in monthly))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        da, db = gdal.Open(a), gdal.Open(b)  # keep the datasets alive while their bands are read
+        for band in (1, 7, 12):
+            np.testing.assert_array_equal(da.GetRasterBand(band).ReadAsArray(),
+                                          db.GetRasterBand(band).ReadAsArray())
+        rain = os.path.join(self.work, "rain.json")
+        with open(rain, "w") as f:
+            json.dump({"precipitation_mm": [50] * 12, "intensity_mm_per_h": [2] * 12}, f)
+        out = os.path.join(self.work, "c.tif")
+        r = terroir("temperature", DEM, out, "--climate", rain)
         self.assertEqual(r.returncode, 1)
-        self.assertIn("12 values", r.stderr)
+        self.assertEqual(r.stderr, f"terroir: error: {rain}: no temperature_c values "
+                                   "(needed by the temperature model)\n")
+        self.assertFalse(os.path.exists(out))
 
     def test_fractal_is_seeded_and_bench_reports_every_stage(self):
         a, b, c = (os.path.join(self.work, n) for n in ("a.tif", "b.tif", "c.tif"))
