@@ -3,12 +3,19 @@
 #   Scripts/setup.sh run [terroir run options...]   install, build, run the pipeline on the bundled DEM
 #   Scripts/setup.sh test [ctest options...]        install, build, run the whole test suite
 #   Scripts/setup.sh build                          install and build only
-# Idempotent: packages already present are not reinstalled; the build is incremental.
-# Environment: TERROIR_BUILD_DIR (default ./build), TERROIR_JOBS (default 2).
+#   Scripts/setup.sh sanitize [ctest options...]    also build a second tree with clang,
+#                                                   AddressSanitizer, UndefinedBehaviorSanitizer
+#                                                   and libFuzzer, and run the unit, pipeline and
+#                                                   GPU tests there (any report fails)
+#   Scripts/setup.sh configure-sanitize             configure that tree only (Testing/Fuzz/run.sh)
+# Idempotent: packages already present are not reinstalled; the builds are incremental.
+# Environment: TERROIR_BUILD_DIR (default ./build), TERROIR_SANITIZE_BUILD_DIR (default
+# ./build-asan), TERROIR_JOBS (default 2).
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${TERROIR_BUILD_DIR:-$here/build}
+sanitize_build=${TERROIR_SANITIZE_BUILD_DIR:-$here/build-asan}
 jobs=${TERROIR_JOBS:-2}
 mode=${1:-build}
 [ $# -gt 0 ] && shift
@@ -22,6 +29,7 @@ packages=(
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libx11-dev
   libgtest-dev libcli11-dev nlohmann-json3-dev
   glslang-tools xvfb xauth time
+  clang libclang-rt-14-dev llvm
 )
 
 install_packages() {
@@ -47,13 +55,29 @@ build_terroir() {
   cmake --build "$build" -j "$jobs"
 }
 
+# The second tree: clang with sanitizers on every target, and libFuzzer coverage (the harnesses
+# of Testing/Fuzz link libFuzzer there). No Python wrapping: VTK's Python is not instrumented.
+configure_sanitize() {
+  if ! grep -q "TERROIR_FUZZ:BOOL=ON" "$sanitize_build/CMakeCache.txt" 2>/dev/null; then
+    CC=clang CXX=clang++ cmake -S "$here" -B "$sanitize_build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DTERROIR_SANITIZE=address,undefined -DTERROIR_FUZZ=ON -DTERROIR_WRAP_PYTHON=OFF \
+      -DPython3_EXECUTABLE=/usr/bin/python3
+  else
+    cmake -S "$here" -B "$sanitize_build" >/dev/null
+  fi
+}
+
 # VTK 9.1 renders through X only: PNG export and image tests need a display.
 with_display() {
   if [ -n "${DISPLAY:-}" ]; then "$@"; else xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" "$@"; fi
 }
 
 install_packages
-build_terroir
+case "$mode" in
+  configure-sanitize) configure_sanitize; exit 0 ;;
+  sanitize) ;;
+  *) build_terroir ;;
+esac
 case "$mode" in
   build) ;;
   # The set-up's own job replaces its own earlier results (terroir itself refuses to overwrite
@@ -63,5 +87,14 @@ case "$mode" in
     # The GPU path is exercised for real on llvmpipe: a missing compute context is a failure.
     export TERROIR_REQUIRE_GPU=${TERROIR_REQUIRE_GPU:-1}
     with_display ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" ;;
-  *) echo "usage: Scripts/setup.sh run|test|build [args...]" >&2; exit 2 ;;
+  sanitize)
+    configure_sanitize
+    cmake --build "$sanitize_build" -j "$jobs"
+    export TERROIR_REQUIRE_GPU=${TERROIR_REQUIRE_GPU:-1}
+    # Each test runs with ASAN_OPTIONS/UBSAN_OPTIONS set by Testing/CMakeLists.txt: a leak, a
+    # memory error or undefined behaviour aborts the test, so the run fails.
+    with_display ctest --test-dir "$sanitize_build" --output-on-failure -j "$jobs" \
+      -L 'unit|pipeline|gpu' "$@" ;;
+  *) echo "usage: Scripts/setup.sh run|test|build|sanitize|configure-sanitize [args...]" >&2
+     exit 2 ;;
 esac
