@@ -7,11 +7,14 @@
 #include "vtkTerroirGeoreference.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <regex>
 #include <sstream>
 #include <sys/stat.h>
 
@@ -210,6 +213,50 @@ bool GPUAvailable(bool& mustFail, std::string& reason)
   const char* req = std::getenv("TERROIR_REQUIRE_GPU");
   mustFail = !ok && req && std::string(req) == "1";
   return ok;
+}
+
+std::vector<AlgorithmClass> ProjectAlgorithmClasses()
+{
+  namespace fs = std::filesystem;
+  const std::regex declaration(
+    R"(class\s+VTKTERROIR\w+_EXPORT\s+(vtkTerroir\w+)\s*:\s*public\s+(\w+))");
+  const std::regex algorithmBase(R"(.*(Algorithm|Writer|Reader|Source)$)");
+  std::vector<AlgorithmClass> classes;
+  const fs::path root(TERROIR_SOURCE_DIR);
+  for (const char* folder : { "Common", "Compute", "Filters", "IO", "Rendering" })
+  {
+    std::error_code ec;
+    for (const auto& entry : fs::recursive_directory_iterator(root / folder, ec))
+    {
+      const fs::path& p = entry.path();
+      if (p.extension() != ".h" || p.filename().string().rfind("vtkTerroir", 0) != 0)
+      {
+        continue;
+      }
+      std::ifstream in(p);
+      std::stringstream text;
+      text << in.rdbuf();
+      const std::string header = text.str();
+      std::smatch m;
+      // Abstract bases have no New().
+      if (!std::regex_search(header, m, declaration) ||
+        !std::regex_match(m[2].str(), algorithmBase) ||
+        header.find("static " + m[1].str() + "* New()") == std::string::npos)
+      {
+        continue;
+      }
+      AlgorithmClass c;
+      c.Name = m[1].str();
+      c.Header = p.string();
+      c.HasGPUPath = std::regex_search(
+        header, std::regex(R"(bool\s+HasGPUPath\(\)\s+override\s*\{\s*return\s+true;)"));
+      classes.push_back(c);
+    }
+  }
+  std::sort(classes.begin(),
+    classes.end(),
+    [](const AlgorithmClass& a, const AlgorithmClass& b) { return a.Name < b.Name; });
+  return classes;
 }
 
 } // namespace terroir_test

@@ -49,6 +49,18 @@ std::string TempFile(const std::string& name);
 /// Reads a DEM with vtkTerroirDEMReader (nullptr on failure).
 vtkSmartPointer<vtkImageData> ReadDEM(const std::string& path);
 
+/// A concrete vtkAlgorithm subclass of the project, found in the module headers.
+struct AlgorithmClass
+{
+  std::string Name;        ///< e.g. "vtkTerroirSlope"
+  std::string Header;      ///< path of its header
+  bool HasGPUPath = false; ///< the header overrides HasGPUPath() to return true
+};
+/// Every class with a New() in Compute/, Common/, IO/, Filters/*/ and Rendering/ whose superclass
+/// is an algorithm, reader, writer or source (read from the headers, so that a new filter cannot
+/// escape the tests that must cover every filter).
+std::vector<AlgorithmClass> ProjectAlgorithmClasses();
+
 /// Collects vtkErrorMacro / vtkWarningMacro messages of the objects it observes.
 class ErrorObserver : public vtkCommand
 {

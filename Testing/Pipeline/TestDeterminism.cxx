@@ -1,0 +1,232 @@
+// Determinism: every algorithm of the project (filters, sources, readers, writers) gives
+// bit-identical results with 1 and 2 threads, on each of VTK's SMP backends here (STDThread,
+// TBB, Sequential), and across repeated runs. Results are compared as raw bytes: every point
+// and field array of an output, or the whole file a writer wrote. The list of algorithms is
+// checked against the classes declared in the module headers, so a new filter must be added
+// here (its GPU path is covered by Testing/GPU/TestDeterminismGPU.cxx).
+#include "TerroirFilterTestUtilities.h"
+#include "TerroirIOTestUtilities.h"
+
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkImageData.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+#include "vtkTerroirDEMReader.h"
+#include "vtkTerroirFractalTerrainSource.h"
+#include "vtkTerroirGeoTIFFWriter.h"
+#include "vtkTerroirSlope.h"
+#include "vtkTerroirTemperature.h"
+#include "vtkTerroirTerragenReader.h"
+#include "vtkTerroirTerragenWriter.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace
+{
+using Bytes = std::map<std::string, std::string>; ///< array or file name -> raw bytes
+
+void AddArrays(vtkFieldData* data, const std::string& prefix, Bytes& out)
+{
+  for (int a = 0; data && a < data->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = data->GetArray(a);
+    if (!array || !array->GetName())
+    {
+      continue;
+    }
+    const auto* p = static_cast<const char*>(array->GetVoidPointer(0));
+    const std::size_t size = static_cast<std::size_t>(array->GetNumberOfValues()) *
+      static_cast<std::size_t>(array->GetDataTypeSize());
+    out[prefix + array->GetName()] = std::string(p, p + size);
+  }
+}
+
+Bytes OutputBytes(vtkImageData* image)
+{
+  Bytes out;
+  EXPECT_NE(image, nullptr);
+  if (image)
+  {
+    EXPECT_GT(image->GetNumberOfPoints(), 0);
+    AddArrays(image->GetPointData(), "point:", out);
+    AddArrays(image->GetFieldData(), "field:", out);
+  }
+  return out;
+}
+
+Bytes FileBytes(const std::string& path)
+{
+  const std::vector<char> bytes = terroir::testing::ReadWholeFile(path);
+  EXPECT_FALSE(bytes.empty()) << path;
+  return Bytes{ { path, std::string(bytes.begin(), bytes.end()) } };
+}
+
+/// The bundled DEM with a block of no-data cells, so that masks take part.
+vtkSmartPointer<vtkImageData> TerrainWithHoles()
+{
+  static vtkSmartPointer<vtkImageData> terrain;
+  if (!terrain)
+  {
+    terrain =
+      terroir_test::ReadDEM(terroir_test::DataFile("sagehen_creek_ca/sagehen_dem_utm11n_10m.tif"));
+    vtkDataArray* z = terrain->GetPointData()->GetArray("Elevation");
+    for (vtkIdType j = 300; j < 340; ++j)
+    {
+      for (vtkIdType i = 100; i < 150; ++i)
+      {
+        z->SetComponent(j * 786 + i, 0, std::nan(""));
+      }
+    }
+  }
+  return terrain;
+}
+
+std::string Scratch(const std::string& name)
+{
+  static const std::string dir = terroir::testing::IOScratchFolder("determinism");
+  return dir + "/" + name;
+}
+
+/// One run of each algorithm; the runner is called under every SMP configuration.
+const std::map<std::string, std::function<Bytes()>>& Runners()
+{
+  static const std::map<std::string, std::function<Bytes()>> runners = {
+    { "vtkTerroirSlope",
+      []
+      {
+        vtkNew<vtkTerroirSlope> f;
+        f->SetBackendToCPU();
+        f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirTemperature",
+      []
+      {
+        vtkNew<vtkTerroirTemperature> f;
+        f->SetBackendToCPU();
+        f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirFractalTerrainSource",
+      []
+      {
+        vtkNew<vtkTerroirFractalTerrainSource> f;
+        f->SetDimensions(640, 480);
+        f->SetSeed(7);
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirDEMReader",
+      []
+      {
+        vtkNew<vtkTerroirDEMReader> r;
+        r->SetFileName(terroir_test::DataFile("sagehen_creek_ca/ned10m_nad83.img").c_str());
+        r->Update();
+        return OutputBytes(r->GetOutput());
+      } },
+    { "vtkTerroirTerragenReader",
+      []
+      {
+        vtkNew<vtkTerroirTerragenReader> r;
+        r->SetFileName(
+          terroir_test::DataFile("sagehen_creek_ca/sagehen_dem_utm11n_10m.ter").c_str());
+        r->Update();
+        return OutputBytes(r->GetOutput());
+      } },
+    { "vtkTerroirGeoTIFFWriter",
+      []
+      {
+        vtkNew<vtkTerroirGeoTIFFWriter> w;
+        w->SetInputData(TerrainWithHoles());
+        w->SetFileName(Scratch("dem.tif").c_str());
+        w->OverwriteOn();
+        w->SetCompress(true);
+        w->Write();
+        EXPECT_STREQ(w->GetErrorMessage(), "");
+        return FileBytes(Scratch("dem.tif"));
+      } },
+    { "vtkTerroirTerragenWriter",
+      []
+      {
+        vtkNew<vtkTerroirTerragenWriter> w;
+        w->SetInputData(TerrainWithHoles());
+        w->SetFileName(Scratch("dem.ter").c_str());
+        w->OverwriteOn();
+        w->Write();
+        return FileBytes(Scratch("dem.ter"));
+      } },
+  };
+  return runners;
+}
+
+struct SMPConfig
+{
+  const char* Backend;
+  int Threads;
+};
+
+std::string Describe(const SMPConfig& c)
+{
+  return std::string(c.Backend) + " x " + std::to_string(c.Threads);
+}
+} // namespace
+
+TEST(TerroirDeterminism, EveryAlgorithmOfTheProjectIsCovered)
+{
+  const auto classes = terroir_test::ProjectAlgorithmClasses();
+  ASSERT_GE(classes.size(), Runners().size()) << "the header scan found too few classes";
+  for (const auto& c : classes)
+  {
+    EXPECT_EQ(Runners().count(c.Name), 1u)
+      << c.Name << " (" << c.Header << ") has no determinism run in TestDeterminism.cxx";
+  }
+}
+
+TEST(TerroirDeterminism, BitIdenticalWithOneAndTwoThreadsOnEverySMPBackend)
+{
+  const std::string original = vtkSMPTools::GetBackend();
+  const std::vector<SMPConfig> configs = { { "STDThread", 1 },
+    { "STDThread", 2 },
+    { "TBB", 1 },
+    { "TBB", 2 },
+    { "Sequential", 1 },
+    { "STDThread", 2 } };
+  for (const auto& [name, run] : Runners())
+  {
+    Bytes reference;
+    std::string referenceConfig;
+    for (const SMPConfig& config : configs)
+    {
+      if (!vtkSMPTools::SetBackend(config.Backend))
+      {
+        continue; // not compiled into this VTK
+      }
+      Bytes result;
+      vtkSMPTools::LocalScope(vtkSMPTools::Config{ config.Threads }, [&] { result = run(); });
+      if (referenceConfig.empty())
+      {
+        reference = result;
+        referenceConfig = Describe(config);
+        EXPECT_FALSE(reference.empty()) << name;
+        continue;
+      }
+      ASSERT_EQ(result.size(), reference.size()) << name << ": " << Describe(config);
+      for (const auto& [key, bytes] : reference)
+      {
+        EXPECT_TRUE(result[key] == bytes) << name << ": '" << key << "' differs between "
+                                          << referenceConfig << " and " << Describe(config);
+      }
+    }
+    EXPECT_FALSE(referenceConfig.empty());
+  }
+  vtkSMPTools::SetBackend(original.c_str());
+}
