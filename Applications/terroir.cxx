@@ -32,6 +32,7 @@
 
 #include "ClimateTable.h"
 #include "GridView.h"
+#include "MemoryBudget.h"
 #include "SlopeHorn1981.h"
 
 #include <nlohmann/json.hpp>
@@ -768,6 +769,14 @@ int main(int argc, char** argv)
     return parsed.ExitCode;
   }
 
+  // A malformed TERROIR_MEMORY_LIMIT is the user's error, not the first reader's.
+  terroir::MemoryAvailability memory;
+  std::string memoryError;
+  if (!terroir::AvailableMemory(memory, memoryError))
+  {
+    std::cerr << "terroir: error: " << memoryError << "\n";
+    return 2;
+  }
   terroir::app::InstallQuietOutput(c.Verbose);
   // Interrupted or over `ulimit -f`: remove the temporaries, leave earlier results as they were.
   terroir::InstallSignalCleanup();

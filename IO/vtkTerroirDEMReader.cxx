@@ -29,6 +29,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <vector>
 
 vtkStandardNewMacro(vtkTerroirDEMReader);
@@ -297,7 +298,11 @@ bool DescribeRaw(GDALDatasetH ds,
       const double lat = (d.gt[3] + (gdalRow(j) + 0.5) * d.gt[5]) * toDeg;
       if (std::fabs(lat) + 0.5 * dLat > 90.0)
       {
-        error = "row latitude " + std::to_string(lat) + " outside [-90, 90]";
+        std::ostringstream os;
+        os << "row latitude " << lat
+           << " is outside [-90, 90]: the geotransform is not in the degrees of the file's "
+              "geographic CRS (mismatched CRS?)";
+        error = os.str();
         return false;
       }
       double s12 = 0.0;
