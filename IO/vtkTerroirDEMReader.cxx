@@ -78,19 +78,10 @@ struct CTDeleter
 };
 using CTPtr = std::unique_ptr<void, CTDeleter>;
 
-std::string Lower(std::string s)
-{
-  std::transform(s.begin(),
-    s.end(),
-    s.begin(),
-    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 /// Metres per unit for a unit name; 0 when the name is not a length unit we know.
 double LengthUnitFromName(const std::string& name)
 {
-  const std::string l = Lower(name);
+  const std::string l = terroir::io::detail::ToLower(name);
   if (l == "ft" || l == "foot" || l == "feet" || l == "international foot" || l == "ft_intl")
   {
     return kFoot;

@@ -18,15 +18,6 @@ namespace
 {
 constexpr const char* kNoURL = "terroir:network-access-refused";
 
-std::string Lower(std::string s)
-{
-  std::transform(s.begin(),
-    s.end(),
-    s.begin(),
-    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 CPLHTTPResult* RefuseFetch(const char* url,
   CSLConstList,
   GDALProgressFunc,
@@ -93,9 +84,18 @@ ScopedNetworkRefusal::~ScopedNetworkRefusal()
     this->HadOldAllowedFilename ? this->OldAllowedFilename.c_str() : nullptr);
 }
 
+std::string ToLower(std::string s)
+{
+  std::transform(s.begin(),
+    s.end(),
+    s.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
 bool IsNetworkOrArchivePath(const std::string& path)
 {
-  const std::string l = Lower(path);
+  const std::string l = ToLower(path);
   if (l.rfind("/vsi", 0) == 0 && l.rfind("/vsimem/", 0) != 0)
   {
     return true;
@@ -105,31 +105,23 @@ bool IsNetworkOrArchivePath(const std::string& path)
 
 bool IsServerDriver(const std::string& shortName)
 {
-  static const char* const servers[] = { "WMS",
-    "WMTS",
-    "WCS",
-    "HTTP",
-    "DAAS",
-    "EEDA",
-    "EEDAI",
-    "OGCAPI",
-    "PLMOSAIC",
-    "PLSCENES",
-    "NGW",
-    "STACTA",
-    "STACIT",
-    "POSTGISRASTER" };
-  const std::string upper = [&]
-  {
-    std::string u = shortName;
-    std::transform(u.begin(),
-      u.end(),
-      u.begin(),
-      [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
-    return u;
-  }();
+  static const char* const servers[] = { "wms",
+    "wmts",
+    "wcs",
+    "http",
+    "daas",
+    "eeda",
+    "eedai",
+    "ogcapi",
+    "plmosaic",
+    "plscenes",
+    "ngw",
+    "stacta",
+    "stacit",
+    "postgisraster" };
+  const std::string lower = ToLower(shortName);
   return std::any_of(
-    std::begin(servers), std::end(servers), [&](const char* s) { return upper == s; });
+    std::begin(servers), std::end(servers), [&](const char* s) { return lower == s; });
 }
 
 } // namespace detail

@@ -61,6 +61,9 @@ private:
   std::string URL;
 };
 
+/// `s` in lower case (ASCII).
+std::string ToLower(std::string s);
+
 /// True for GDAL paths that are not plain local files: /vsi* (but /vsimem/), or a "://" URL.
 bool IsNetworkOrArchivePath(const std::string& path);
 

@@ -86,36 +86,28 @@ void ExpectFailedReplaceKeepsEarlierResult(const std::string& folder,
 }
 } // namespace
 
+/// Writes `image` to `path` with a new `Writer` (Overwrite on); 1 on success, else 0 and `error`.
+template<typename Writer>
+int WriteWith(vtkImageData* image, const std::string& path, std::string& error)
+{
+  vtkNew<Writer> w;
+  w->SetInputData(image);
+  w->SetFileName(path.c_str());
+  w->OverwriteOn();
+  const int ok = w->Write();
+  error = w->GetErrorMessage();
+  return ok && error.empty() ? 1 : 0;
+}
+
 TEST(TerroirSafeOutputs, GeoTIFFWriterFailingMidwayKeepsEarlierResult)
 {
-  ExpectFailedReplaceKeepsEarlierResult("safe_tif",
-    "dem.tif",
-    [](vtkImageData* image, const std::string& path, std::string& error)
-    {
-      vtkNew<vtkTerroirGeoTIFFWriter> w;
-      w->SetInputData(image);
-      w->SetFileName(path.c_str());
-      w->OverwriteOn();
-      const int ok = w->Write();
-      error = w->GetErrorMessage();
-      return ok && error.empty() ? 1 : 0;
-    });
+  ExpectFailedReplaceKeepsEarlierResult("safe_tif", "dem.tif", &WriteWith<vtkTerroirGeoTIFFWriter>);
 }
 
 TEST(TerroirSafeOutputs, TerragenWriterFailingMidwayKeepsEarlierResult)
 {
-  ExpectFailedReplaceKeepsEarlierResult("safe_ter",
-    "dem.ter",
-    [](vtkImageData* image, const std::string& path, std::string& error)
-    {
-      vtkNew<vtkTerroirTerragenWriter> w;
-      w->SetInputData(image);
-      w->SetFileName(path.c_str());
-      w->OverwriteOn();
-      const int ok = w->Write();
-      error = w->GetErrorMessage();
-      return ok && error.empty() ? 1 : 0;
-    });
+  ExpectFailedReplaceKeepsEarlierResult(
+    "safe_ter", "dem.ter", &WriteWith<vtkTerroirTerragenWriter>);
 }
 
 TEST(TerroirSafeOutputs, WritersRefuseExistingFilesWithoutOverwrite)
