@@ -16,7 +16,7 @@ target_compile_definitions(terroir PRIVATE
   "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
 target_compile_options(terroir PRIVATE -Wall -Wextra)
 set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersTerrain
-  VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::IOXML)
+  VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc VTK::IOXML)
 target_link_libraries(terroir PRIVATE TerroirCommandLine ${_terroir_app_modules}
   TerroirTerrainCore TerroirIOCore nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})
 vtk_module_autoinit(TARGETS terroir MODULES ${_terroir_app_modules})

@@ -3,6 +3,7 @@
 #include "vtkAlgorithm.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
+#include "vtkErrorCode.h"
 #include "vtkImageData.h"
 #include "vtkLogger.h"
 #include "vtkNew.h"
@@ -285,7 +286,14 @@ void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
   if (!ok || writer->GetErrorCode() != 0 || !err.empty())
   {
     terroir::DiscardTemporary(tmp);
-    throw Failure(path + ": could not be written" + (err.empty() ? "" : " (" + err + ")"));
+    // The writer's error code says why; the executive's "returned failure" text does not.
+    const unsigned long code = writer->GetErrorCode();
+    const std::string why = code == vtkErrorCode::OutOfDiskSpaceError
+      ? "out of disk space, or over the file-size limit"
+      : code == vtkErrorCode::CannotOpenFileError ? "cannot create the file"
+      : code != 0                                 ? vtkErrorCode::GetStringFromErrorCode(code)
+                                                  : err;
+    throw Failure(path + ": could not be written (" + why + ")");
   }
   std::string error;
   if (!terroir::CommitTemporary(tmp, path, error))

@@ -13,9 +13,9 @@
 #include "vtkTerroirGDALPrivate.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
+#include "vtkUnsignedCharArray.h"
 
 #include "MemoryBudget.h"
-#include "vtkUnsignedCharArray.h"
 
 #include <cpl_string.h>
 #include <gdal.h>
@@ -38,9 +38,9 @@ namespace
 {
 using terroir::io::detail::GDALErrorCapture;
 constexpr double kFoot = 0.3048;
+constexpr double kUSSurveyFoot = 1200.0 / 3937.0;
 /// Larger magnitudes (and NaN, infinities) are no-data: no terrain is 1e30 m high.
 constexpr float kLargestHeight = 1.0e30f;
-constexpr double kUSSurveyFoot = 1200.0 / 3937.0;
 
 struct DatasetCloser
 {

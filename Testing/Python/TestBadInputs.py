@@ -187,8 +187,9 @@ def make_earlier_result(d):
     # An earlier slope of a small DEM; replacing it with the bundled DEM's slope needs more room
     # than `ulimit -f` leaves.
     geotiff(os.path.join(d, "small.tif"), np.arange(64, dtype=np.float32).reshape(8, 8))
-    subprocess.run([BIN, "slope", os.path.join(d, "small.tif"), os.path.join(d, "slope.tif")],
-                   check=True, capture_output=True)
+    for out in ("slope.tif", "slope.vti"):
+        subprocess.run([BIN, "slope", os.path.join(d, "small.tif"), os.path.join(d, out)],
+                       check=True, capture_output=True)
 
 
 def make_climate_missing_month(d):
