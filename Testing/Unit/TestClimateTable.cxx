@@ -6,9 +6,12 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <vector>
 
 namespace
@@ -660,18 +663,38 @@ TEST(TerroirClimateTable, ReadFileReportsUnreadablePath)
 
 TEST(TerroirClimateTable, ReadFileReportsUnreadableFile)
 {
-  const std::string path = TempPath("unreadable.csv");
+  // In a folder anyone may enter, so that the check below is about the file's own permissions.
+  char folder[] = "/tmp/terroir-climate-XXXXXX";
+  ASSERT_NE(mkdtemp(folder), nullptr);
+  ASSERT_EQ(chmod(folder, 0755), 0);
+  const std::string path = std::string(folder) + "/unreadable.csv";
   WriteFile(path, kAllColumns);
   std::filesystem::permissions(path, std::filesystem::perms::none);
-  if (std::FILE* f = std::fopen(path.c_str(), "rb"))
+  auto check = [&path]
   {
-    std::fclose(f);
-    std::filesystem::remove(path);
-    GTEST_SKIP() << "running with permission to read any file (root?)";
+    ClimateTable t;
+    std::string error;
+    const bool read = terroir::io::ReadClimateTableFile(path, t, error);
+    return !read && error == path + ": cannot be read (Permission denied)";
+  };
+  if (geteuid() != 0)
+  {
+    EXPECT_TRUE(check());
   }
-  ClimateTable t;
-  std::string error;
-  EXPECT_FALSE(terroir::io::ReadClimateTableFile(path, t, error));
-  EXPECT_EQ(error, path + ": cannot be read (Permission denied)");
-  std::filesystem::remove(path);
+  else
+  {
+    // Root reads any file: check as the unprivileged user nobody, in a child process.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    EXPECT_EXIT(
+      {
+        if (setgid(65534) != 0 || setuid(65534) != 0)
+        {
+          std::_Exit(2);
+        }
+        std::_Exit(check() ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0),
+      "");
+  }
+  std::filesystem::remove_all(folder);
 }
