@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Writes the seed corpus of FuzzDEMReader (Testing/Fuzz/corpus/DEMReader/) in the layout that
 FuzzDEMReader.cxx documents: typical rasters (UTM, geographic, feet, integer with scale,
-polar stereographic, a CRS given as WKT) and edge cases (1 x 1, no georeference, NaN nodata,
-huge pixel size, rotated geotransform, every cell no-data). Run from anywhere; rewrites the
-folder's seed_*.bin files."""
+polar stereographic, a CRS given as WKT), edge cases (1 x 1, no georeference, NaN nodata,
+huge pixel size, rotated geotransform, every cell no-data), and 64 x 64 crops of the bundled
+Sagehen DEMs (UTM GeoTIFF and geographic NED .img) with their own georeference. Run with
+/usr/bin/python3 (python3-gdal) from anywhere; rewrites the folder's seed_*.bin files."""
 import os
 import struct
 
@@ -60,6 +61,21 @@ SEEDS = {
     "all_nodata": seed(gt=UTM, nodata=7.0, dtype="Byte", values=(7,)),
     "uint32_big_values": seed(gt=UTM, dtype="UInt32", values=(4294967295, 0, 1, 2)),
 }
+
+# Seeds cut from the bundled real DEMs (Data/): 64 x 64 corners with their own georeference.
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data",
+                    "sagehen_creek_ca")
+try:
+    from osgeo import gdal
+    for name, file, epsg in (("sagehen_utm_crop", "sagehen_dem_utm11n_10m.tif", 32611),
+                             ("sagehen_ned_geographic_crop", "ned10m_nad83.img", 4269)):
+        ds = gdal.Open(os.path.join(DATA, file))
+        band = ds.GetRasterBand(1)
+        values = band.ReadAsArray(0, 0, 64, 64).astype("float32").ravel().tolist()
+        SEEDS[name] = seed(gt=ds.GetGeoTransform(), nodata=band.GetNoDataValue(),
+                           crs=("epsg", epsg), nx=64, ny=64, values=values)
+except ImportError:
+    print("python3-gdal missing: seeds from Data/ not written")
 
 os.makedirs(OUT, exist_ok=True)
 for name, data in SEEDS.items():
