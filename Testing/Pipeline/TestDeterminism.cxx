@@ -200,8 +200,11 @@ TEST(TerroirDeterminism, BitIdenticalWithOneAndTwoThreadsOnEverySMPBackend)
     { "TBB", 2 },
     { "Sequential", 1 },
     { "STDThread", 2 } };
-  for (const auto& [name, run] : Runners())
+  for (const auto& entry : Runners())
   {
+    // Not a structured binding: clang 14 cannot capture those in the lambda below.
+    const std::string& name = entry.first;
+    const std::function<Bytes()>& run = entry.second;
     Bytes reference;
     std::string referenceConfig;
     for (const SMPConfig& config : configs)
