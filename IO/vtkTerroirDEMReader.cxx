@@ -652,6 +652,8 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
         this->Fail("read failed at row " + std::to_string(r0) + capture.Suffix());
         return false;
       }
+      // Drop the blocks GDAL cached for these rows: the elevation array is the one copy kept.
+      GDALFlushRasterCache(band);
       for (int r = 0; r < rows; ++r)
       {
         const int gr = r0 + r;

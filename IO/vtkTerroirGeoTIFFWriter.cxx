@@ -16,7 +16,9 @@
 #include <gdal.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -99,15 +101,29 @@ void vtkTerroirGeoTIFFWriter::WriteData()
   }
   const std::string target = this->FileName;
   const std::string temp = terroir::TemporaryNameFor(target);
+  errno = 0;
   terroir::io::detail::GDALErrorCapture capture;
   auto discard = [&](GDALDatasetH ds, const std::string& problem)
   {
+    // A full disk or a file-size limit: the system's reason says more than GDAL's follow-up
+    // ("Cannot initialize empty blocks"); otherwise GDAL's message, naming the target rather
+    // than the temporary file.
+    const int cause = errno;
+    std::string reason = capture.Last();
+    if (cause == ENOSPC || cause == EFBIG || cause == EDQUOT)
+    {
+      reason = std::strerror(cause);
+    }
+    for (std::size_t at = reason.find(temp); at != std::string::npos; at = reason.find(temp))
+    {
+      reason.replace(at, temp.size(), target);
+    }
     if (ds)
     {
       GDALClose(ds);
     }
     terroir::DiscardTemporary(temp);
-    this->Fail(problem + capture.Suffix());
+    this->Fail(problem + (reason.empty() ? "" : " (" + reason + ")"));
   };
   // Uncompressed by default, like gdaldem; DEFLATE (floating-point predictor for float bands)
   // on request. Multi-band rasters are band-interleaved so each band is written in one pass.
@@ -185,9 +201,15 @@ void vtkTerroirGeoTIFFWriter::WriteData()
           }
         }
       }
-      const CPLErr err = floats
+      CPLErr err = floats
         ? GDALRasterIO(band, GF_Write, 0, r0, nx, rows, blockF.data(), nx, rows, GDT_Float32, 0, 0)
         : GDALRasterIO(band, GF_Write, 0, r0, nx, rows, blockD.data(), nx, rows, GDT_Float64, 0, 0);
+      // Write the rows out now: left in GDAL's block cache (5 % of RAM by default) they would
+      // hold up to one more copy of the band in memory until the file is closed.
+      if (err == CE_None)
+      {
+        err = GDALFlushRasterCache(band);
+      }
       if (err != CE_None)
       {
         discard(ds, "write failed at row " + std::to_string(r0));

@@ -213,14 +213,16 @@ def parse_catalogue():
     """Rows of the catalogue table: (id, command, environment, exit, message)."""
     rows = []
     with open(CATALOGUE) as f:
-        for line in f:
-            cells = [c.strip() for c in line.strip().strip("|").split("|")]
-            if len(cells) != 6 or not cells[0].startswith("`") or cells[0] == "`id`":
-                continue
-            unquote = lambda c: c.strip("`").strip() if c.startswith("`") else c
-            rows.append(dict(id=unquote(cells[0]), what=cells[1], command=unquote(cells[2]),
-                             env=unquote(cells[3]), exit=int(cells[4]),
-                             message=unquote(cells[5])))
+        text = f.read()
+    # Only the table of the "Bad-input catalogue" section.
+    section = text.split("## Bad-input catalogue", 1)[1].split("\n## ", 1)[0]
+    unquote = lambda c: c.strip("`").strip() if c.startswith("`") else c
+    for line in section.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) != 6 or not cells[0].startswith("`"):
+            continue
+        rows.append(dict(id=unquote(cells[0]), what=cells[1], command=unquote(cells[2]),
+                         env=unquote(cells[3]), exit=int(cells[4]), message=unquote(cells[5])))
     return rows
 
 
