@@ -7,7 +7,8 @@
 //   terroir info IN                     grid and georeference of a DEM
 //   terroir fractal OUT --size N        a seeded synthetic DEM (GeoTIFF or .vti)
 //
-// Errors are one line on stderr ("terroir: error: ...") and exit code 1; outputs are written
+// Errors are one line on stderr ("terroir: error: ...") and exit code 1 (2 for a bad command
+// line, found before any work: TerroirCommandLine.h); outputs are written
 // under a temporary name and renamed, and existing files are kept unless --overwrite.
 #include "TerroirApp.h"
 #include "TerroirCommandLine.h"
