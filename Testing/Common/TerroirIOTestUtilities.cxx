@@ -102,5 +102,21 @@ std::string AsciiGrid(int ncols,
   return s.str();
 }
 
+std::string SimpleVRT(int nx,
+  int ny,
+  const std::string& geoTransform,
+  const std::string& source,
+  const std::string& srs)
+{
+  const std::string sourceTag = source.rfind("<", 0) == 0
+    ? source
+    : "<SourceFilename relativeToVRT=\"1\">" + source + "</SourceFilename>";
+  return "<VRTDataset rasterXSize=\"" + std::to_string(nx) + "\" rasterYSize=\"" +
+    std::to_string(ny) + "\">\n" + (srs.empty() ? "" : "  <SRS>" + srs + "</SRS>\n") +
+    "  <GeoTransform>" + geoTransform + "</GeoTransform>\n" +
+    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n    <SimpleSource>" + sourceTag +
+    "<SourceBand>1</SourceBand></SimpleSource>\n  </VRTRasterBand>\n</VRTDataset>\n";
+}
+
 } // namespace testing
 } // namespace terroir

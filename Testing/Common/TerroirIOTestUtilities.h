@@ -40,6 +40,17 @@ std::string AsciiGrid(int ncols,
   double nodata,
   const std::vector<std::string>& rowsNorthFirst);
 
+/**
+ * VRT text: an nx x ny Float32 raster whose band is `source` (a file name relative to the VRT,
+ * or `sourceTag` given whole), with the given `geoTransform` ("x0, dx, rx, y0, ry, dy") and,
+ * when not empty, an `<SRS>` element.
+ */
+std::string SimpleVRT(int nx,
+  int ny,
+  const std::string& geoTransform,
+  const std::string& source,
+  const std::string& srs = std::string());
+
 } // namespace testing
 } // namespace terroir
 

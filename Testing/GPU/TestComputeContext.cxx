@@ -2,6 +2,7 @@
 // worker thread and the backend rule. Runs on Mesa llvmpipe here (EGL surfaceless) and on
 // NVIDIA through the EGL device platform.
 #include "TerroirFilterTestUtilities.h"
+#include "TerroirScopedEnvironment.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirGPU.h"
 
@@ -494,41 +495,12 @@ TEST(TerroirComputeContext, DispatchWithTooManyGroupsThrows)
 namespace
 {
 // Sets or unsets TERROIR_BACKEND for one scope and restores the previous value.
-class ScopedBackendEnv
+struct ScopedBackendEnv : terroir_test::ScopedEnvironment
 {
-public:
   explicit ScopedBackendEnv(const char* value)
+    : ScopedEnvironment("TERROIR_BACKEND", value)
   {
-    const char* old = std::getenv("TERROIR_BACKEND");
-    this->HadOld = old != nullptr;
-    if (old)
-    {
-      this->Old = old;
-    }
-    if (value)
-    {
-      setenv("TERROIR_BACKEND", value, 1);
-    }
-    else
-    {
-      unsetenv("TERROIR_BACKEND");
-    }
   }
-  ~ScopedBackendEnv()
-  {
-    if (this->HadOld)
-    {
-      setenv("TERROIR_BACKEND", this->Old.c_str(), 1);
-    }
-    else
-    {
-      unsetenv("TERROIR_BACKEND");
-    }
-  }
-
-private:
-  bool HadOld = false;
-  std::string Old;
 };
 
 bool Contains(const std::string& s, const std::string& part)

@@ -301,13 +301,8 @@ TEST(TerroirDEMReader, RejectsBadFiles)
 
   // A VRT over the small grid with a rotated geotransform.
   const std::string rotated = dir + "/rotated.vrt";
-  terroir::testing::WriteTextFile(rotated,
-    "<VRTDataset rasterXSize=\"3\" rasterYSize=\"2\">\n"
-    "  <GeoTransform>0, 10, 2, 20, 1, -10</GeoTransform>\n"
-    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
-    "    <SimpleSource><SourceFilename relativeToVRT=\"1\">ok.asc</SourceFilename>"
-    "<SourceBand>1</SourceBand></SimpleSource>\n"
-    "  </VRTRasterBand>\n</VRTDataset>\n");
+  terroir::testing::WriteTextFile(
+    rotated, terroir::testing::SimpleVRT(3, 2, "0, 10, 2, 20, 1, -10", "ok.asc"));
   m = ExpectFailure(reader, rotated);
   EXPECT_NE(m.find("rotated or sheared geotransform"), std::string::npos) << m;
 
@@ -397,14 +392,12 @@ TEST(TerroirDEMReader, LocalFilesNamingRemoteDataAreRefused)
   // SourceProperties let GDAL open the VRT without opening its source.
   const std::string vrt = dir + "/remote.vrt";
   terroir::testing::WriteTextFile(vrt,
-    "<VRTDataset rasterXSize=\"3\" rasterYSize=\"2\">\n"
-    "  <GeoTransform>0, 10, 0, 20, 0, -10</GeoTransform>\n"
-    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
-    "    <SimpleSource><SourceFilename relativeToVRT=\"0\">"
-    "/vsicurl/http://127.0.0.1:9/dem.tif</SourceFilename><SourceBand>1</SourceBand>"
-    "<SourceProperties RasterXSize=\"3\" RasterYSize=\"2\" DataType=\"Float32\" "
-    "BlockXSize=\"3\" BlockYSize=\"1\"/></SimpleSource>\n"
-    "  </VRTRasterBand>\n</VRTDataset>\n");
+    terroir::testing::SimpleVRT(3,
+      2,
+      "0, 10, 0, 20, 0, -10",
+      "<SourceFilename relativeToVRT=\"0\">/vsicurl/http://127.0.0.1:9/dem.tif</SourceFilename>"
+      "<SourceProperties RasterXSize=\"3\" RasterYSize=\"2\" DataType=\"Float32\" "
+      "BlockXSize=\"3\" BlockYSize=\"1\"/>"));
   std::string m = ExpectFailure(reader, vrt);
   EXPECT_NE(m.find("refers to '/vsicurl/http://127.0.0.1:9/dem.tif', a network or archive path"),
     std::string::npos)
@@ -463,13 +456,8 @@ TEST(TerroirDEMReader, InfiniteValuesAreNoDataAndNonFiniteOriginIsAnError)
   EXPECT_EQ(z->GetComponent(2, 0), 7.5);
 
   const std::string vrt = dir + "/nan_origin.vrt";
-  terroir::testing::WriteTextFile(vrt,
-    "<VRTDataset rasterXSize=\"3\" rasterYSize=\"1\">\n"
-    "  <GeoTransform>nan, 10, 0, 20, 0, -10</GeoTransform>\n"
-    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
-    "    <SimpleSource><SourceFilename relativeToVRT=\"1\">inf.asc</SourceFilename>"
-    "<SourceBand>1</SourceBand></SimpleSource>\n"
-    "  </VRTRasterBand>\n</VRTDataset>\n");
+  terroir::testing::WriteTextFile(
+    vrt, terroir::testing::SimpleVRT(3, 1, "nan, 10, 0, 20, 0, -10", "inf.asc"));
   EXPECT_NE(ExpectFailure(reader, vrt).find("invalid origin in the geotransform (not finite)"),
     std::string::npos);
 }
@@ -484,14 +472,12 @@ TEST(TerroirDEMReader, DegenerateEllipsoidIsAnErrorNotACrash)
     dir + "/ok.asc", terroir::testing::AsciiGrid(3, 2, 0, 0, 10, -9999, { "1 2 3", "4 5 6" }));
   const std::string vrt = dir + "/odd.vrt";
   terroir::testing::WriteTextFile(vrt,
-    "<VRTDataset rasterXSize=\"3\" rasterYSize=\"2\">\n"
-    "  <SRS>GEOGCS[\"odd\",DATUM[\"odd\",SPHEROID[\"odd\",1,0.5]],PRIMEM[\"Greenwich\",0],"
-    "UNIT[\"degree\",0.0174532925199433]]</SRS>\n"
-    "  <GeoTransform>10, 0.001, 0, 40, 0, -0.001</GeoTransform>\n"
-    "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
-    "    <SimpleSource><SourceFilename relativeToVRT=\"1\">ok.asc</SourceFilename>"
-    "<SourceBand>1</SourceBand></SimpleSource>\n"
-    "  </VRTRasterBand>\n</VRTDataset>\n");
+    terroir::testing::SimpleVRT(3,
+      2,
+      "10, 0.001, 0, 40, 0, -0.001",
+      "ok.asc",
+      "GEOGCS[\"odd\",DATUM[\"odd\",SPHEROID[\"odd\",1,0.5]],PRIMEM[\"Greenwich\",0],"
+      "UNIT[\"degree\",0.0174532925199433]]"));
   vtkNew<vtkTerroirDEMReader> reader;
   EXPECT_EQ(ExpectFailure(reader, vrt),
     vrt +

@@ -2,6 +2,7 @@
 // backend setters and choice, whole-extent halo, the default input array, progress, and the
 // ExtractTerrain helper (float data viewed in place, masks, row spacing).
 #include "TerroirFilterTestUtilities.h"
+#include "TerroirScopedEnvironment.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkDoubleArray.h"
@@ -211,9 +212,7 @@ TEST(TerroirImageAlgorithm, RefusesBeforeAllocatingWhenMemoryIsShort)
   // source file.
   auto in = terroir_test::MakeTerrain(300, 300, 1.0, 1.0, [](int i, int) { return i; });
   vtkTerroirGeoreference::SetSourceFile(in, "big.tif");
-  const char* old = std::getenv("TERROIR_MEMORY_LIMIT");
-  const std::string saved = old ? old : "";
-  setenv("TERROIR_MEMORY_LIMIT", "500K", 1);
+  terroir_test::ScopedEnvironment limit("TERROIR_MEMORY_LIMIT", "500K");
   auto f = vtkSmartPointer<GlobalTestFilter>::New();
   f->SetInputData(in);
   auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
@@ -226,18 +225,10 @@ TEST(TerroirImageAlgorithm, RefusesBeforeAllocatingWhenMemoryIsShort)
     std::string::npos)
     << obs->Errors;
   // Enough memory: it runs.
-  setenv("TERROIR_MEMORY_LIMIT", "1M", 1);
+  limit.Set("1M");
   f->Modified();
   f->Update();
   EXPECT_EQ(f->Seen, 300 * 300);
-  if (old)
-  {
-    setenv("TERROIR_MEMORY_LIMIT", saved.c_str(), 1);
-  }
-  else
-  {
-    unsetenv("TERROIR_MEMORY_LIMIT");
-  }
 }
 
 TEST(TerroirImageAlgorithm, RejectsZeroOrNonFiniteSpacing)

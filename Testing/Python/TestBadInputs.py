@@ -18,11 +18,9 @@ import os
 import re
 import resource
 import shutil
-import signal
 import stat
 import struct
 import subprocess
-import sys
 import tempfile
 import unittest
 

@@ -2,6 +2,7 @@
 // MemAvailable line of /proc/meminfo, the exact refusal message, and the live measurement
 // against MemTotal read independently.
 #include "MemoryBudget.h"
+#include "TerroirScopedEnvironment.h"
 
 #include <gtest/gtest.h>
 
@@ -12,39 +13,13 @@
 
 namespace
 {
-/// Sets TERROIR_MEMORY_LIMIT for one scope (unset when `value` is null), restoring it after.
-class ScopedLimit
+/// TERROIR_MEMORY_LIMIT set (or unset, for null) for one scope.
+struct ScopedLimit : terroir_test::ScopedEnvironment
 {
-public:
   explicit ScopedLimit(const char* value)
+    : ScopedEnvironment("TERROIR_MEMORY_LIMIT", value)
   {
-    const char* old = std::getenv("TERROIR_MEMORY_LIMIT");
-    this->HadOld = old != nullptr;
-    this->Old = old ? old : "";
-    if (value)
-    {
-      setenv("TERROIR_MEMORY_LIMIT", value, 1);
-    }
-    else
-    {
-      unsetenv("TERROIR_MEMORY_LIMIT");
-    }
   }
-  ~ScopedLimit()
-  {
-    if (this->HadOld)
-    {
-      setenv("TERROIR_MEMORY_LIMIT", this->Old.c_str(), 1);
-    }
-    else
-    {
-      unsetenv("TERROIR_MEMORY_LIMIT");
-    }
-  }
-
-private:
-  bool HadOld = false;
-  std::string Old;
 };
 } // namespace
 
