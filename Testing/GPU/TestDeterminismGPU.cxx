@@ -8,6 +8,7 @@
 #include "vtkPointData.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 
 #include <gtest/gtest.h>
@@ -33,6 +34,19 @@ const std::map<std::string, GPUCase>& Cases()
     { "vtkTerroirSlope",
       { [] { return vtkSmartPointer<vtkTerroirSlope>::New(); },
         { { "Slope", 1e-3 }, { "Normals", 1e-5 } } } },
+    { "vtkTerroirSolarIllumination",
+      { []
+        {
+          // A day of hourly steps on a 16-sector map (lit hours are compared, with threshold
+          // flips allowed, in TestSolarIlluminationGPU.cxx).
+          auto f = vtkSmartPointer<vtkTerroirSolarIllumination>::New();
+          f->SetModeToDaily();
+          f->SetTimeStep(60.0);
+          f->SetHorizonSectors(16);
+          f->SetOutputHorizonMap(true);
+          return f;
+        },
+        { { "HorizonAngle", 1e-4 } } } },
     { "vtkTerroirTemperature",
       { [] { return vtkSmartPointer<vtkTerroirTemperature>::New(); },
         { { "Temperature", 1e-3 } } } },

@@ -16,6 +16,7 @@
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirTerragenReader.h"
 #include "vtkTerroirTerragenWriter.h"
@@ -103,6 +104,20 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
       {
         vtkNew<vtkTerroirSlope> f;
         f->SetBackendToCPU();
+        f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirSolarIllumination",
+      []
+      {
+        // Horizon map (sectors split over threads) and a day of half-hour steps (cells split).
+        vtkNew<vtkTerroirSolarIllumination> f;
+        f->SetBackendToCPU();
+        f->SetModeToDaily();
+        f->SetTimeStep(30.0);
+        f->SetHorizonSectors(16);
+        f->SetOutputHorizonMap(true);
         f->SetInputData(TerrainWithHoles());
         f->Update();
         return OutputBytes(f->GetOutput());

@@ -1,0 +1,719 @@
+#include "vtkTerroirSolarIllumination.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkLogger.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirGPU.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirShadowGatherCS.h"
+#include "vtkTerroirShadowSweepCS.h"
+#include "vtkTerroirSolarIlluminationCS.h"
+#include "vtkTerroirTemperature.h"
+#include "vtkTerroirTerrainInput.h"
+
+#include "ShadowHorizon.h"
+#include "SlopeHorn1981.h"
+#include "SolarIllumination.h"
+#include "SolarPosition.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirSolarIllumination);
+
+namespace tt = terroir::terrain;
+
+/// The cached horizon map and what it was computed from.
+struct vtkTerroirSolarIllumination::Internals
+{
+  std::vector<float> Map; ///< HorizonSectors planes of nx*ny tangents
+  vtkMTimeType InputTime = 0;
+  const void* InputData = nullptr;
+  int Sectors = 0;
+  bool Curvature = false;
+  int Backend = 0;
+  std::size_t Cells = 0;
+};
+
+namespace
+{
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Validity packed four cells per uint (byte k of word w is cell 4w + k), as the shaders read.
+std::vector<std::uint32_t> PackMask(const terroir::GridView<float>& v)
+{
+  const std::size_t n = v.Size();
+  std::vector<std::uint32_t> mask(v.valid ? (n + 3) / 4 : 1, 0u);
+  if (v.valid)
+  {
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      mask[k / 4] |= static_cast<std::uint32_t>(v.valid[k] ? 1u : 0u) << (8 * (k % 4));
+    }
+  }
+  return mask;
+}
+
+/// Throws when a buffer of `bytes` cannot be one storage buffer of the context.
+void CheckBlock(terroir::gpu::Context& ctx, std::size_t bytes, const char* what)
+{
+  const long long maxBlock = ctx.GetLimits().MaxShaderStorageBlockSize;
+  if (maxBlock > 0 && static_cast<long long>(bytes) > maxBlock)
+  {
+    throw terroir::gpu::Error(std::string("grid too large for one GPU storage buffer (") + what +
+      " " + std::to_string(bytes) + " > " + std::to_string(maxBlock) + " bytes)");
+  }
+}
+
+/// Horizon map on the GPU: Shaders/ShadowSweep.comp per line, then ShadowGather.comp per
+/// cell, one sector after another (bindings documented in the shaders).
+void HorizonMapGPU(const terroir::GridView<float>& v, int sectors, float curvature, float* map)
+{
+  const std::size_t n = v.Size();
+  const std::vector<std::uint32_t> mask = PackMask(v);
+  auto& ctx = terroir::gpu::Context::Global();
+  std::size_t maxLines = 0;
+  std::vector<tt::SweepPlan> plans;
+  for (int k = 0; k < sectors; ++k)
+  {
+    plans.push_back(tt::MakeSweepPlan(
+      tt::MakeMarchDirection(tt::SectorAzimuth(k, sectors), v.dx, v.dy), v.nx, v.ny));
+    maxLines =
+      std::max(maxLines, static_cast<std::size_t>(plans.back().lineCount) * plans.back().nMajor);
+  }
+  CheckBlock(ctx, maxLines * sizeof(float), "sweep lines");
+  CheckBlock(ctx, n * sizeof(float), "elevation");
+  ctx.Run(
+    [&]
+    {
+      terroir::gpu::StorageBuffer bz(n * sizeof(float), v.data);
+      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
+      const std::size_t maxMajor = static_cast<std::size_t>(std::max(v.nx, v.ny));
+      terroir::gpu::StorageBuffer btable(2 * maxMajor * sizeof(float));
+      terroir::gpu::StorageBuffer bhullS(maxLines * sizeof(float));
+      terroir::gpu::StorageBuffer bhullW(maxLines * sizeof(float));
+      terroir::gpu::StorageBuffer blines(maxLines * sizeof(float));
+      terroir::gpu::StorageBuffer bplane(n * sizeof(float));
+      auto& sweep = ctx.GetProgram("ShadowSweep.comp", vtkTerroirShadowSweepCS, { "LOCAL_X 64" });
+      auto& gather = ctx.GetProgram(
+        "ShadowGather.comp", vtkTerroirShadowGatherCS, { "LOCAL_X 16", "LOCAL_Y 16" });
+      std::vector<std::int32_t> table(2 * maxMajor);
+      for (int k = 0; k < sectors; ++k)
+      {
+        const tt::SweepPlan& p = plans[k];
+        // Table: F_u as int bits, then f_u as float bits (one buffer, 2 * nMajor words).
+        for (int u = 0; u < p.nMajor; ++u)
+        {
+          table[u] = p.floorAt[u];
+          std::int32_t bits;
+          static_assert(sizeof(bits) == sizeof(float), "32-bit float");
+          std::memcpy(&bits, &p.fracAt[u], sizeof(bits));
+          table[p.nMajor + u] = bits;
+        }
+        btable.Upload(table.data(), 2 * p.nMajor * sizeof(std::int32_t));
+        for (auto* prog : { &sweep, &gather })
+        {
+          prog->Use();
+          prog->SetInt("uNx", v.nx);
+          prog->SetInt("uNy", v.ny);
+          prog->SetInt("uAlongX", p.dir.alongX ? 1 : 0);
+          prog->SetInt("uStep", p.dir.step);
+          prog->SetInt("uFirstLine", p.firstLine);
+          prog->SetInt("uLineCount", p.lineCount);
+          prog->SetInt("uHasMask", v.valid ? 1 : 0);
+          prog->SetFloat("uLength", p.dir.length);
+          prog->SetFloat("uCurvature", curvature);
+        }
+        bz.Bind(0);
+        bmask.Bind(1);
+        btable.Bind(2);
+        bhullS.Bind(3);
+        bhullW.Bind(4);
+        blines.Bind(5);
+        bplane.Bind(6);
+        sweep.Use();
+        sweep.Dispatch(static_cast<unsigned>((p.lineCount + 63) / 64));
+        gather.Use();
+        gather.Dispatch(
+          static_cast<unsigned>((v.nx + 15) / 16), static_cast<unsigned>((v.ny + 15) / 16));
+        bplane.Download(map + static_cast<std::size_t>(k) * n, n * sizeof(float));
+      }
+    });
+}
+
+/// One SunStep as the shaders read it (std430: 3 x 16 bytes).
+struct GPUStep
+{
+  float tanE, sunX, sunY, sunZ;
+  float hours, energy, weight1, slope;
+  std::int32_t sector0, sector1, slot, march; // march: alongX | (step > 0) << 1
+  float length, pad0, pad1, pad2;
+};
+
+std::vector<GPUStep> PackSteps(const std::vector<tt::SunStep>& steps)
+{
+  std::vector<GPUStep> out(steps.size());
+  for (std::size_t s = 0; s < steps.size(); ++s)
+  {
+    const tt::SunStep& x = steps[s];
+    GPUStep& g = out[s];
+    g.tanE = x.tanElevation;
+    g.sunX = x.sun[0];
+    g.sunY = x.sun[1];
+    g.sunZ = x.sun[2];
+    g.hours = x.hours;
+    g.energy = x.energy;
+    g.weight1 = x.sectors.weight1;
+    g.slope = x.march.slope;
+    g.sector0 = x.sectors.sector0;
+    g.sector1 = x.sectors.sector1;
+    g.slot = x.slot;
+    g.march = (x.march.alongX ? 1 : 0) | (x.march.step > 0 ? 2 : 0);
+    g.length = x.march.length;
+    g.pad0 = g.pad1 = g.pad2 = 0.0f;
+  }
+  return out;
+}
+
+/// Accumulation on the GPU (Shaders/SolarIllumination.comp), in slices of cells whose map
+/// planes fit one storage buffer.
+void AccumulateGPU(const terroir::GridView<float>& v,
+  const tt::ShadowSource<float>& source,
+  int sectors,
+  const float* normals,
+  const std::vector<tt::SunStep>& steps,
+  int slots,
+  float* hours,
+  float* energy)
+{
+  const std::size_t n = v.Size();
+  const std::vector<GPUStep> packed = PackSteps(steps);
+  const std::vector<std::uint32_t> mask = PackMask(v);
+  auto& ctx = terroir::gpu::Context::Global();
+  const long long maxBlock = ctx.GetLimits().MaxShaderStorageBlockSize;
+  const bool rayMarch = source.map == nullptr;
+  const float* map = source.map;
+  const std::size_t perCell = rayMarch ? 3 : static_cast<std::size_t>(sectors);
+  std::size_t slice = n;
+  if (maxBlock > 0)
+  {
+    slice = std::min<std::size_t>(slice,
+      static_cast<std::size_t>(maxBlock) / (sizeof(float) * std::max<std::size_t>(perCell, slots)));
+  }
+  slice = std::max<std::size_t>(1, std::min<std::size_t>(slice, 1u << 22));
+  CheckBlock(ctx, n * sizeof(float), "elevation");
+  ctx.Run(
+    [&]
+    {
+      terroir::gpu::StorageBuffer bsteps(packed.size() * sizeof(GPUStep), packed.data());
+      terroir::gpu::StorageBuffer bin(rayMarch ? sizeof(float) : perCell * slice * sizeof(float));
+      terroir::gpu::StorageBuffer bnormals(3 * slice * sizeof(float));
+      terroir::gpu::StorageBuffer bhours(static_cast<std::size_t>(slots) * slice * sizeof(float));
+      terroir::gpu::StorageBuffer benergy(static_cast<std::size_t>(slots) * slice * sizeof(float));
+      terroir::gpu::StorageBuffer bz(n * sizeof(float), v.data);
+      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
+      auto& prog =
+        ctx.GetProgram("SolarIllumination.comp", vtkTerroirSolarIlluminationCS, { "LOCAL_X 64" });
+      prog.Use();
+      prog.SetInt("uMethod", rayMarch ? 0 : (source.refine ? 2 : 1));
+      prog.SetInt("uStepCount", static_cast<int>(packed.size()));
+      prog.SetInt("uSlots", slots);
+      prog.SetInt("uNx", v.nx);
+      prog.SetInt("uNy", v.ny);
+      prog.SetInt("uHasMask", v.valid ? 1 : 0);
+      prog.SetFloat("uCurvature", source.curvature);
+      prog.SetFloat("uZMax", source.zMax);
+      std::vector<float> planes;
+      for (std::size_t first = 0; first < n; first += slice)
+      {
+        const std::size_t count = std::min(slice, n - first);
+        bz.Bind(0);
+        bmask.Bind(1);
+        if (!rayMarch)
+        {
+          planes.resize(static_cast<std::size_t>(sectors) * count);
+          for (int k = 0; k < sectors; ++k)
+          {
+            std::copy(map + static_cast<std::size_t>(k) * n + first,
+              map + static_cast<std::size_t>(k) * n + first + count,
+              planes.begin() + static_cast<std::ptrdiff_t>(k * count));
+          }
+          bin.Upload(planes.data(), planes.size() * sizeof(float));
+        }
+        bin.Bind(6);
+        bnormals.Upload(normals + 3 * first, 3 * count * sizeof(float));
+        bhours.Upload(hours + slots * first, slots * count * sizeof(float));
+        benergy.Upload(energy + slots * first, slots * count * sizeof(float));
+        bsteps.Bind(2);
+        bnormals.Bind(3);
+        bhours.Bind(4);
+        benergy.Bind(5);
+        prog.SetUInt("uCount", static_cast<unsigned>(count));
+        prog.SetUInt("uFirst", static_cast<unsigned>(first));
+        prog.Dispatch(static_cast<unsigned>((count + 63) / 64));
+        bhours.Download(hours + slots * first, slots * count * sizeof(float));
+        benergy.Download(energy + slots * first, slots * count * sizeof(float));
+      }
+    });
+}
+
+const char* const kSunComponents[6] = { "Month",
+  "Day",
+  "UTCHours",
+  "Azimuth",
+  "Elevation",
+  "GridAzimuth" };
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTerroirSolarIllumination::vtkTerroirSolarIllumination()
+  : Latitude(kNaN)
+  , Longitude(kNaN)
+  , Orientation(kNaN)
+  , Pressure(kNaN)
+  , Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkTerroirSolarIllumination::~vtkTerroirSolarIllumination() = default;
+
+//------------------------------------------------------------------------------
+void vtkTerroirSolarIllumination::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  static const char* modes[3] = { "Instant", "Daily", "Monthly" };
+  os << indent << "Mode: " << modes[this->Mode] << "\n";
+  os << indent << "Date: " << this->Year << "-" << this->Month << "-" << this->Day << "\n";
+  os << indent << "Time: " << this->Time << " (UTCOffset " << this->UTCOffset << ")\n";
+  os << indent << "UseSunDirection: " << (this->UseSunDirection ? "On" : "Off") << " ("
+     << this->SunDirection[0] << ", " << this->SunDirection[1] << ")\n";
+  os << indent << "MonthlyDay: " << this->MonthlyDay << "\n";
+  os << indent << "TimeStep: " << this->TimeStep << " min\n";
+  os << indent << "Latitude: " << this->Latitude << "\n";
+  os << indent << "Longitude: " << this->Longitude << "\n";
+  os << indent << "Orientation: " << this->Orientation << "\n";
+  os << indent
+     << "ShadowMethod: " << (this->ShadowMethod == RayMarching ? "RayMarching" : "HorizonMap")
+     << "\n";
+  os << indent << "HorizonSectors: " << this->HorizonSectors << "\n";
+  os << indent << "EarthCurvature: " << (this->EarthCurvature ? "On" : "Off") << "\n";
+  os << indent << "OutputHorizonMap: " << (this->OutputHorizonMap ? "On" : "Off") << "\n";
+  os << indent << "Refraction: " << (this->Refraction ? "On" : "Off") << "\n";
+  os << indent << "Pressure: " << this->Pressure << " mbar\n";
+  os << indent << "AirTemperature: " << this->AirTemperature << " C\n";
+  os << indent << "Transmittance: " << this->Transmittance << "\n";
+  os << indent << "DeltaT: " << this->DeltaT << " s\n";
+  os << indent << "LastHorizonMapSeconds: " << this->LastHorizonMapSeconds << "\n";
+}
+
+//------------------------------------------------------------------------------
+double vtkTerroirSolarIllumination::EstimateMemory(double nx, double ny)
+{
+  const double cells = nx * ny;
+  const double slots = this->Mode == Monthly ? 12.0 : 1.0;
+  // Outputs (2 arrays), normals (12 B), the mask copy of the GPU path (1 B).
+  double bytes = cells * (2.0 * 4.0 * slots + 12.0 + 1.0);
+  if (this->ShadowMethod == HorizonMap || this->OutputHorizonMap)
+  {
+    // The map (4 B per sector), the optional HorizonAngle copy, and per thread the sweep's
+    // line buffer (up to 2 cells per cell: 8 B).
+    bytes += cells * (4.0 * this->HorizonSectors * (this->OutputHorizonMap ? 2.0 : 1.0) + 16.0);
+  }
+  return bytes;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirSolarIllumination::CheckParameters()
+{
+  auto num = [](double x) { return std::to_string(x); };
+  if (!std::isnan(this->Latitude) && !(this->Latitude >= -90.0 && this->Latitude <= 90.0))
+  {
+    return "Latitude " + num(this->Latitude) + " is outside [-90, 90] degrees";
+  }
+  if (!std::isnan(this->Longitude) && !(this->Longitude >= -180.0 && this->Longitude <= 180.0))
+  {
+    return "Longitude " + num(this->Longitude) + " is outside [-180, 180] degrees";
+  }
+  if (!std::isnan(this->Orientation) && !std::isfinite(this->Orientation))
+  {
+    return "Orientation must be finite";
+  }
+  const bool dated = !(this->Mode == Instant && this->UseSunDirection);
+  if (dated && this->Mode != Monthly && !tt::IsValidDate(this->Year, this->Month, this->Day))
+  {
+    return "date " + std::to_string(this->Year) + "-" + std::to_string(this->Month) + "-" +
+      std::to_string(this->Day) + " does not exist";
+  }
+  if (this->Mode == Monthly && !tt::IsValidDate(this->Year, 1, 1))
+  {
+    return "Year " + std::to_string(this->Year) + " is outside 1..9999";
+  }
+  if (this->Mode == Monthly && !(this->MonthlyDay >= 1 && this->MonthlyDay <= 31))
+  {
+    return "MonthlyDay " + std::to_string(this->MonthlyDay) + " is outside 1..31";
+  }
+  if (this->Mode == Instant && !this->UseSunDirection && !(this->Time >= 0.0 && this->Time <= 24.0))
+  {
+    return "Time " + num(this->Time) + " h is outside [0, 24]";
+  }
+  if (!(this->UTCOffset >= -14.0 && this->UTCOffset <= 14.0))
+  {
+    return "UTCOffset " + num(this->UTCOffset) + " h is outside [-14, 14]";
+  }
+  if (this->Mode != Instant && !(this->TimeStep > 0.0 && this->TimeStep <= 1440.0))
+  {
+    return "TimeStep " + num(this->TimeStep) + " min must be > 0 and <= 1440";
+  }
+  if (this->Mode == Instant && this->UseSunDirection &&
+    !(std::isfinite(this->SunDirection[0]) && this->SunDirection[1] >= -90.0 &&
+      this->SunDirection[1] <= 90.0))
+  {
+    return "SunDirection elevation " + num(this->SunDirection[1]) +
+      " is outside [-90, 90] degrees (or the azimuth is not finite)";
+  }
+  if (!(this->HorizonSectors >= 4 && this->HorizonSectors <= 1024))
+  {
+    return "HorizonSectors " + std::to_string(this->HorizonSectors) + " is outside [4, 1024]";
+  }
+  if (!(this->Transmittance > 0.0 && this->Transmittance <= 1.0))
+  {
+    return "Transmittance " + num(this->Transmittance) + " is outside (0, 1]";
+  }
+  if (!std::isnan(this->Pressure) && !(this->Pressure > 0.0 && this->Pressure <= 1200.0))
+  {
+    return "Pressure " + num(this->Pressure) + " mbar is outside (0, 1200]";
+  }
+  if (!(this->AirTemperature >= -90.0 && this->AirTemperature <= 60.0))
+  {
+    return "AirTemperature " + num(this->AirTemperature) + " C is outside [-90, 60]";
+  }
+  if (!(std::fabs(this->DeltaT) <= 10000.0))
+  {
+    return "DeltaT " + num(this->DeltaT) + " s is outside [-10000, 10000]";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+
+  // Frame: where the sun is seen from and how grid north is turned.
+  double latLon[2] = { kNaN, kNaN };
+  const bool hasCentre = vtkTerroirGeoreference::GetCenterLatLon(input, latLon);
+  const double lat = std::isnan(this->Latitude) ? latLon[0] : this->Latitude;
+  const double lon = std::isnan(this->Longitude) ? latLon[1] : this->Longitude;
+  const bool needPlace = !(this->Mode == Instant && this->UseSunDirection);
+  if (needPlace && (!std::isfinite(lat) || !std::isfinite(lon)))
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input)
+                  << (hasCentre ? "the georeference has no usable centre latitude/longitude"
+                                : "the terrain has no georeference")
+                  << ": set Latitude and Longitude (and Orientation, the bearing of grid north)");
+    return 0;
+  }
+  tt::SunFrame frame;
+  frame.gridNorthBearing = !std::isnan(this->Orientation)
+    ? this->Orientation
+    : vtkTerroirGeoreference::GetMeridianConvergence(input);
+  frame.dx = v.DxAt(v.ny / 2);
+  frame.dy = v.DyAt(v.ny / 2);
+  frame.sectors = this->HorizonSectors;
+  frame.transmittance = this->Transmittance;
+  double zSum = 0.0;
+  std::size_t zCount = 0;
+  float zMax = -std::numeric_limits<float>::infinity();
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    if ((!v.valid || v.valid[c]) && !std::isnan(v.data[c]))
+    {
+      zSum += v.data[c];
+      ++zCount;
+      zMax = std::max(zMax, v.data[c]);
+    }
+  }
+  frame.meanElevationM = zCount ? zSum / zCount : 0.0;
+  frame.observer.latitudeDeg = std::isfinite(lat) ? lat : 0.0;
+  frame.observer.longitudeDeg = std::isfinite(lon) ? lon : 0.0;
+  frame.observer.elevationM = frame.meanElevationM;
+  frame.observer.pressureMbar = std::isnan(this->Pressure)
+    ? 1013.25 * std::exp(-frame.meanElevationM / 8200.0)
+    : this->Pressure;
+  frame.observer.temperatureC = this->AirTemperature;
+  frame.observer.refraction = this->Refraction;
+  frame.observer.deltaTSeconds = this->DeltaT;
+
+  // Sun steps.
+  std::vector<tt::SunStep> steps;
+  int slots = 1;
+  if (this->Mode == Instant)
+  {
+    tt::SunStep s;
+    if (this->UseSunDirection)
+    {
+      s = tt::MakeSunStep(this->SunDirection[0], this->SunDirection[1], frame);
+      s.month = 0;
+      s.day = 0;
+    }
+    else
+    {
+      tt::UTCInstant t;
+      t.year = this->Year;
+      t.month = this->Month;
+      t.day = this->Day;
+      t.hours = this->Time - this->UTCOffset;
+      const tt::SolarPosition p = tt::SolarPositionNREL2004(t, frame.observer);
+      s = tt::MakeSunStep(p.azimuthDeg, p.elevationDeg, frame);
+      s.utcHours = t.hours;
+      s.month = this->Month;
+      s.day = this->Day;
+    }
+    s.hours = 1.0f;
+    s.energy = 1.0f;
+    steps.push_back(s);
+  }
+  else if (this->Mode == Daily)
+  {
+    steps = tt::DaySunSteps(this->Year, this->Month, this->Day, this->TimeStep, 0, frame);
+  }
+  else
+  {
+    slots = 12;
+    for (int m = 1; m <= 12; ++m)
+    {
+      const int day = std::min(this->MonthlyDay, tt::DaysInMonth(this->Year, m));
+      const std::vector<tt::SunStep> d =
+        tt::DaySunSteps(this->Year, m, day, this->TimeStep, m - 1, frame);
+      steps.insert(steps.end(), d.begin(), d.end());
+    }
+  }
+
+  int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
+  }
+
+  // Horizon map (cached while the input and its settings stay the same).
+  const bool useMap = this->ShadowMethod == HorizonMap;
+  const float curvature = tt::CurvatureCoefficient(this->EarthCurvature);
+  this->LastHorizonMapSeconds = 0.0;
+  Internals& cache = *this->Impl;
+  if (useMap || this->OutputHorizonMap)
+  {
+    const bool fresh = cache.InputData == static_cast<const void*>(v.data) &&
+      cache.InputTime == input->GetMTime() && cache.Sectors == this->HorizonSectors &&
+      cache.Curvature == this->EarthCurvature && cache.Cells == n && cache.Backend == backend &&
+      cache.Map.size() == static_cast<std::size_t>(this->HorizonSectors) * n;
+    if (!fresh)
+    {
+      cache.Map.clear();
+      cache.InputData = nullptr;
+      cache.Map.resize(static_cast<std::size_t>(this->HorizonSectors) * n);
+      const auto t0 = std::chrono::steady_clock::now();
+      float* map = cache.Map.data();
+      const int sectors = this->HorizonSectors;
+      if (backend == 2)
+      {
+        backend = this->RunGPUPath([&] { HorizonMapGPU(v, sectors, curvature, map); });
+        if (backend < 0)
+        {
+          return 0;
+        }
+      }
+      if (backend == 1)
+      {
+        vtkSMPTools::For(0,
+          sectors,
+          1,
+          [&](vtkIdType k0, vtkIdType k1) {
+            tt::HorizonMapSectors(
+              v, sectors, curvature, map, static_cast<int>(k0), static_cast<int>(k1));
+          });
+      }
+      this->LastHorizonMapSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      cache.InputData = v.data;
+      cache.InputTime = input->GetMTime();
+      cache.Sectors = sectors;
+      cache.Curvature = this->EarthCurvature;
+      cache.Cells = n;
+      cache.Backend = backend;
+      vtkLog(TRACE,
+        << "horizon map of " << sectors << " sectors: " << this->LastHorizonMapSeconds << " s");
+    }
+    this->UpdateProgress(0.5);
+  }
+
+  // Surface normals (Horn 1981, grid frame), on the CPU for both backends.
+  std::vector<float> normals(3 * n);
+  {
+    tt::SlopeParams sp;
+    vtkSMPTools::For(0,
+      v.ny,
+      64,
+      [&](vtkIdType r0, vtkIdType r1)
+      {
+        tt::SlopeHorn1981Rows(v,
+          sp,
+          static_cast<float*>(nullptr),
+          static_cast<float*>(nullptr),
+          normals.data(),
+          static_cast<int>(r0),
+          static_cast<int>(r1));
+      });
+  }
+
+  // Accumulation.
+  const bool instant = this->Mode == Instant;
+  vtkSmartPointer<vtkFloatArray> hoursArray = vtkSmartPointer<vtkFloatArray>::Take(
+    terroir::NewOutputArray(instant ? IlluminatedName() : IlluminationHoursName(),
+      slots,
+      static_cast<long long>(n),
+      instant ? nullptr : "h"));
+  vtkSmartPointer<vtkFloatArray> energyArray = vtkSmartPointer<vtkFloatArray>::Take(
+    terroir::NewOutputArray(instant ? SunIncidenceName() : InsolationName(),
+      slots,
+      static_cast<long long>(n),
+      instant ? nullptr : "Wh/m2"));
+  if (slots == 12)
+  {
+    for (int m = 0; m < 12; ++m)
+    {
+      hoursArray->SetComponentName(m, vtkTerroirTemperature::GetMonthName(m));
+      energyArray->SetComponentName(m, vtkTerroirTemperature::GetMonthName(m));
+    }
+  }
+  float* hours = hoursArray->GetPointer(0);
+  float* energy = energyArray->GetPointer(0);
+  std::fill(hours, hours + slots * n, 0.0f);
+  std::fill(energy, energy + slots * n, 0.0f);
+  const float* map = cache.Map.empty() ? nullptr : cache.Map.data();
+  tt::ShadowSource<float> source;
+  source.map = useMap ? map : nullptr;
+  // An instant costs one lookup: where the interpolation between sectors cannot decide, march.
+  source.refine = useMap && this->Mode == Instant;
+  source.curvature = curvature;
+  source.zMax = zMax;
+
+  if (backend == 2)
+  {
+    backend = this->RunGPUPath(
+      [&] {
+        AccumulateGPU(v, source, this->HorizonSectors, normals.data(), steps, slots, hours, energy);
+      });
+    if (backend < 0)
+    {
+      return 0;
+    }
+    if (backend == 1)
+    {
+      std::fill(hours, hours + slots * n, 0.0f);
+      std::fill(energy, energy + slots * n, 0.0f);
+    }
+  }
+  if (backend == 1)
+  {
+    const int stepCount = static_cast<int>(steps.size());
+    vtkSMPTools::For(0,
+      static_cast<vtkIdType>(n),
+      useMap && !source.refine ? 4096 : 256,
+      [&](vtkIdType c0, vtkIdType c1)
+      {
+        tt::AccumulateIllumination(v,
+          source,
+          normals.data(),
+          steps.data(),
+          stepCount,
+          slots,
+          hours,
+          energy,
+          static_cast<std::size_t>(c0),
+          static_cast<std::size_t>(c1));
+      });
+  }
+  // No-data cells: NaN.
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    if ((v.valid && !v.valid[c]) || std::isnan(v.data[c]))
+    {
+      std::fill(hours + slots * c, hours + slots * (c + 1), std::nanf(""));
+      std::fill(energy + slots * c, energy + slots * (c + 1), std::nanf(""));
+    }
+  }
+  output->GetPointData()->AddArray(hoursArray);
+  output->GetPointData()->AddArray(energyArray);
+
+  if (this->OutputHorizonMap)
+  {
+    const int k = this->HorizonSectors;
+    vtkSmartPointer<vtkFloatArray> angles = vtkSmartPointer<vtkFloatArray>::Take(
+      terroir::NewOutputArray(HorizonAngleName(), k, static_cast<long long>(n), "deg"));
+    float* a = angles->GetPointer(0);
+    vtkSMPTools::For(0,
+      static_cast<vtkIdType>(n),
+      4096,
+      [&](vtkIdType c0, vtkIdType c1)
+      {
+        for (vtkIdType c = c0; c < c1; ++c)
+        {
+          for (int s = 0; s < k; ++s)
+          {
+            a[c * k + s] = static_cast<float>(
+              std::atan(static_cast<double>(map[static_cast<std::size_t>(s) * n + c])) * 180.0 /
+              3.14159265358979323846);
+          }
+        }
+      });
+    output->GetPointData()->AddArray(angles);
+  }
+
+  // Field data: the sun positions used and the frame.
+  vtkNew<vtkDoubleArray> sun;
+  sun->SetName(SunPositionsName());
+  sun->SetNumberOfComponents(6);
+  for (int c = 0; c < 6; ++c)
+  {
+    sun->SetComponentName(c, kSunComponents[c]);
+  }
+  sun->SetNumberOfTuples(static_cast<vtkIdType>(steps.size()));
+  for (std::size_t s = 0; s < steps.size(); ++s)
+  {
+    const double row[6] = { static_cast<double>(steps[s].month),
+      static_cast<double>(steps[s].day),
+      steps[s].utcHours,
+      steps[s].azimuthDeg,
+      steps[s].elevationDeg,
+      steps[s].gridAzimuthDeg };
+    sun->SetTypedTuple(static_cast<vtkIdType>(s), row);
+  }
+  output->GetFieldData()->AddArray(sun);
+  vtkNew<vtkDoubleArray> frameArray;
+  frameArray->SetName(SolarFrameName());
+  frameArray->SetNumberOfComponents(3);
+  frameArray->SetComponentName(0, "Latitude");
+  frameArray->SetComponentName(1, "Longitude");
+  frameArray->SetComponentName(2, "GridNorthBearing");
+  const double f[3] = { needPlace ? lat : kNaN, needPlace ? lon : kNaN, frame.gridNorthBearing };
+  frameArray->InsertNextTypedTuple(f);
+  output->GetFieldData()->AddArray(frameArray);
+  return 1;
+}
