@@ -20,7 +20,8 @@ jobs=${TERROIR_JOBS:-2}
 mode=${1:-build}
 [ $# -gt 0 ] && shift
 
-# Debian 12 packages Terroir needs to build, test and run.
+# Debian 12 packages Terroir needs to build, test and run (grass-core: the peer tool the
+# illumination tests compare with, r.sunmask and r.horizon).
 packages=(
   build-essential cmake pkg-config git
   libvtk9-dev python3-vtk9 python3-numpy
@@ -30,6 +31,7 @@ packages=(
   libgtest-dev libcli11-dev nlohmann-json3-dev
   glslang-tools xvfb xauth time
   clang libclang-rt-14-dev llvm
+  grass-core
 )
 
 install_packages() {

@@ -470,6 +470,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
     if (this->UseSunDirection)
     {
       s = tt::MakeSunStep(this->SunDirection[0], this->SunDirection[1], frame);
+      s.utcHours = kNaN;
       s.month = 0;
       s.day = 0;
     }
@@ -633,22 +634,30 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
   if (backend == 1)
   {
     const int stepCount = static_cast<int>(steps.size());
-    vtkSMPTools::For(0,
-      static_cast<vtkIdType>(n),
-      useMap && !source.refine ? 4096 : 256,
-      [&](vtkIdType c0, vtkIdType c1)
-      {
-        tt::AccumulateIllumination(v,
-          source,
-          normals.data(),
-          steps.data(),
-          stepCount,
-          slots,
-          hours,
-          energy,
-          static_cast<std::size_t>(c0),
-          static_cast<std::size_t>(c1));
-      });
+    // Ten slices on this thread (for progress), each split over the SMP threads.
+    const double p0 = (useMap || this->OutputHorizonMap) ? 0.5 : 0.0;
+    for (int slice = 0; slice < 10; ++slice)
+    {
+      const vtkIdType c0 = static_cast<vtkIdType>(n) * slice / 10;
+      const vtkIdType c1 = static_cast<vtkIdType>(n) * (slice + 1) / 10;
+      vtkSMPTools::For(c0,
+        c1,
+        useMap && !source.refine ? 4096 : 256,
+        [&](vtkIdType b0, vtkIdType b1)
+        {
+          tt::AccumulateIllumination(v,
+            source,
+            normals.data(),
+            steps.data(),
+            stepCount,
+            slots,
+            hours,
+            energy,
+            static_cast<std::size_t>(b0),
+            static_cast<std::size_t>(b1));
+        });
+      this->UpdateProgress(p0 + (0.95 - p0) * (slice + 1) / 10.0);
+    }
   }
   // No-data cells: NaN.
   for (std::size_t c = 0; c < n; ++c)

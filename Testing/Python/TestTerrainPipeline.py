@@ -1,5 +1,6 @@
-"""Composes terroir.vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature on the
-bundled DEM and checks the arrays and a few values against numpy computations.
+"""Composes terroir.vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature (and
+vtkTerroirSolarIllumination after the slope) on the bundled DEM and checks the arrays and a
+few values against numpy computations.
 
 Run by CTest with Debian's /usr/bin/python3 (PYTHONPATH = the built terroir package,
 TERROIR_DATA_DIR = the bundled data). Exits non-zero on failure.
@@ -92,6 +93,50 @@ t2 = vtk_to_numpy(temperature.GetOutput().GetPointData().GetArray("Temperature")
 check(abs(t2[j, i, 0] - (20.0 - 5.0 * z[j, i] / 1000.0)) < 1e-3, "south: January warmest")
 check(temperature.GetLastHemisphere() == temperature.South, "LastHemisphere is South")
 check(slope.GetLastBackend() == 1, "slope ran on the CPU")
+
+# Solar illumination after slope: an instant in December afternoon (PST), checked with numpy
+# from the filter's own field data (the sun position used) and the slope filter's normals:
+# SunIncidence = max(0, n . s) on lit cells, 0 in shadow; then the monthly mode.
+sun = terroir.vtkTerroirSolarIllumination()
+sun.SetInputConnection(slope.GetOutputPort())
+sun.SetBackendToCPU()
+sun.SetModeToInstant()
+sun.SetYear(2025)
+sun.SetMonth(12)
+sun.SetDay(21)
+sun.SetTime(14.0)
+sun.SetUTCOffset(-8.0)
+sun.Update()
+so = sun.GetOutput()
+lit = vtk_to_numpy(so.GetPointData().GetArray("Illuminated")).reshape(ny, nx)
+inc = vtk_to_numpy(so.GetPointData().GetArray("SunIncidence")).reshape(ny, nx)
+month, day, utc, az, el, gaz = so.GetFieldData().GetArray("SunPositions").GetTuple(0)
+check(abs(utc - 22.0) < 1e-9 and month == 12 and day == 21, "instant at 22:00 UTC")
+check(abs(gaz - (az - gamma)) < 1e-6, "grid azimuth = true azimuth - convergence")
+check(150.0 < az < 240.0 and 10.0 < el < 30.0, "a winter afternoon sun: az %.1f el %.1f" % (az, el))
+e, g = np.radians(el), np.radians(gaz)
+svec = np.array([np.sin(g) * np.cos(e), np.cos(g) * np.cos(e), np.sin(e)])
+cos_np = np.maximum(0.0, n @ svec) * lit
+idiff = np.abs(inc - cos_np)[1:-1, 1:-1].max()
+check(idiff < 1e-5, "SunIncidence vs numpy n.s: max diff %g" % idiff)
+shade = 1.0 - lit.mean()
+check(0.005 < shade < 0.5, "December afternoon shadow share %.3f" % shade)
+print("December 14:00 PST: sun az %.2f el %.2f, %.1f %% of the DEM in shadow" % (az, el, 100 * shade))
+
+sun.SetModeToMonthly()
+sun.SetTimeStep(30.0)
+sun.Update()
+hours = vtk_to_numpy(sun.GetOutput().GetPointData().GetArray("IlluminationHours")).reshape(ny, nx, 12)
+ins = vtk_to_numpy(sun.GetOutput().GetPointData().GetArray("Insolation")).reshape(ny, nx, 12)
+check(np.all((hours >= 0.0) & (hours <= 24.0)), "hours within a day")
+check(np.all(ins >= 0.0), "insolation not negative")
+check(hours[:, :, 5].mean() > hours[:, :, 11].mean() + 3.0, "June has more sun than December")
+# South-facing slopes get more December energy than north-facing ones (northern hemisphere).
+south = (a > 135.0) & (a < 225.0) & (s > 15.0)
+north = ((a < 45.0) | (a > 315.0)) & (s > 15.0)
+check(ins[:, :, 11][south].mean() > 1.5 * ins[:, :, 11][north].mean(),
+      "December insolation: south-facing %.0f vs north-facing %.0f Wh/m2"
+      % (ins[:, :, 11][south].mean(), ins[:, :, 11][north].mean()))
 
 if failures:
     print("%d failure(s)" % len(failures))
