@@ -9,37 +9,6 @@
 #include <algorithm>
 #include <cmath>
 
-namespace terroir
-{
-namespace terrain
-{
-namespace detail
-{
-// Per-stage entry points defined in SolarPosition.cxx. They are not in the public header
-// (which is fixed); they are declared here so that the intermediate values printed by the
-// paper's worked example can be checked stage by stage.
-void SpaEarthHeliocentric(double jme, double& lDeg, double& bDeg, double& rAU);
-void SpaNutation(double jce, double& dPsiDeg, double& dEpsDeg);
-double SpaMeanObliquityArcsec(double jme);
-double SpaApparentSiderealTimeDeg(double jd, double jc, double dPsiDeg, double epsDeg);
-void SpaGeocentricEquatorial(double lambdaDeg,
-  double epsDeg,
-  double betaDeg,
-  double& alphaDeg,
-  double& deltaDeg);
-void SpaTopocentricParallax(double latDeg,
-  double elevationM,
-  double rAU,
-  double hDeg,
-  double deltaDeg,
-  double& dAlphaDeg,
-  double& deltaPrimeDeg);
-double SpaRefractionDeg(double pressureMbar, double temperatureC, double e0Deg);
-double SpaEquationOfTimeMin(double jme, double alphaDeg, double dPsiDeg, double epsDeg);
-} // namespace detail
-} // namespace terrain
-} // namespace terroir
-
 namespace
 {
 using terroir::terrain::DaysInMonth;

@@ -49,10 +49,10 @@ struct Observer
 /// Result of SolarPositionNREL2004.
 struct SolarPosition
 {
-  double azimuthDeg = 0.0;      ///< topocentric azimuth, clockwise from true north, [0, 360)
-  double elevationDeg = 0.0;    ///< topocentric elevation angle (refracted when asked), degrees
-  double zenithDeg = 90.0;      ///< 90 - elevationDeg
-  double declinationDeg = 0.0;  ///< geocentric declination, degrees
+  double azimuthDeg = 0.0;         ///< topocentric azimuth, clockwise from true north, [0, 360)
+  double elevationDeg = 0.0;       ///< topocentric elevation angle (refracted when asked), degrees
+  double zenithDeg = 90.0;         ///< 90 - elevationDeg
+  double declinationDeg = 0.0;     ///< geocentric declination, degrees
   double earthSunDistanceAU = 1.0; ///< Earth radius vector R, astronomical units
   double equationOfTimeMin = 0.0;  ///< equation of time, minutes (SPA appendix A.1)
 };
@@ -77,6 +77,31 @@ double JulianDay(const UTCInstant& t);
  * Accuracy: +-0.0003 degrees for years -2000..6000 (the paper's claim).
  */
 SolarPosition SolarPositionNREL2004(const UTCInstant& t, const Observer& where);
+
+namespace detail
+{
+// The algorithm's stages (angles in degrees, distances in AU), exposed so that the
+// intermediate values printed with the paper's worked example can be checked stage by stage
+// (Testing/Unit/TestSolarPosition.cxx). Not meant for other callers.
+void SpaEarthHeliocentric(double jme, double& lDeg, double& bDeg, double& rAU);
+void SpaNutation(double jce, double& dPsiDeg, double& dEpsDeg);
+double SpaMeanObliquityArcsec(double jme);
+double SpaApparentSiderealTimeDeg(double jd, double jc, double dPsiDeg, double epsDeg);
+void SpaGeocentricEquatorial(double lambdaDeg,
+  double epsDeg,
+  double betaDeg,
+  double& alphaDeg,
+  double& deltaDeg);
+void SpaTopocentricParallax(double latDeg,
+  double elevationM,
+  double rAU,
+  double hDeg,
+  double deltaDeg,
+  double& dAlphaDeg,
+  double& deltaPrimeDeg);
+double SpaRefractionDeg(double pressureMbar, double temperatureC, double e0Deg);
+double SpaEquationOfTimeMin(double jme, double alphaDeg, double dPsiDeg, double epsDeg);
+} // namespace detail
 
 } // namespace terrain
 } // namespace terroir
