@@ -4,9 +4,11 @@ find_path(CLI11_INCLUDE_DIR CLI/CLI.hpp REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 
 # The command-line parser alone (CLI11, no VTK): unit tests and the fuzz harness link it too.
+# It checks dates with the terrain core's calendar (TerroirTerrainCore, plain C++, no VTK).
 add_library(TerroirCommandLine STATIC TerroirCommandLine.cxx TerroirCommandLine.h)
 target_include_directories(TerroirCommandLine PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
   PRIVATE "${CLI11_INCLUDE_DIR}")
+target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore)
 target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 

@@ -1,9 +1,13 @@
 #include "TerroirCommandLine.h"
 
+#include "SolarPosition.h" // terroir::terrain::IsValidDate (TerroirTerrainCore, no VTK)
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -137,6 +141,251 @@ void CheckTemperature(TemperatureSettings& t, const std::string& monthly)
   }
 }
 
+/// The string options of `illumination` that are checked after parsing (see CheckIllumination).
+struct IlluminationText
+{
+  std::string Date;
+  std::string Time;
+  std::string Sun;
+  CLI::Option* DateOption = nullptr;
+  CLI::Option* TimeOption = nullptr;
+  CLI::Option* UTCOffsetOption = nullptr;
+  CLI::Option* YearOption = nullptr;
+  CLI::Option* DayOption = nullptr;
+  CLI::Option* StepOption = nullptr;
+  CLI::Option* SunOption = nullptr;
+};
+
+/// Adds --lat and --lon (run and illumination).
+void AddLocationOptions(CLI::App* app, IlluminationSettings& s)
+{
+  app
+    ->add_option("--lat",
+      s.Latitude,
+      "Latitude of the sun's observer, degrees north (default: the DEM's centre)")
+    ->check(FiniteIn(-90.0, 90.0));
+  app
+    ->add_option("--lon",
+      s.Longitude,
+      "Longitude of the sun's observer, degrees east (default: the DEM's centre)")
+    ->check(FiniteIn(-180.0, 180.0));
+}
+
+void AddIlluminationOptions(CLI::App* app, IlluminationSettings& s, IlluminationText& text)
+{
+  const std::vector<std::string> rasterOut{ ".tif", ".tiff", ".vti" };
+  app
+    ->add_option("--mode",
+      s.Mode,
+      "instant (shadows at one moment), daily (one day) or monthly (one day of each month)")
+    ->check(CLI::IsMember({ "instant", "daily", "monthly" }))
+    ->capture_default_str();
+  text.DateOption =
+    app->add_option("--date", text.Date, "Date YYYY-MM-DD (instant, daily; default 2025-06-21)");
+  text.TimeOption = app->add_option(
+    "--time", text.Time, "Local clock time HH:MM[:SS] (instant; required unless --sun)");
+  text.UTCOffsetOption =
+    app
+      ->add_option("--utc-offset",
+        s.UTCOffset,
+        "Hours the clock of --time is ahead of UTC (instant; -8 = PST; default 0: UTC)")
+      ->check(FiniteIn(-14.0, 14.0));
+  text.YearOption = app->add_option("--year", s.Year, "Year (monthly)")
+                      ->check(CLI::Range(1, 9999))
+                      ->capture_default_str();
+  text.DayOption = app
+                     ->add_option("--day",
+                       s.MonthlyDay,
+                       "Day of every month used (monthly; 29-31: the last day of shorter months)")
+                     ->check(CLI::Range(1, 31))
+                     ->capture_default_str();
+  text.StepOption = app->add_option("--step", s.TimeStep, "Time step, minutes (daily, monthly)")
+                      ->check(FiniteIn(1.0, 1440.0))
+                      ->capture_default_str();
+  AddLocationOptions(app, s);
+  app
+    ->add_option("--orientation",
+      s.Orientation,
+      "Bearing of grid north clockwise from true north, degrees (default: the CRS's meridian "
+      "convergence, else 0)")
+    ->check(FiniteIn(-360.0, 360.0));
+  app
+    ->add_option("--method",
+      s.Method,
+      "Shadows from a horizon map (horizon) or by marching every cell toward the sun (raymarch)")
+    ->check(CLI::IsMember({ "horizon", "raymarch" }))
+    ->capture_default_str();
+  app->add_option("--sectors", s.Sectors, "Azimuth sectors of the horizon map")
+    ->check(CLI::Range(4, 1024))
+    ->capture_default_str();
+  app->add_flag("--curvature", s.Curvature, "Lower distant terrain by the Earth's curvature");
+  app
+    ->add_option(
+      "--transmittance", s.Transmittance, "Clear-sky atmospheric transmittance (insolation)")
+    ->check(FiniteIn(0.01, 1.0))
+    ->capture_default_str();
+  text.SunOption = app->add_option(
+    "--sun", text.Sun, "Fixed sun AZ,EL in degrees (azimuth from true north; instant)");
+  app
+    ->add_option("--insolation",
+      s.InsolationOutput,
+      "Also write Insolation (Wh/m2 per day; daily, monthly) here")
+    ->check(EndsWith(rasterOut));
+  app
+    ->add_option("--incidence",
+      s.IncidenceOutput,
+      "Also write SunIncidence (cosine of the sun's incidence angle; instant) here")
+    ->check(EndsWith(rasterOut));
+}
+
+/// "YYYY-MM-DD" (a real Gregorian date) into year, month, day.
+void ParseDate(const std::string& text, IlluminationSettings& s)
+{
+  int y = 0, m = 0, d = 0;
+  char tail = 0;
+  const bool shaped = text.size() == 10 && text[4] == '-' && text[7] == '-' &&
+    std::all_of(text.begin(),
+      text.end(),
+      [](char c) { return c == '-' || std::isdigit(static_cast<unsigned char>(c)); }) &&
+    std::sscanf(text.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) == 3;
+  if (!shaped)
+  {
+    throw std::invalid_argument("--date: '" + text + "' is not a date (YYYY-MM-DD)");
+  }
+  if (!terroir::terrain::IsValidDate(y, m, d))
+  {
+    throw std::invalid_argument("--date: " + text + " does not exist");
+  }
+  s.Year = y;
+  s.Month = m;
+  s.Day = d;
+}
+
+/// "HH:MM" or "HH:MM:SS" (00:00 to 24:00) into hours.
+double ParseTimeOfDay(const std::string& text)
+{
+  int field[3] = { 0, 0, 0 };
+  int count = 0;
+  std::size_t k = 0;
+  bool ok = !text.empty();
+  while (ok && k < text.size() && count < 3)
+  {
+    std::size_t digits = 0;
+    int v = 0;
+    while (k < text.size() && std::isdigit(static_cast<unsigned char>(text[k])) && digits < 2)
+    {
+      v = 10 * v + (text[k] - '0');
+      ++k;
+      ++digits;
+    }
+    // Hours take 1 or 2 digits, minutes and seconds exactly 2.
+    ok = digits == 2 || (count == 0 && digits == 1);
+    field[count++] = v;
+    if (ok && k < text.size())
+    {
+      ok = text[k] == ':' && k + 1 < text.size();
+      ++k;
+    }
+  }
+  ok = ok && k == text.size() && count >= 2 && field[0] <= 24 && field[1] <= 59 && field[2] <= 59 &&
+    (field[0] < 24 || (field[1] == 0 && field[2] == 0));
+  if (!ok)
+  {
+    throw std::invalid_argument(
+      "--time: '" + text + "' is not a time of day (HH:MM or HH:MM:SS, 00:00 to 24:00)");
+  }
+  return field[0] + field[1] / 60.0 + field[2] / 3600.0;
+}
+
+/// Checks that involve several options of `illumination`, and the options that apply to one
+/// mode only.
+void CheckIllumination(IlluminationSettings& s, const IlluminationText& text)
+{
+  const bool instant = s.Mode == "instant";
+  const bool monthly = s.Mode == "monthly";
+  auto given = [](const CLI::Option* o) { return o && o->count() > 0; };
+  if (!instant)
+  {
+    for (const auto& [option, name] : { std::make_pair(text.TimeOption, "--time"),
+           std::make_pair(text.UTCOffsetOption, "--utc-offset"),
+           std::make_pair(text.SunOption, "--sun") })
+    {
+      if (given(option))
+      {
+        throw std::invalid_argument(std::string(name) + " applies to --mode instant only");
+      }
+    }
+    if (!s.IncidenceOutput.empty())
+    {
+      throw std::invalid_argument(
+        "--incidence applies to --mode instant only (daily and monthly give --insolation)");
+    }
+  }
+  else
+  {
+    if (given(text.StepOption))
+    {
+      throw std::invalid_argument("--step applies to --mode daily or monthly");
+    }
+    if (!s.InsolationOutput.empty())
+    {
+      throw std::invalid_argument(
+        "--insolation applies to --mode daily or monthly (instant gives --incidence)");
+    }
+  }
+  if (monthly && given(text.DateOption))
+  {
+    throw std::invalid_argument(
+      "--date applies to --mode instant or daily (monthly takes --year and --day)");
+  }
+  if (!monthly && (given(text.YearOption) || given(text.DayOption)))
+  {
+    throw std::invalid_argument(std::string(given(text.YearOption) ? "--year" : "--day") +
+      " applies to --mode monthly (instant and daily take --date)");
+  }
+  if (given(text.DateOption))
+  {
+    ParseDate(text.Date, s);
+  }
+  if (given(text.TimeOption))
+  {
+    s.Time = ParseTimeOfDay(text.Time);
+    s.HasTime = true;
+  }
+  if (given(text.SunOption))
+  {
+    if (given(text.DateOption) || given(text.TimeOption) || given(text.UTCOffsetOption))
+    {
+      throw std::invalid_argument("--sun excludes --date, --time and --utc-offset");
+    }
+    const std::vector<double> sun = ParseNumberList(text.Sun, "--sun");
+    if (sun.size() != 2)
+    {
+      throw std::invalid_argument(
+        "--sun: expected AZ,EL (2 values), got " + std::to_string(sun.size()));
+    }
+    if (sun[0] < 0.0 || sun[0] > 360.0)
+    {
+      std::ostringstream os;
+      os << "--sun: azimuth " << sun[0] << " is outside [0, 360]";
+      throw std::invalid_argument(os.str());
+    }
+    if (sun[1] < -90.0 || sun[1] > 90.0)
+    {
+      std::ostringstream os;
+      os << "--sun: elevation " << sun[1] << " is outside [-90, 90]";
+      throw std::invalid_argument(os.str());
+    }
+    s.UseSun = true;
+    s.SunAzimuth = sun[0];
+    s.SunElevation = sun[1];
+  }
+  if (instant && !s.UseSun && !s.HasTime)
+  {
+    throw std::invalid_argument("--mode instant needs --time HH:MM (or --sun AZ,EL)");
+  }
+}
+
 std::string OneLine(std::string text)
 {
   std::replace(text.begin(), text.end(), '\n', ' ');
@@ -147,6 +396,14 @@ std::string OneLine(std::string text)
   return text;
 }
 } // namespace
+
+const std::vector<std::string>& BenchStageNames()
+{
+  static const std::vector<std::string> names{
+    "slope", "temperature", "horizon", "instant", "monthly"
+  };
+  return names;
+}
 
 std::vector<double> ParseNumberList(const std::string& text, const std::string& option)
 {
@@ -206,6 +463,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   run->add_flag("--no-png", line.NoPng, "Skip the PNG overlays (they need an X display)");
   addCommon(run);
   AddTemperatureOptions(run, line.Temperature, runMonthly);
+  AddLocationOptions(run, line.Illumination);
 
   // slope
   CLI::App* slope = app.add_subcommand("slope", "Slope in degrees (Horn 1981, as gdaldem slope)");
@@ -232,6 +490,21 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   AddTemperatureOptions(temp, line.Temperature, tempMonthly);
   addCommon(temp);
 
+  // illumination
+  CLI::App* illum = app.add_subcommand(
+    "illumination", "Cast shadows, hours of direct sun and clear-sky insolation");
+  IlluminationText illumText;
+  illum->add_option("IN", line.Input, "Input DEM")->required();
+  illum
+    ->add_option("OUT",
+      line.Output,
+      "Output .tif (instant: Illuminated 0/1; daily, monthly: IlluminationHours, 1 or 12 bands) "
+      "or .vti (all arrays)")
+    ->required()
+    ->check(EndsWith(rasterOut));
+  AddIlluminationOptions(illum, line.Illumination, illumText);
+  addCommon(illum);
+
   // bench
   CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
   std::string backends = "cpu,gpu";
@@ -246,6 +519,16 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     line.BenchBandwidth,
     "Also measure memory bandwidth and the slope kernel's share");
   bench->add_option("--json", line.BenchJson, "Also write the results as JSON here");
+  std::string stages;
+  {
+    std::string all;
+    for (const auto& n : BenchStageNames())
+    {
+      all += (all.empty() ? "" : ",") + n;
+    }
+    stages = all;
+    bench->add_option("--stages", stages, "Comma-separated stages to time")->capture_default_str();
+  }
 
   // info
   CLI::App* info = app.add_subcommand("info", "Grid and georeference of a DEM");
@@ -272,7 +555,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   {
     // CLI11 wants a mutable argv; it does not modify the strings.
     app.parse(argc, const_cast<char**>(argv));
-    for (CLI::App* sub : { run, slope, temp, bench, info, fractal })
+    for (CLI::App* sub : { run, slope, temp, illum, bench, info, fractal })
     {
       if (*sub)
       {
@@ -286,6 +569,19 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     if (*temp)
     {
       CheckTemperature(line.Temperature, tempMonthly);
+    }
+    if (*illum)
+    {
+      CheckIllumination(line.Illumination, illumText);
+      const std::string& extra = line.Illumination.InsolationOutput.empty()
+        ? line.Illumination.IncidenceOutput
+        : line.Illumination.InsolationOutput;
+      if (!extra.empty() && extra == line.Output)
+      {
+        throw std::invalid_argument(
+          std::string(line.Illumination.InsolationOutput.empty() ? "--incidence" : "--insolation") +
+          ": '" + extra + "' is also OUT");
+      }
     }
     if (*bench)
     {
@@ -304,8 +600,36 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
       {
         throw std::invalid_argument("--backends: no backend given");
       }
+      std::vector<std::string> asked;
+      std::stringstream st(stages);
+      while (std::getline(st, item, ','))
+      {
+        const auto& known = BenchStageNames();
+        if (std::find(known.begin(), known.end(), item) == known.end())
+        {
+          std::string list;
+          for (const auto& n : known)
+          {
+            list += (list.empty() ? "" : ", ") + n;
+          }
+          throw std::invalid_argument("--stages: '" + item + "' is not one of " + list);
+        }
+        asked.push_back(item);
+      }
+      if (asked.empty())
+      {
+        throw std::invalid_argument("--stages: no stage given");
+      }
+      // In the order the stages run, each once.
+      for (const auto& n : BenchStageNames())
+      {
+        if (std::find(asked.begin(), asked.end(), n) != asked.end())
+        {
+          line.BenchStages.push_back(n);
+        }
+      }
     }
-    if ((*slope || *temp || *info) && line.Input.empty())
+    if ((*slope || *temp || *illum || *info) && line.Input.empty())
     {
       throw std::invalid_argument("the input file name is empty");
     }
@@ -318,7 +642,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   catch (const CLI::CallForHelp&)
   {
     const CLI::App* sub = nullptr;
-    for (CLI::App* s : { run, slope, temp, bench, info, fractal })
+    for (CLI::App* s : { run, slope, temp, illum, bench, info, fractal })
     {
       if (*s)
       {

@@ -12,6 +12,7 @@
 #ifndef TerroirCommandLine_h
 #define TerroirCommandLine_h
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,10 +34,37 @@ struct TemperatureSettings
   std::string Hemisphere = "auto"; ///< auto, north or south
 };
 
+/// Options of the solar illumination filter (`illumination`; `run` uses the Monthly defaults
+/// and only Latitude/Longitude). Which options apply depends on Mode (see ParseCommandLine).
+struct IlluminationSettings
+{
+  std::string Mode = "monthly"; ///< instant, daily or monthly
+  int Year = 2025;              ///< --date (instant, daily) or --year (monthly)
+  int Month = 6;                ///< --date, 1..12
+  int Day = 21;                 ///< --date, 1..days in the month
+  bool HasTime = false;         ///< --time given
+  double Time = 12.0;           ///< --time, local clock hours [0, 24] (instant)
+  double UTCOffset = 0.0;       ///< --utc-offset, hours [-14, 14]: UTC = Time - UTCOffset
+  int MonthlyDay = 15;          ///< --day, day of every month used (monthly), 1..31
+  double TimeStep = 10.0;       ///< --step, minutes [1, 1440] (daily, monthly)
+  double Latitude = std::numeric_limits<double>::quiet_NaN();    ///< --lat (NaN: georeference)
+  double Longitude = std::numeric_limits<double>::quiet_NaN();   ///< --lon (NaN: georeference)
+  double Orientation = std::numeric_limits<double>::quiet_NaN(); ///< --orientation (NaN: CRS)
+  std::string Method = "horizon"; ///< --method: horizon (horizon map) or raymarch
+  int Sectors = 64;               ///< --sectors, [4, 1024]
+  bool Curvature = false;         ///< --curvature
+  double Transmittance = 0.7;     ///< --transmittance, [0.01, 1]
+  bool UseSun = false;            ///< --sun given (instant)
+  double SunAzimuth = 180.0;      ///< --sun AZ, degrees clockwise from true north, [0, 360]
+  double SunElevation = 45.0;     ///< --sun EL, degrees, [-90, 90]
+  std::string InsolationOutput;   ///< --insolation FILE (daily, monthly)
+  std::string IncidenceOutput;    ///< --incidence FILE (instant)
+};
+
 /// Everything the command line says.
 struct CommandLine
 {
-  std::string Command; ///< run, slope, temperature, bench, info or fractal
+  std::string Command; ///< run, slope, temperature, illumination, bench, info or fractal
   bool Verbose = false;
   std::string Backend = "auto"; ///< auto, cpu or gpu
   bool Overwrite = false;
@@ -52,9 +80,12 @@ struct CommandLine
 
   TemperatureSettings Temperature; ///< run, temperature
 
+  IlluminationSettings Illumination; ///< illumination (run: Latitude, Longitude)
+
   int BenchSize = 2048;
   int BenchRepeat = 3;
   std::vector<std::string> BenchBackends{ "cpu", "gpu" };
+  std::vector<std::string> BenchStages; ///< --stages, in the order of BenchStageNames()
   bool BenchBandwidth = false;
   std::string BenchJson;
 
@@ -74,6 +105,9 @@ struct ParseOutcome
 
 /// Parses `argv` (argv[0] is the program name). See the file comment.
 ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& line);
+
+/// The stages `terroir bench` knows, in the order it runs them (the default is all of them).
+const std::vector<std::string>& BenchStageNames();
 
 /// Parses "a,b,c" into numbers; throws std::invalid_argument with a one-line message naming
 /// `option` and the first item that is not a finite number.

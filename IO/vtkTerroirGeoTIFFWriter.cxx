@@ -160,6 +160,17 @@ void vtkTerroirGeoTIFFWriter::WriteData()
   // are copied as floats, everything else through double.
   auto* floats = vtkFloatArray::SafeDownCast(array);
   auto* maskBytes = vtkUnsignedCharArray::SafeDownCast(mask);
+  // Each band gets its no-data value before its pixels. GDAL's GTiff driver does not write a
+  // block that holds nothing but the band's no-data value (0 while none is set) and fills it
+  // with the no-data value when the file is closed: a block of zeros written before the value
+  // was set came back as no-data (a flat DEM's slope, rows in shadow). Float and Int32 bands
+  // always have one; byte bands only when some cell is masked (a byte value is never NaN).
+  bool masked = false;
+  for (vtkIdType k = 0; mask && !masked && k < static_cast<vtkIdType>(nx) * ny; ++k)
+  {
+    masked = mask->GetComponent(k, 0) == 0.0;
+  }
+  const bool hasNoData = floating || type == GDT_Int32 || masked;
   const int blockRows = std::max(1, std::min(ny, static_cast<int>((std::size_t(4) << 20) / nx)));
   std::vector<float> blockF(floats ? static_cast<std::size_t>(nx) * blockRows : 0);
   std::vector<double> blockD(floats ? 0 : static_cast<std::size_t>(nx) * blockRows);
@@ -168,7 +179,11 @@ void vtkTerroirGeoTIFFWriter::WriteData()
     GDALRasterBandH band = GDALGetRasterBand(ds, c + 1);
     const char* componentName = array->GetComponentName(c);
     GDALSetDescription(band, componentName ? componentName : (nc == 1 ? array->GetName() : ""));
-    bool anyInvalid = false;
+    if (hasNoData && GDALSetRasterNoDataValue(band, nodata) != CE_None)
+    {
+      discard(ds, "cannot set the no-data value");
+      return;
+    }
     for (int r0 = 0; r0 < ny; r0 += blockRows)
     {
       const int rows = std::min(blockRows, ny - r0);
@@ -185,7 +200,6 @@ void vtkTerroirGeoTIFFWriter::WriteData()
           {
             const float v = src[static_cast<std::size_t>(i) * nc];
             const bool valid = (!m || m[i] != 0) && !std::isnan(v);
-            anyInvalid = anyInvalid || !valid;
             blockF[out + i] = valid ? v : nodataF;
           }
         }
@@ -196,7 +210,6 @@ void vtkTerroirGeoTIFFWriter::WriteData()
             const vtkIdType k = j * nx + i;
             const double v = array->GetComponent(k, c);
             const bool valid = (!mask || mask->GetComponent(k, 0) != 0.0) && !std::isnan(v);
-            anyInvalid = anyInvalid || !valid;
             blockD[out + i] = valid ? v : nodata;
           }
         }
@@ -215,10 +228,6 @@ void vtkTerroirGeoTIFFWriter::WriteData()
         discard(ds, "write failed at row " + std::to_string(r0));
         return;
       }
-    }
-    if (floating || type == GDT_Int32 || anyInvalid)
-    {
-      GDALSetRasterNoDataValue(band, nodata);
     }
     this->UpdateProgress(static_cast<double>(c + 1) / nc);
   }

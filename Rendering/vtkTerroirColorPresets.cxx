@@ -39,6 +39,9 @@ const PresetInfo Presets[] = {
   { "Humidity", "SoilHumidity", "mm", "Soil humidity", false, { 0, 0 } },
   { "Water", "WaterHeight", "m", "Water depth", false, { 0, 0 } },
   { "Clusters", "ClusterId", "", "Cluster", false, { 0, 0 } },
+  { "Sunlit", "Illuminated", "", "Direct sun", true, { 0.0, 1.0 } },
+  { "Incidence", "SunIncidence", "", "Sun incidence (cosine)", true, { 0.0, 1.0 } },
+  { "Insolation", "Insolation", "Wh/m\xC2\xB2/day", "Insolation", false, { 0, 0 } },
 };
 constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
 
@@ -172,7 +175,7 @@ bool vtkTerroirColorPresets::GetDefaultRange(const char* preset, double range[2]
 
 bool vtkTerroirColorPresets::IsCategorical(const char* preset)
 {
-  return preset && std::strcmp(preset, "Clusters") == 0;
+  return preset && (std::strcmp(preset, "Clusters") == 0 || std::strcmp(preset, "Sunlit") == 0);
 }
 
 void vtkTerroirColorPresets::GetNanColor(double rgba[4])
@@ -209,6 +212,19 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
   lut->SetNanColor(nan);
 
   const std::string name = p->Name;
+  if (name == "Sunlit")
+  {
+    // Two fixed classes whatever the range: 0 shadow (black), 1 lit (white).
+    lut->SetNumberOfTableValues(2);
+    lut->SetTableRange(0.0, 1.0);
+    lut->SetTableValue(0, 0.0, 0.0, 0.0, 1.0);
+    lut->SetTableValue(1, 1.0, 1.0, 1.0, 1.0);
+    lut->SetAnnotation(vtkVariant(0), "shadow");
+    lut->SetAnnotation(vtkVariant(1), "lit");
+    lut->SetIndexedLookup(1);
+    lut->BuildSpecialColors();
+    return true;
+  }
   if (name == "Clusters")
   {
     const int first = static_cast<int>(std::lround(minValue));
@@ -244,7 +260,7 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     ctf->AddRGBPoint(0.90, 0.80, 0.78, 0.76);
     ctf->AddRGBPoint(1.00, 1.00, 1.00, 1.00);
   }
-  else if (name == "Slope" || name == "Illumination")
+  else if (name == "Slope" || name == "Illumination" || name == "Incidence")
   {
     ctf->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
     ctf->AddRGBPoint(1.0, 1.0, 1.0, 1.0);
@@ -262,6 +278,15 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     ctf->AddRGBPoint(0.0, 0.230, 0.299, 0.754);
     ctf->AddRGBPoint(mid, 0.865, 0.865, 0.865);
     ctf->AddRGBPoint(1.0, 0.706, 0.016, 0.150);
+  }
+  else if (name == "Insolation")
+  {
+    // Dark to bright through warm colours, luminance rising monotonically (a "black body"
+    // ramp): black, dark red, orange, pale yellow.
+    ctf->AddRGBPoint(0.00, 0.00, 0.00, 0.00);
+    ctf->AddRGBPoint(0.35, 0.55, 0.08, 0.05);
+    ctf->AddRGBPoint(0.70, 0.95, 0.55, 0.10);
+    ctf->AddRGBPoint(1.00, 1.00, 1.00, 0.75);
   }
   else if (name == "Humidity")
   {

@@ -6,30 +6,35 @@
  * fixes the colours, the default array it colours, its units and legend title, and either a
  * fixed default range or "use the data range":
  *
- * | preset         | default array       | colours                                         |
- * default range |
- * |----------------|---------------------|-------------------------------------------------|---------------|
- * | `Elevation`    | `Elevation` (m)     | terrain: dark green, green, yellow, brown, white | data
- * | | `Slope`        | `Slope` (°)         | black → white                                   | 0 –
- * 60 °      | | `Illumination` | `IlluminationHours` (h/day) | black → white | data          | |
- * `Temperature`  | `Temperature` (°C)  | blue → white → red, white at 0 °C when the range contains
- * 0, else at its middle | data | | `Humidity`     | `SoilHumidity` (mm) | black → blue | data | |
- * `Water`        | `WaterHeight` (m)   | first of 256 bins transparent (dry), then light → dark
- * blue | data  | | `Clusters`     | `ClusterId`         | categorical, 12 fixed distinct colours
- * (cycled), indexed lookup | ids present |
+ * - `Elevation`: `Elevation` (m); terrain colours: dark green, green, yellow, brown, white;
+ *   data range.
+ * - `Slope`: `Slope` (°); black → white; 0 – 60°.
+ * - `Illumination`: `IlluminationHours` (h/day); black → white; data range.
+ * - `Temperature`: `Temperature` (°C); blue → white → red, white at 0 °C when the range
+ *   contains 0, else at its middle; data range.
+ * - `Humidity`: `SoilHumidity` (mm); black → blue; data range.
+ * - `Water`: `WaterHeight` (m); first of 256 bins transparent (dry), then light → dark blue;
+ *   data range.
+ * - `Clusters`: `ClusterId`; categorical, 12 fixed distinct colours (cycled), indexed lookup;
+ *   ids present.
+ * - `Sunlit`: `Illuminated` (0/1); categorical, 0 "shadow" black, 1 "lit" white; 0 – 1.
+ * - `Incidence`: `SunIncidence` (cosine, no units); black → white; 0 – 1.
+ * - `Insolation`: `Insolation` (Wh/m²/day); black → dark red → orange → pale yellow; data
+ *   range.
  *
  * Continuous presets are 256-entry vtkLookupTable objects sampled from a
  * vtkColorTransferFunction (RGB interpolation, diverging space for Temperature); values
  * outside the range clamp to the end colours; NaN maps to the NaN colour (grey 0.5, opaque).
  * `Clusters` is an indexed (categorical) table with one annotated value per cluster id
  * `min..max` ("Cluster i"), colours from a fixed palette (Tableau 10 plus two), so cluster 0 is
- * always the same blue. Everything is deterministic (no random colours).
+ * always the same blue. `Sunlit` is an indexed table of two annotated values, 0 "shadow" and
+ * 1 "lit", whatever the range asked for. Everything is deterministic (no random colours).
  *
  * All methods are static. Preset names are case-sensitive.
  *
  * @par Correctness
  * TerroirColorPresets.* in Testing/Rendering/TestColorPresets.cxx (end colours, mid colours,
- * NaN colour, water transparency, categorical order).
+ * NaN colour, water transparency, categorical order, shadow/lit classes).
  */
 #ifndef vtkTerroirColorPresets_h
 #define vtkTerroirColorPresets_h
@@ -51,15 +56,15 @@ public:
 
   ///@{
   /// The presets, in a fixed order: Elevation, Slope, Illumination, Temperature, Humidity,
-  /// Water, Clusters.
+  /// Water, Clusters, Sunlit, Incidence, Insolation.
   static int GetNumberOfPresets();
   static const char* GetPresetName(int index);
   static bool HasPreset(const char* preset);
   ///@}
 
   ///@{
-  /// Metadata of a preset (nullptr for an unknown preset). Units are UTF-8 ("°", "°C") and
-  /// empty for Clusters.
+  /// Metadata of a preset (nullptr for an unknown preset). Units are UTF-8 ("°", "°C",
+  /// "Wh/m²/day") and empty for Clusters, Sunlit and Incidence.
   static const char* GetDefaultArrayName(const char* preset);
   static const char* GetUnits(const char* preset);
   static const char* GetTitle(const char* preset);
@@ -67,21 +72,23 @@ public:
   static std::string GetLegendTitle(const char* preset);
   ///@}
 
-  /// The preset whose default array is `arrayName`, or nullptr. Also maps the
-  /// sibling arrays `WeightedSoilHumidity` and `StandingWater` (mm) to Humidity.
+  /// The preset whose default array is `arrayName`, or nullptr (`Illuminated` → Sunlit,
+  /// `SunIncidence` → Incidence, `IlluminationHours` → Illumination, `Insolation` →
+  /// Insolation). Also maps the sibling arrays `WeightedSoilHumidity` and `StandingWater` (mm)
+  /// to Humidity.
   static const char* GetPresetForArray(const char* arrayName);
 
-  /// True when the preset has a fixed default range (Slope: 0–60); false when the data range
-  /// should be used.
+  /// True when the preset has a fixed default range (Slope: 0–60; Sunlit, Incidence: 0–1);
+  /// false when the data range should be used.
   static bool GetDefaultRange(const char* preset, double range[2]);
 
-  /// True for categorical presets (Clusters).
+  /// True for categorical presets (Clusters, Sunlit).
   static bool IsCategorical(const char* preset);
 
   /// Fills `lut` with the preset over [minValue, maxValue] (for Clusters: ids minValue..maxValue,
-  /// rounded). Returns false (leaving `lut` unchanged) for an unknown preset, a null table or a
-  /// range that is not finite or has maxValue < minValue. An empty range (min == max) is widened
-  /// by 0.5 on each side.
+  /// rounded; for Sunlit always the classes 0 and 1). Returns false (leaving `lut` unchanged)
+  /// for an unknown preset, a null table or a range that is not finite or has maxValue <
+  /// minValue. An empty range (min == max) is widened by 0.5 on each side.
   static bool ConfigureLookupTable(vtkLookupTable* lut,
     const char* preset,
     double minValue,

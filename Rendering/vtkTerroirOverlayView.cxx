@@ -553,6 +553,12 @@ void vtkTerroirOverlayView::AddScalarBar(vtkRenderer* legendRenderer,
   }
   bar->SetTitle(legendTitle.c_str());
   bar->SetNumberOfLabels(5);
+  // Large values (insolation in Wh/m²/day, elevations in m) as whole numbers, not "7.76e+03".
+  const double* tableRange = lut->GetTableRange();
+  if (std::max(std::fabs(tableRange[0]), std::fabs(tableRange[1])) >= 1000.0)
+  {
+    bar->SetLabelFormat("%-6.0f");
+  }
   bar->SetMaximumNumberOfColors(256);
   bar->SetDrawNanAnnotation(0);
   bar->SetDrawAnnotations(0);
@@ -618,8 +624,30 @@ void vtkTerroirOverlayView::AddCategoricalLegend(vtkRenderer* legendRenderer,
     vtkNew<vtkActor2D> swatch;
     swatch->SetMapper(swatchMapper);
     const unsigned char* rgba = lut->MapValue(lut->GetAnnotatedValue(k).ToDouble());
-    swatch->GetProperty()->SetColor(rgba[0] / 255.0, rgba[1] / 255.0, rgba[2] / 255.0);
+    const double rgb[3] = { rgba[0] / 255.0, rgba[1] / 255.0, rgba[2] / 255.0 };
+    swatch->GetProperty()->SetColor(rgb[0], rgb[1], rgb[2]);
     legendRenderer->AddActor2D(swatch);
+    // A swatch in (nearly) the background colour, such as Sunlit's white "lit" on the white
+    // background, gets an outline in the text colour so that it can be seen.
+    const double contrast = std::fabs(rgb[0] - this->Background[0]) +
+      std::fabs(rgb[1] - this->Background[1]) + std::fabs(rgb[2] - this->Background[2]);
+    if (contrast < 0.3)
+    {
+      vtkNew<vtkCellArray> loop;
+      const vtkIdType ring[5] = { 0, 1, 2, 3, 0 };
+      loop->InsertNextCell(5, ring);
+      vtkNew<vtkPolyData> outlineData;
+      outlineData->SetPoints(corners);
+      outlineData->SetLines(loop);
+      vtkNew<vtkPolyDataMapper2D> outlineMapper;
+      outlineMapper->SetInputData(outlineData);
+      outlineMapper->SetTransformCoordinate(normalized);
+      vtkNew<vtkActor2D> outline;
+      outline->SetMapper(outlineMapper);
+      outline->GetProperty()->SetColor(grey, grey, grey);
+      outline->GetProperty()->SetLineWidth(1.0f);
+      legendRenderer->AddActor2D(outline);
+    }
 
     vtkNew<vtkTextActor> label;
     label->SetInput(lut->GetAnnotation(k).c_str());

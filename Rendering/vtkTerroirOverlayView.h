@@ -41,10 +41,11 @@
  *   the distance where the bounding sphere just fits the frame; view up = +z.
  *
  * Legend (`ShowLegend`, default on): the right quarter of the frame holds a scalar bar titled
- * "<preset title>" / "(<units>)" (e.g. "Slope" / "(°)"), or for `Clusters` one colour swatch
- * and name ("Cluster i") per id. `Title` (default none) is drawn centred in a strip at the top
- * (8% of the height, at least 24 pixels). Text is black on light backgrounds and white on dark
- * ones. `Background` default white.
+ * "<preset title>" / "(<units>)" (e.g. "Slope" / "(°)"), or for a categorical preset
+ * (`Clusters`, `Sunlit`) one colour swatch and name per class ("Cluster i"; "shadow", "lit"),
+ * outlined in the text colour when it is close to the background colour. `Title` (default none) is
+ * drawn centred in a strip at the top (8% of the height, at least 24 pixels). Text is black on
+ * light backgrounds and white on dark ones. `Background` default white.
  *
  * Rendering is offscreen (`OffScreenRenderingOn()`, `SetMultiSamples(0)`) through VTK's X/GLX
  * window. VTK 9.1 aborts the process when that window cannot open its X display, so the view

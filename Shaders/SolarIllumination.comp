@@ -1,7 +1,8 @@
 // SolarIllumination.comp: hours of direct sun and direct-beam energy of a slice of cells, all
 // sun steps in one invocation per cell; mirrors terroir::terrain::AccumulateIllumination and
 // HorizonTangentRayMarch (Filters/Terrain/Core/SolarIllumination.cxx, ShadowHorizon.cxx).
-// The lit/shadow answer of a step comes from ray marching (uMethod 0), from the horizon map
+// Nothing is lit while the sun is below the horizontal plane. Otherwise the lit/shadow answer
+// of a step comes from ray marching (uMethod 0), from the horizon map
 // (1), or from the map with ray marching where the sun lies between the horizons of the two
 // sectors around it (2).
 //
@@ -170,6 +171,10 @@ void main()
   for (int si = 0; si < uStepCount; ++si)
   {
     Step st = steps[si];
+    if (!(st.sun.x > 0.0))
+    {
+      continue; // the sun is below the horizontal plane: nothing is lit
+    }
     bool lit;
     if (uMethod == 0)
     {

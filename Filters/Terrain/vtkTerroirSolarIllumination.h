@@ -28,8 +28,9 @@
  * Daily/Monthly: the 24 hours centred on mean solar noon, in TimeStep-minute steps evaluated
  * at their midpoints (terroir::terrain::DaySunSteps).
  *
- * Shadows (terroir/ShadowHorizon.h): a cell is lit when the sun is above its horizon in the
- * sun's direction, the highest elevation angle of the terrain along that direction (linear
+ * Shadows (terroir/ShadowHorizon.h): a cell is lit when the sun is above the horizontal plane
+ * and above its horizon in the sun's direction, the highest elevation angle of the terrain
+ * along that direction (linear
  * interpolation across grid lines; optionally lowered by the Earth's curvature). ShadowMethod
  * RayMarching marches every cell toward the sun (the exact reference); HorizonMap (default)
  * builds a map of HorizonSectors horizon tangents per cell with convex-hull sweeps (after
@@ -41,7 +42,7 @@
  *
  * Whole extent (global filter). Backends: CPU (vtkSMPTools over sectors and cells, float32;
  * results do not depend on the thread count) and GPU (Shaders/ShadowSweep.comp,
- * ShadowGather.comp, SolarIllumination.comp, ShadowRayMarch.comp).
+ * ShadowGather.comp, SolarIllumination.comp).
  *
  * @par Correctness
  * Testing/Unit/TestSolarPosition.cxx, TestShadowHorizon.cxx, TestSolarIllumination.cxx;

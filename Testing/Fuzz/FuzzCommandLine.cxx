@@ -2,11 +2,15 @@
 // arbitrary argument lists. The input is split at NUL bytes into at most 32 arguments after
 // argv[0]. Aborts (__builtin_trap) when an invariant breaks:
 // - the parser either accepts (a known command, every number finite and inside its documented
-//   range, 12 or no monthly temperatures, output names with a known extension), or prints
+//   range, 12 or no monthly temperatures, a date that exists, options that fit the illumination
+//   mode, output names with a known extension), or prints
 //   help (exit status 0, text, no error), or refuses with exit status 2 and one line of error;
 // - it never exits, throws or prints by itself (a throw or exit would end the fuzzer).
 #include "TerroirCommandLine.h"
 
+#include "SolarPosition.h"
+
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstddef>
@@ -91,8 +95,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   const std::string& c = line.Command;
-  Check(c == "run" || c == "slope" || c == "temperature" || c == "bench" || c == "info" ||
-    c == "fractal");
+  Check(c == "run" || c == "slope" || c == "temperature" || c == "illumination" || c == "bench" ||
+    c == "info" || c == "fractal");
   Check(line.Backend == "auto" || line.Backend == "cpu" || line.Backend == "gpu");
   const auto& t = line.Temperature;
   Check(Within(t.Coldest, -90, 60) && Within(t.Warmest, -90, 60) && t.Coldest <= t.Warmest);
@@ -104,13 +108,38 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Check(Within(m, -90, 60));
   }
   Check(t.Monthly.empty() || t.ClimateFile.empty());
-  if (c == "slope" || c == "temperature" || c == "info")
+  if (c == "slope" || c == "temperature" || c == "illumination" || c == "info")
   {
     Check(!line.Input.empty());
   }
-  if (c == "slope" || c == "temperature" || c == "fractal")
+  if (c == "slope" || c == "temperature" || c == "illumination" || c == "fractal")
   {
     Check(EndsWithRasterExtension(line.Output));
+  }
+  const auto& s = line.Illumination;
+  // Latitude and longitude: NaN (from the georeference) or in range (run and illumination).
+  Check(std::isnan(s.Latitude) || Within(s.Latitude, -90, 90));
+  Check(std::isnan(s.Longitude) || Within(s.Longitude, -180, 180));
+  if (c == "illumination")
+  {
+    Check(s.Mode == "instant" || s.Mode == "daily" || s.Mode == "monthly");
+    Check(terroir::terrain::IsValidDate(s.Year, s.Month, s.Day));
+    Check(Within(s.Time, 0, 24) && Within(s.UTCOffset, -14, 14));
+    Check(s.MonthlyDay >= 1 && s.MonthlyDay <= 31);
+    Check(Within(s.TimeStep, 1, 1440));
+    Check(std::isnan(s.Orientation) || Within(s.Orientation, -360, 360));
+    Check(s.Method == "horizon" || s.Method == "raymarch");
+    Check(s.Sectors >= 4 && s.Sectors <= 1024);
+    Check(Within(s.Transmittance, 0.01, 1));
+    Check(Within(s.SunAzimuth, 0, 360) && Within(s.SunElevation, -90, 90));
+    const bool instant = s.Mode == "instant";
+    Check(!instant || s.UseSun || s.HasTime);
+    Check(instant || (!s.UseSun && !s.HasTime && s.IncidenceOutput.empty()));
+    Check(!instant || s.InsolationOutput.empty());
+    for (const std::string* extra : { &s.InsolationOutput, &s.IncidenceOutput })
+    {
+      Check(extra->empty() || (EndsWithRasterExtension(*extra) && *extra != line.Output));
+    }
   }
   if (c == "slope")
   {
@@ -122,6 +151,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Check(line.BenchSize >= 16 && line.BenchSize <= 32768);
     Check(line.BenchRepeat >= 1 && line.BenchRepeat <= 100);
     Check(!line.BenchBackends.empty());
+    const auto& known = terroir::app::BenchStageNames();
+    Check(!line.BenchStages.empty() && line.BenchStages.size() <= known.size());
+    for (const auto& stage : line.BenchStages)
+    {
+      Check(std::find(known.begin(), known.end(), stage) != known.end());
+    }
   }
   if (c == "fractal")
   {

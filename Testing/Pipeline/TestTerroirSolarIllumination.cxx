@@ -349,9 +349,10 @@ TEST(TerroirSolarIllumination, ArraysUnitsFieldDataAndCache)
   ASSERT_TRUE(vtkTerroirGeoreference::GetCenterLatLon(Sagehen(), latLon));
   EXPECT_DOUBLE_EQ(frame[0], latLon[0]);
   EXPECT_DOUBLE_EQ(frame[2], vtkTerroirGeoreference::GetMeridianConvergence(Sagehen()));
-  // A cell is lit only when the sun is above its horizon in the sun's direction, so never
-  // for longer than the sun stays above the cell's lowest horizon (HorizonAngle, all
-  // sectors): an upper bound counted from the SunPositions field data. June beats December.
+  // A cell is lit only when the sun is above the horizontal plane and above its horizon in
+  // the sun's direction, so never for longer than the sun stays above both the plane and the
+  // cell's lowest horizon (HorizonAngle, all sectors): an upper bound counted from the
+  // SunPositions field data. June beats December.
   vtkDataArray* horizon = Array(out, "HorizonAngle");
   ASSERT_NE(horizon, nullptr);
   double june = 0.0;
@@ -370,7 +371,7 @@ TEST(TerroirSolarIllumination, ArraysUnitsFieldDataAndCache)
     double bound[12] = { 0 };
     for (vtkIdType t = 0; t < sun->GetNumberOfTuples(); ++t)
     {
-      if (sun->GetComponent(t, 4) > lowest - 1e-4)
+      if (sun->GetComponent(t, 4) > std::max(lowest, 0.0) - 1e-4)
       {
         bound[static_cast<int>(sun->GetComponent(t, 0)) - 1] += 10.0 / 60.0;
       }
@@ -453,4 +454,39 @@ TEST(TerroirSolarIllumination, BadInputGivesOneClearError)
     EXPECT_NE(errors->Errors.find(c.expect), std::string::npos) << errors->Errors;
     EXPECT_EQ(f->GetOutput()->GetPointData()->GetNumberOfArrays(), 0);
   }
+}
+
+// Slopes falling toward the DEM's edge have horizons far below level; the sun below the
+// horizontal plane still lights nothing (22:00 PDT on 2025-06-15: the sun over 10 degrees
+// down),
+// and no cell gets more hours than the sun spends above the plane.
+TEST(TerroirSolarIllumination, NothingIsLitBelowTheHorizontalPlane)
+{
+  vtkNew<vtkTerroirSolarIllumination> f;
+  f->SetModeToInstant();
+  f->SetYear(2025);
+  f->SetMonth(6);
+  f->SetDay(15);
+  f->SetTime(22.0);
+  f->SetUTCOffset(-7.0);
+  auto night = RunFilter(f, Sagehen());
+  double sun[6];
+  night->GetFieldData()->GetArray("SunPositions")->GetTuple(0, sun);
+  EXPECT_LT(sun[4], -10.0);
+  double range[2];
+  Array(night, "Illuminated")->GetRange(range);
+  EXPECT_EQ(range[1], 0.0);
+
+  f->SetModeToDaily();
+  f->SetTimeStep(30.0);
+  auto day = RunFilter(f, Sagehen());
+  vtkDataArray* positions = day->GetFieldData()->GetArray("SunPositions");
+  double above = 0.0;
+  for (vtkIdType t = 0; t < positions->GetNumberOfTuples(); ++t)
+  {
+    above += positions->GetComponent(t, 4) > 0.0 ? 0.5 : 0.0;
+  }
+  Array(day, "IlluminationHours")->GetRange(range);
+  EXPECT_LE(range[1], above + 1e-4);
+  EXPECT_GT(range[1], above - 1.0) << "open slopes see most of the day";
 }

@@ -22,6 +22,12 @@ DEM = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
 TEMP = os.environ.get("TERROIR_TEMP_DIR", tempfile.gettempdir())
 
 
+def read_band(path, band=1):
+    """Band `band` of a raster as an array (the dataset stays open while the band is read)."""
+    ds = gdal.Open(path)
+    return ds.GetRasterBand(band).ReadAsArray()
+
+
 def terroir(*args, env=None):
     e = dict(os.environ)
     e.update(env or {})
@@ -36,7 +42,8 @@ class TerroirCommandLine(unittest.TestCase):
         shutil.rmtree(self.work, ignore_errors=True)
 
     def test_help_on_every_command(self):
-        for cmd in ([], ["run"], ["slope"], ["temperature"], ["bench"], ["info"], ["fractal"]):
+        for cmd in ([], ["run"], ["slope"], ["temperature"], ["illumination"], ["bench"], ["info"],
+                    ["fractal"]):
             r = terroir(*cmd, "--help")
             self.assertEqual(r.returncode, 0, (cmd, r.stderr))
             self.assertIn("Usage", r.stdout + r.stderr)
@@ -48,9 +55,12 @@ class TerroirCommandLine(unittest.TestCase):
             args.append("--no-png")
         r = terroir(*args)
         self.assertEqual(r.returncode, 0, r.stderr)
-        expected = ["terrain.vti", "slope.tif", "aspect.tif", "temperature.tif", "report.md", "report.json"]
+        expected = ["terrain.vti", "slope.tif", "aspect.tif", "temperature.tif", "illumination.tif",
+                    "insolation.tif", "report.md", "report.json"]
         if os.environ.get("DISPLAY"):
-            expected += ["slope.png", "temperature_jan.png", "temperature_jul.png"]
+            expected += ["slope.png", "temperature_jan.png", "temperature_jul.png",
+                         "illumination_dec.png", "illumination_jun.png", "insolation_dec.png",
+                         "insolation_jun.png"]
         for name in expected:
             path = os.path.join(out, name)
             self.assertTrue(os.path.getsize(path) > 0, name)
@@ -77,6 +87,25 @@ class TerroirCommandLine(unittest.TestCase):
         jan = temp.GetRasterBand(1).ReadAsArray()
         jul = temp.GetRasterBand(7).ReadAsArray()
         self.assertTrue(np.all(jul > jan))
+        # Monthly illumination: 12 bands each; more sun in June than in December on average,
+        # and the report gives the stage's time with the horizon map's share of it.
+        stage = report["stages"]["illumination"]
+        self.assertGreater(stage["seconds"], 0)
+        self.assertGreater(stage["horizon_map_seconds"], 0)
+        self.assertLess(stage["horizon_map_seconds"], stage["seconds"])
+        self.assertEqual(stage["horizon_sectors"], 64)
+        self.assertIn("IlluminationHours", report["arrays"])
+        self.assertEqual(report["arrays"]["Insolation"]["units"], "Wh/m2")
+        with open(os.path.join(out, "report.md")) as f:
+            self.assertIn("horizon map of 64 sectors built in", f.read())
+        hours = gdal.Open(os.path.join(out, "illumination.tif"))
+        energy = gdal.Open(os.path.join(out, "insolation.tif"))
+        self.assertEqual((hours.RasterCount, energy.RasterCount), (12, 12))
+        for ds in (hours, energy):
+            dec = ds.GetRasterBand(12).ReadAsArray().astype(np.float64)
+            jun = ds.GetRasterBand(6).ReadAsArray().astype(np.float64)
+            self.assertGreater(jun.mean(), 1.3 * dec.mean())
+        self.assertLessEqual(hours.GetRasterBand(6).ReadAsArray().max(), 24.0)
 
     def test_existing_outputs_are_kept_without_overwrite(self):
         out = os.path.join(self.work, "slope.tif")
@@ -179,9 +208,175 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         with open(os.path.join(self.work, "bench.json")) as f:
             bench = json.load(f)
-        stages = sorted(x["stage"] for x in bench["results"])
-        self.assertEqual(stages, ["slope", "temperature"])
+        stages = [x["stage"] for x in bench["results"]]
+        self.assertEqual(stages, ["slope", "temperature", "horizon", "instant", "instant-raymarch",
+                                  "monthly"])
         self.assertTrue(all(x["seconds"] > 0 for x in bench["results"]))
+        self.assertTrue(all(x["mcells"] == 64 * 64 / 1e6 for x in bench["results"]))
+        rows = {x["stage"]: x for x in bench["results"]}
+        self.assertEqual(rows["instant"]["horizon_map_seconds"], 0)  # the map came from the cache
+        self.assertGreater(rows["monthly"]["horizon_map_seconds"], 0)
+        self.assertEqual(rows["monthly"]["sun_steps"], 12 * 144)
+        self.assertIn("instant-raymarch", r.stdout)
+        # --stages picks stages, and runs them in the fixed order.
+        r = terroir("bench", "--size", "32", "--repeat", "1", "--backends", "cpu", "--stages",
+                    "monthly,horizon", "--json", os.path.join(self.work, "some.json"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.work, "some.json")) as f:
+            some = json.load(f)
+        self.assertEqual([x["stage"] for x in some["results"]], ["horizon", "monthly"])
+        self.assertEqual(some["stages"], ["horizon", "monthly"])
+        self.assertNotIn("slope", r.stdout)
+        r = terroir("bench", "--stages", "shadows")
+        self.assertEqual(r.returncode, 2)
+        self.assertEqual(r.stderr, "terroir: error: --stages: 'shadows' is not one of slope, "
+                                   "temperature, horizon, instant, monthly\n")
+
+    def flat_dem(self, name="flat.tif"):
+        """A flat 60 x 50 GeoTIFF at 1900 m near Sagehen Creek (UTM 11N, about 39.5 N)."""
+        path = os.path.join(self.work, name)
+        ds = gdal.GetDriverByName("GTiff").Create(path, 60, 50, 1, gdal.GDT_Float32)
+        ds.SetGeoTransform((734000, 10, 0, 4376000, 0, -10))
+        ds.SetProjection("EPSG:32611")
+        ds.GetRasterBand(1).WriteArray(np.full((50, 60), 1900, np.float32))
+        ds = None
+        return path
+
+    def test_illumination_daily_on_flat_ground_is_the_day_length(self):
+        # Nothing casts a shadow on flat ground: every cell has the sun for the whole day.
+        # NOAA's calculator gives 14 h 53 min between sunrise and sunset at 39.5 N on the June
+        # solstice, and 9 h 27 min at 39.5 S (its winter); the filter counts 10-minute steps.
+        dem = self.flat_dem()
+        north = os.path.join(self.work, "north.tif")
+        r = terroir("illumination", dem, north, "--mode", "daily", "--date", "2025-06-21")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("illumination: 100%", r.stderr)
+        ds = gdal.Open(north)
+        self.assertEqual(ds.RasterCount, 1)
+        self.assertEqual(ds.RasterXSize, 60)
+        np.testing.assert_allclose(ds.GetRasterBand(1).ReadAsArray(), 14 + 53 / 60, atol=1 / 6)
+        south = os.path.join(self.work, "south.tif")
+        energy = os.path.join(self.work, "energy.tif")
+        r = terroir("illumination", dem, south, "--mode", "daily", "--date", "2025-06-21",
+                    "--lat", "-39.5", "--insolation", energy)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        np.testing.assert_allclose(read_band(south),
+                                   9 + 27 / 60, atol=1 / 6)
+        # Less sun in winter, and a clearer sky lets more of it through.
+        winter = read_band(energy)
+        r = terroir("illumination", dem, os.path.join(self.work, "n2.tif"), "--mode", "daily",
+                    "--date", "2025-06-21", "--insolation", os.path.join(self.work, "e2.tif"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        summer = read_band(os.path.join(self.work, "e2.tif"))
+        self.assertGreater(summer.min(), 2 * winter.max())
+        r = terroir("illumination", dem, os.path.join(self.work, "n3.tif"), "--mode", "daily",
+                    "--date", "2025-06-21", "--transmittance", "0.9", "--insolation",
+                    os.path.join(self.work, "e3.tif"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        clear = read_band(os.path.join(self.work, "e3.tif"))
+        self.assertGreater(clear.min(), summer.max())
+
+    def test_illumination_instant_with_a_fixed_sun(self):
+        # --sun AZ,EL: on flat ground everything is lit when the sun is up, with cos(incidence)
+        # = sin(elevation), and nothing when it is below the horizon.
+        dem = self.flat_dem()
+        lit, cos = os.path.join(self.work, "lit.tif"), os.path.join(self.work, "cos.tif")
+        r = terroir("illumination", dem, lit, "--mode", "instant", "--sun", "200,30",
+                    "--incidence", cos)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        np.testing.assert_array_equal(read_band(lit), 1)
+        np.testing.assert_allclose(read_band(cos), 0.5, atol=1e-5)
+        r = terroir("illumination", dem, lit, "--mode", "instant", "--sun", "200,-5", "--overwrite")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        np.testing.assert_array_equal(read_band(lit), 0)
+
+    def test_illumination_instant_shadows_on_the_bundled_dem(self):
+        # 2025-12-21 16:00 PST: the sun is low (6 deg) in the south-west. Slopes facing
+        # north-east (aspect from gdaldem) are in shadow, slopes facing it mostly lit; the
+        # ray-marching method agrees with the horizon map on nearly every cell.
+        common = ["--mode", "instant", "--date", "2025-12-21", "--time", "16:00",
+                  "--utc-offset", "-8"]
+        out, march = os.path.join(self.work, "shadow.tif"), os.path.join(self.work, "march.tif")
+        r = terroir("illumination", DEM, out, *common, "--backend", "cpu")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        r = terroir("illumination", DEM, march, *common, "--method", "raymarch")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        lit = read_band(out)
+        self.assertEqual(set(np.unique(lit)), {0.0, 1.0})
+        marched = read_band(march)
+        self.assertGreater(np.mean(lit == marched), 0.99)
+        for name in ("aspect", "slope"):
+            gdal.DEMProcessing(os.path.join(self.work, name + ".tif"), DEM, name,
+                               computeEdges=True)
+        aspect = read_band(os.path.join(self.work, "aspect.tif"))
+        slope = read_band(os.path.join(self.work, "slope.tif"))
+        steep = slope > 10
+        facing_away = steep & ((aspect - 8) % 360 < 90)   # north-east: 8..98 deg
+        facing_sun = steep & ((aspect - 188) % 360 < 90)  # south-west: 188..278 deg
+        self.assertLess(lit[facing_away].mean(), 0.02)
+        self.assertGreater(lit[facing_sun].mean(), 0.8)
+
+    def test_illumination_vti_and_monthly_defaults(self):
+        from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+        out = os.path.join(self.work, "all.vti")
+        r = terroir("illumination", DEM, out, "--step", "30", "--day", "21")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        reader = vtkXMLImageDataReader()
+        reader.SetFileName(out)
+        reader.Update()
+        pd = reader.GetOutput().GetPointData()
+        for name in ("Elevation", "IlluminationHours", "Insolation"):
+            self.assertIsNotNone(pd.GetArray(name), name)
+        self.assertEqual(pd.GetArray("IlluminationHours").GetNumberOfComponents(), 12)
+        self.assertEqual(pd.GetArray("IlluminationHours").GetComponentName(11), "Dec")
+        sun = reader.GetOutput().GetFieldData().GetArray("SunPositions")
+        self.assertEqual(sun.GetNumberOfTuples(), 12 * 48)
+        self.assertEqual(sun.GetComponent(0, 1), 21)  # the day of each month asked for
+
+    def test_illumination_errors_are_one_line_and_leave_nothing(self):
+        out = os.path.join(self.work, "i.tif")
+        ter = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.ter")
+        # No georeference and no --lat/--lon: the filter's error, exit status 1.
+        r = terroir("illumination", ter, out)
+        self.assertEqual(r.returncode, 1)
+        lines = [l for l in r.stderr.splitlines() if l.strip() and not l.endswith("%")]
+        self.assertEqual(lines, [f"terroir: error: {ter}: the terrain has no georeference: set "
+                                 "Latitude and Longitude (and Orientation, the bearing of grid "
+                                 "north)"])
+        self.assertEqual(os.listdir(self.work), [])
+        # With them, the same file works.
+        r = terroir("illumination", ter, out, "--lat", "39.43", "--lon", "-120.24", "--step",
+                    "60")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(gdal.Open(out).RasterCount, 12)
+        # Bad command lines: exit status 2 before the DEM is read (it does not even exist).
+        missing = os.path.join(self.work, "missing.tif")
+        for args, message in (
+                (["--lat", "91"], "--lat: 91 is outside [-90, 90] (see terroir --help)"),
+                (["--mode", "daily", "--date", "2025-02-29"], "--date: 2025-02-29 does not exist"),
+                (["--step", "0"], "--step: 0 is outside [1, 1440] (see terroir --help)"),
+                (["--mode", "instant"], "--mode instant needs --time HH:MM (or --sun AZ,EL)")):
+            r = terroir("illumination", missing, os.path.join(self.work, "o.tif"), *args)
+            self.assertEqual(r.returncode, 2, args)
+            self.assertEqual(r.stderr, f"terroir: error: {message}\n")
+        self.assertEqual(os.listdir(self.work), ["i.tif"])
+        # An existing output is kept without --overwrite.
+        r = terroir("illumination", DEM, out, "--step", "60")
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(r.stderr, f"terroir: error: {out}: exists; pass --overwrite to replace it\n")
+
+    def test_run_without_georeference_skips_illumination(self):
+        ter = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.ter")
+        out = os.path.join(self.work, "out")
+        r = terroir("run", ter, "--out", out, "--no-png", "--backend", "cpu")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn(f"terroir: warning: {ter}: illumination skipped (the DEM has no "
+                      "georeference; pass --lat and --lon)", r.stderr)
+        self.assertNotIn("illumination.tif", os.listdir(out))
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
+        self.assertIn("skipped", report["stages"]["illumination"])
+        self.assertNotIn("IlluminationHours", report["arrays"])
 
     def test_terragen_input(self):
         ter = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.ter")

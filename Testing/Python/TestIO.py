@@ -16,6 +16,7 @@ DATA = os.environ.get("TERROIR_DATA_DIR", "Data")
 TIF = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
 TER = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.ter")
 USGS = os.path.join(DATA, "san_francisco_usgs_dem", "sanfranciscos.dem")
+TEMP = os.environ.get("TERROIR_TEMP_DIR", "/tmp")
 
 
 def read(path):
@@ -77,6 +78,47 @@ class TerroirIOFromPython(unittest.TestCase):
         self.assertIn("no_such_file.tif", message)
         self.assertNotIn("\n", message)
         self.assertEqual(reader.GetOutput().GetNumberOfPoints(), 0)
+
+    def test_geotiff_writer_keeps_blocks_of_zeros(self):
+        # A band whose rows are all 0 (flat ground's slope, rows in shadow) reads back as 0, not
+        # as the band's no-data value; masked cells are the only no-data, in float and byte bands.
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+        from vtkmodules.util.numpy_support import numpy_to_vtk
+        nx, ny = 1024, 30  # GDAL strips of 2 rows: some hold nothing but zeros
+        image = vtkImageData()
+        image.SetDimensions(nx, ny, 1)
+        image.SetSpacing(10, 10, 1)
+        values = np.zeros((ny, nx), np.float32)
+        values[20:, :] = 1.0  # the northern rows lit, the others 0
+        mask = np.ones((ny, nx), np.uint8)
+        for name, array in (("Illuminated", values), ("Class", values.astype(np.uint8))):
+            a = numpy_to_vtk(array.ravel(), deep=1)
+            a.SetName(name)
+            image.GetPointData().AddArray(a)
+        for masked in (False, True):
+            if masked:
+                mask[0, 0] = 0
+                m = numpy_to_vtk(mask.ravel(), deep=1)
+                m.SetName("vtkValidPointMask")
+                image.GetPointData().AddArray(m)
+            for name in ("Illuminated", "Class"):
+                path = os.path.join(TEMP, f"python_zeros_{name}_{int(masked)}.tif")
+                writer = terroir.vtkTerroirGeoTIFFWriter()
+                writer.SetInputData(image)
+                writer.SetArrayName(name)
+                writer.SetFileName(path)
+                writer.SetOverwrite(True)
+                writer.Write()
+                self.assertEqual(writer.GetErrorMessage(), "")
+                ds = gdal.Open(path)
+                band = ds.GetRasterBand(1)
+                got = band.ReadAsArray().astype(np.float64)[::-1, :]
+                nodata = band.GetNoDataValue()
+                invalid = np.isnan(got) | (got == nodata if nodata is not None else False)
+                np.testing.assert_array_equal(invalid, mask == 0, err_msg=name)
+                np.testing.assert_array_equal(got[mask == 1], values[mask == 1], err_msg=name)
+                ds = None
+                os.remove(path)
 
     def test_fractal_source_is_deterministic(self):
         def make(seed):

@@ -125,6 +125,71 @@ TEST(TerroirColorPresets, ClustersAreCategoricalDistinctAndInFixedOrder)
   ExpectRGBA(again, 0.0, c12[0], c12[1], c12[2], 255);
 }
 
+TEST(TerroirColorPresets, SunlitIsBlackInShadowWhiteWhereLit)
+{
+  // Illuminated is 0 (shadow) or 1 (lit): two fixed classes, whatever the range asked for.
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("Illuminated"), "Sunlit");
+  EXPECT_TRUE(vtkTerroirColorPresets::IsCategorical("Sunlit"));
+  double range[2];
+  ASSERT_TRUE(vtkTerroirColorPresets::GetDefaultRange("Sunlit", range));
+  EXPECT_EQ(range[0], 0.0);
+  EXPECT_EQ(range[1], 1.0);
+  for (const auto& lut :
+    { vtkSmartPointer<vtkLookupTable>::Take(vtkTerroirColorPresets::CreateLookupTable("Sunlit")),
+      Make("Sunlit", 0.0, 0.0),
+      Make("Sunlit", 3.0, 7.0) })
+  {
+    ASSERT_NE(lut.Get(), nullptr);
+    EXPECT_EQ(lut->GetIndexedLookup(), 1);
+    ASSERT_EQ(lut->GetNumberOfAnnotatedValues(), 2);
+    EXPECT_EQ(std::string(lut->GetAnnotation(0)), "shadow");
+    EXPECT_EQ(std::string(lut->GetAnnotation(1)), "lit");
+    ExpectRGBA(lut, 0.0, 0, 0, 0, 255);
+    ExpectRGBA(lut, 1.0, 255, 255, 255, 255);
+    // The filter's float32 values map to the same classes; anything else is not a class.
+    ExpectRGBA(lut, static_cast<double>(1.0f), 255, 255, 255, 255);
+    ExpectRGBA(lut, 0.5, 128, 128, 128, 255, 1);
+    ExpectRGBA(lut, std::numeric_limits<double>::quiet_NaN(), 128, 128, 128, 255, 1);
+  }
+  EXPECT_EQ(vtkTerroirColorPresets::GetLegendTitle("Sunlit"), "Direct sun");
+}
+
+TEST(TerroirColorPresets, IncidenceIsBlackToWhiteOverZeroToOne)
+{
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("SunIncidence"), "Incidence");
+  auto lut =
+    vtkSmartPointer<vtkLookupTable>::Take(vtkTerroirColorPresets::CreateLookupTable("Incidence"));
+  ASSERT_NE(lut.Get(), nullptr);
+  EXPECT_FALSE(vtkTerroirColorPresets::IsCategorical("Incidence"));
+  ExpectRGBA(lut, 0.0, 0, 0, 0, 255);
+  ExpectRGBA(lut, 1.0, 255, 255, 255, 255);
+  ExpectRGBA(lut, 0.5, 128, 128, 128, 255, 1);
+}
+
+TEST(TerroirColorPresets, InsolationGoesFromBlackThroughWarmColoursToPaleYellow)
+{
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("Insolation"), "Insolation");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("IlluminationHours"), "Illumination");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetUnits("Insolation"), "Wh/m\xC2\xB2/day");
+  EXPECT_EQ(vtkTerroirColorPresets::GetLegendTitle("Insolation"), "Insolation (Wh/m\xC2\xB2/day)");
+  double range[2];
+  EXPECT_FALSE(vtkTerroirColorPresets::GetDefaultRange("Insolation", range)); // data range
+  auto lut = Make("Insolation", 0.0, 8000.0);
+  ExpectRGBA(lut, 0.0, 0, 0, 0, 255);
+  ExpectRGBA(lut, 8000.0, 255, 255, 191, 255, 1); // pale yellow (1, 1, 0.75)
+  ExpectRGBA(lut, 2800.0, 140, 20, 13, 255, 1);   // dark red (0.55, 0.08, 0.05) at 35 %
+  ExpectRGBA(lut, 5600.0, 242, 140, 26, 255, 1);  // orange (0.95, 0.55, 0.10) at 70 %
+  // Dark to bright: the luminance rises over the whole range.
+  double previous = -1.0;
+  for (int k = 0; k <= 32; ++k)
+  {
+    const unsigned char* c = lut->MapValue(8000.0 * k / 32.0);
+    const double luminance = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    EXPECT_GT(luminance, previous) << "sample " << k;
+    previous = luminance;
+  }
+}
+
 TEST(TerroirColorPresets, NaNMapsToTheNanColor)
 {
   double nan[4];
@@ -137,10 +202,12 @@ TEST(TerroirColorPresets, NaNMapsToTheNanColor)
 
 TEST(TerroirColorPresets, MetadataAndBadInput)
 {
-  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 7);
+  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 10);
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(0), "Elevation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(6), "Clusters");
-  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(7), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(7), "Sunlit");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(9), "Insolation");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(10), nullptr);
   EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("Illumination"), "IlluminationHours");
   EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("Water"), "WaterHeight");
   EXPECT_STREQ(vtkTerroirColorPresets::GetUnits("Temperature"),

@@ -4,8 +4,9 @@
 // Documentation/Rendering.md for the review-and-update workflow.
 //
 // The bundled DEM (Data/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif, UTM 11N, 10 m) goes
-// through vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature (CPU backend, so the
-// analysis numbers are the reference ones; GPU agreement is tested in Testing/GPU).
+// through vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature, and separately
+// through vtkTerroirSolarIllumination (CPU backend, so the analysis numbers are the reference
+// ones; GPU agreement is tested in Testing/GPU).
 #include "TerroirRenderingTestHelpers.h"
 #include "TerroirSyntheticTerrain.h"
 
@@ -17,6 +18,7 @@
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirOverlayView.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 
 #include <gtest/gtest.h>
@@ -50,6 +52,51 @@ vtkImageData* SagehenTerrain()
     terrain->ShallowCopy(temperature->GetOutput());
   }
   return terrain;
+}
+
+// The bundled DEM through vtkTerroirSolarIllumination with the location of its georeference
+// (39.43 N, 120.28 W): Instant mode on 2025-12-21 at 16:00 PST (UTC-8, the sun low in the
+// south-west, azimuth 233 deg, elevation 5.9 deg), or Monthly mode with its defaults (the 15th
+// of each month, 10-minute steps). Computed once each.
+vtkImageData* SagehenIllumination(int mode)
+{
+  static vtkSmartPointer<vtkImageData> results[3];
+  vtkSmartPointer<vtkImageData>& result = results[mode];
+  if (!result)
+  {
+    vtkNew<vtkTerroirDEMReader> reader;
+    const std::string file =
+      std::string(TERROIR_DATA_DIR) + "/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif";
+    reader->SetFileName(file.c_str());
+    vtkNew<vtkTerroirSolarIllumination> illumination;
+    illumination->SetInputConnection(reader->GetOutputPort());
+    illumination->SetBackendToCPU();
+    illumination->SetMode(mode);
+    illumination->SetYear(2025);
+    illumination->SetMonth(12);
+    illumination->SetDay(21);
+    illumination->SetTime(16.0);
+    illumination->SetUTCOffset(-8.0);
+    illumination->Update();
+    result = vtkSmartPointer<vtkImageData>::New();
+    result->ShallowCopy(illumination->GetOutput());
+  }
+  return result;
+}
+
+void SetupIllumination(vtkTerroirOverlayView* view,
+  int illuminationMode,
+  const char* array,
+  int component,
+  int mode)
+{
+  vtkImageData* t = SagehenIllumination(illuminationMode);
+  ASSERT_NE(t->GetPointData()->GetArray(array), nullptr) << array;
+  view->SetInputData(t);
+  view->SetArrayName(array);
+  view->SetArrayComponent(component);
+  view->SetMode(mode);
+  view->ShowLegendOff();
 }
 
 void ExpectTerrainArrays(vtkImageData* t)
@@ -181,5 +228,67 @@ TEST(TerroirOverlayImages, LegendClustersRelief)
   view->SetArrayName("ClusterId");
   view->SetModeToRelief();
   view->ShowLegendOn();
+  CompareWithBaseline(view);
+}
+
+// Instant shadows of a low winter afternoon sun from the south-west: black (shadow) on the
+// north- and east-facing slopes, white (lit) on the slopes facing the sun.
+TEST(TerroirOverlayImages, ShadowsDecemberAfternoonMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupIllumination(view,
+    vtkTerroirSolarIllumination::Instant,
+    vtkTerroirSolarIllumination::IlluminatedName(),
+    0,
+    vtkTerroirOverlayView::Map);
+  EXPECT_STREQ(view->GetEffectivePreset(), "Sunlit");
+  CompareWithBaseline(view);
+}
+
+// Hours of direct sun on December 15. Fixed range 0-10 h (the day is 9.3 h long at 39.4 N),
+// so that the grey levels mean the same hours whatever the extremes of the data.
+TEST(TerroirOverlayImages, IlluminationHoursDecemberMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupIllumination(view,
+    vtkTerroirSolarIllumination::Monthly,
+    vtkTerroirSolarIllumination::IlluminationHoursName(),
+    11,
+    vtkTerroirOverlayView::Map);
+  EXPECT_STREQ(view->GetEffectivePreset(), "Illumination");
+  view->UseCustomRangeOn();
+  view->SetRange(0.0, 10.0);
+  CompareWithBaseline(view);
+}
+
+// Clear-sky direct insolation on June 15 (data range), seen from the south-south-east.
+TEST(TerroirOverlayImages, InsolationJuneRelief)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupIllumination(view,
+    vtkTerroirSolarIllumination::Monthly,
+    vtkTerroirSolarIllumination::InsolationName(),
+    5,
+    vtkTerroirOverlayView::Relief);
+  EXPECT_STREQ(view->GetEffectivePreset(), "Insolation");
+  CompareWithBaseline(view);
+}
+
+// The two-class legend of the shadow map: a black "shadow" swatch and a white "lit" swatch,
+// outlined so that it shows on the white background.
+TEST(TerroirOverlayImages, LegendShadowsMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupIllumination(view,
+    vtkTerroirSolarIllumination::Instant,
+    vtkTerroirSolarIllumination::IlluminatedName(),
+    0,
+    vtkTerroirOverlayView::Map);
+  view->ShowLegendOn();
+  view->SetTitle("Sagehen Creek, 2025-12-21 16:00 PST");
   CompareWithBaseline(view);
 }

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace
@@ -142,4 +144,239 @@ TEST(TerroirCommandLineParse, NegativeOrAbsurdParametersAreRefused)
     ErrorOf({ "bench", "--backends", "cpu,cuda" }), "--backends: 'cuda' is not auto, cpu or gpu");
   EXPECT_EQ(ErrorOf({ "slope", "", "b.tif" }), "the input file name is empty");
   EXPECT_EQ(ErrorOf({ "slope", "a.tif" }), "OUT is required (see terroir --help)");
+}
+
+TEST(TerroirCommandLineParse, IlluminationDefaultsAreMonthly)
+{
+  terroir::app::CommandLine line;
+  const auto outcome = Parse({ "illumination", "in.tif", "hours.tif" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Command, "illumination");
+  EXPECT_EQ(line.Input, "in.tif");
+  EXPECT_EQ(line.Output, "hours.tif");
+  const auto& s = line.Illumination;
+  EXPECT_EQ(s.Mode, "monthly");
+  EXPECT_EQ(s.Year, 2025);
+  EXPECT_EQ(s.MonthlyDay, 15);
+  EXPECT_EQ(s.TimeStep, 10.0);
+  EXPECT_TRUE(std::isnan(s.Latitude) && std::isnan(s.Longitude) && std::isnan(s.Orientation));
+  EXPECT_EQ(s.Method, "horizon");
+  EXPECT_EQ(s.Sectors, 64);
+  EXPECT_FALSE(s.Curvature);
+  EXPECT_EQ(s.Transmittance, 0.7);
+  EXPECT_FALSE(s.UseSun);
+  EXPECT_EQ(s.InsolationOutput, "");
+  EXPECT_EQ(s.IncidenceOutput, "");
+}
+
+TEST(TerroirCommandLineParse, IlluminationOptionsLandInTheirFields)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "illumination",
+                         "in.ter",
+                         "shadow.vti",
+                         "--mode",
+                         "instant",
+                         "--date",
+                         "2024-02-29",
+                         "--time",
+                         "16:30:36",
+                         "--utc-offset",
+                         "-8",
+                         "--lat",
+                         "39.43",
+                         "--lon",
+                         "-120.24",
+                         "--orientation",
+                         "-0.9",
+                         "--method",
+                         "raymarch",
+                         "--sectors",
+                         "128",
+                         "--curvature",
+                         "--transmittance",
+                         "0.6",
+                         "--incidence",
+                         "cos.tif",
+                         "--backend",
+                         "gpu" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  const auto& s = line.Illumination;
+  EXPECT_EQ(s.Mode, "instant");
+  EXPECT_EQ(s.Year, 2024);
+  EXPECT_EQ(s.Month, 2);
+  EXPECT_EQ(s.Day, 29);
+  EXPECT_TRUE(s.HasTime);
+  EXPECT_DOUBLE_EQ(s.Time, 16.51);
+  EXPECT_EQ(s.UTCOffset, -8.0);
+  EXPECT_EQ(s.Latitude, 39.43);
+  EXPECT_EQ(s.Longitude, -120.24);
+  EXPECT_EQ(s.Orientation, -0.9);
+  EXPECT_EQ(s.Method, "raymarch");
+  EXPECT_EQ(s.Sectors, 128);
+  EXPECT_TRUE(s.Curvature);
+  EXPECT_EQ(s.Transmittance, 0.6);
+  EXPECT_EQ(s.IncidenceOutput, "cos.tif");
+  EXPECT_EQ(line.Backend, "gpu");
+
+  outcome =
+    Parse({ "illumination", "in.tif", "o.tif", "--mode", "instant", "--sun", "225,10.5" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_TRUE(line.Illumination.UseSun);
+  EXPECT_EQ(line.Illumination.SunAzimuth, 225.0);
+  EXPECT_EQ(line.Illumination.SunElevation, 10.5);
+  EXPECT_FALSE(line.Illumination.HasTime);
+
+  outcome = Parse({ "illumination",
+                    "in.tif",
+                    "o.tif",
+                    "--mode",
+                    "daily",
+                    "--date",
+                    "2025-12-21",
+                    "--step",
+                    "2.5",
+                    "--insolation",
+                    "w.tiff" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Illumination.Month, 12);
+  EXPECT_EQ(line.Illumination.Day, 21);
+  EXPECT_EQ(line.Illumination.TimeStep, 2.5);
+  EXPECT_EQ(line.Illumination.InsolationOutput, "w.tiff");
+
+  outcome = Parse({ "illumination", "in.tif", "o.tif", "--year", "2000", "--day", "31" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Illumination.Year, 2000);
+  EXPECT_EQ(line.Illumination.MonthlyDay, 31);
+
+  // Times at the ends of the day.
+  for (const auto& [text, hours] : { std::make_pair("0:00", 0.0),
+         std::make_pair("09:05", 9.0 + 5.0 / 60.0),
+         std::make_pair("24:00", 24.0),
+         std::make_pair("23:59:59", 24.0 - 1.0 / 3600.0) })
+  {
+    outcome =
+      Parse({ "illumination", "a.tif", "b.tif", "--mode", "instant", "--time", text }, line);
+    ASSERT_TRUE(outcome.Run) << text << ": " << outcome.Error;
+    EXPECT_DOUBLE_EQ(line.Illumination.Time, hours) << text;
+  }
+
+  // run takes the observer's place for DEMs without georeference.
+  outcome = Parse({ "run", "--lat", "-33.9", "--lon", "18.4" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Illumination.Latitude, -33.9);
+  EXPECT_EQ(line.Illumination.Longitude, 18.4);
+}
+
+TEST(TerroirCommandLineParse, BadIlluminationParametersAreRefused)
+{
+  const std::vector<std::string> io{ "illumination", "a.tif", "b.tif" };
+  auto with = [&io](std::vector<std::string> extra)
+  {
+    std::vector<std::string> args = io;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return ErrorOf(args);
+  };
+  EXPECT_EQ(with({ "--lat", "91" }), "--lat: 91 is outside [-90, 90] (see terroir --help)");
+  EXPECT_EQ(with({ "--lat", "-90.5" }), "--lat: -90.5 is outside [-90, 90] (see terroir --help)");
+  EXPECT_EQ(with({ "--lon", "181" }), "--lon: 181 is outside [-180, 180] (see terroir --help)");
+  EXPECT_EQ(with({ "--lon", "inf" }), "--lon: 'inf' is not a finite number (see terroir --help)");
+  EXPECT_EQ(with({ "--step", "0" }), "--step: 0 is outside [1, 1440] (see terroir --help)");
+  EXPECT_EQ(with({ "--step", "-10" }), "--step: -10 is outside [1, 1440] (see terroir --help)");
+  EXPECT_EQ(with({ "--step", "1441" }), "--step: 1441 is outside [1, 1440] (see terroir --help)");
+  EXPECT_EQ(
+    with({ "--mode", "daily", "--date", "2025-02-29" }), "--date: 2025-02-29 does not exist");
+  EXPECT_EQ(
+    with({ "--mode", "daily", "--date", "2025-04-31" }), "--date: 2025-04-31 does not exist");
+  EXPECT_EQ(
+    with({ "--mode", "daily", "--date", "2025-13-01" }), "--date: 2025-13-01 does not exist");
+  EXPECT_EQ(
+    with({ "--mode", "daily", "--date", "0000-01-01" }), "--date: 0000-01-01 does not exist");
+  for (const std::string bad : { "2025/06/21", "25-06-21", "2025-6-21", "2025-06-21x", "" })
+  {
+    EXPECT_EQ(with({ "--mode", "daily", "--date", bad }),
+      "--date: '" + bad + "' is not a date (YYYY-MM-DD)");
+  }
+  for (const std::string bad : { "24:01", "12:60", "12", "7:5", "12:00:60", "-1:00", "12:00:", "" })
+  {
+    EXPECT_EQ(with({ "--mode", "instant", "--time", bad }),
+      "--time: '" + bad + "' is not a time of day (HH:MM or HH:MM:SS, 00:00 to 24:00)");
+  }
+  EXPECT_EQ(with({ "--mode", "instant", "--time", "12:00", "--utc-offset", "15" }),
+    "--utc-offset: 15 is outside [-14, 14] (see terroir --help)");
+  EXPECT_EQ(with({ "--year", "0" }), "--year: Value 0 not in range 1 to 9999 (see terroir --help)");
+  EXPECT_EQ(with({ "--day", "32" }), "--day: Value 32 not in range 1 to 31 (see terroir --help)");
+  EXPECT_EQ(
+    with({ "--sectors", "2" }), "--sectors: Value 2 not in range 4 to 1024 (see terroir --help)");
+  EXPECT_EQ(with({ "--transmittance", "0" }),
+    "--transmittance: 0 is outside [0.01, 1] (see terroir --help)");
+  EXPECT_EQ(with({ "--transmittance", "1.5" }),
+    "--transmittance: 1.5 is outside [0.01, 1] (see terroir --help)");
+  EXPECT_EQ(with({ "--orientation", "nan" }),
+    "--orientation: 'nan' is not a finite number (see terroir --help)");
+  EXPECT_EQ(with({ "--mode", "hourly" }),
+    "--mode: hourly not in {instant,daily,monthly} (see terroir --help)");
+  EXPECT_EQ(with({ "--method", "exact" }),
+    "--method: exact not in {horizon,raymarch} (see terroir --help)");
+  EXPECT_EQ(
+    with({ "--mode", "instant", "--sun", "180" }), "--sun: expected AZ,EL (2 values), got 1");
+  EXPECT_EQ(
+    with({ "--mode", "instant", "--sun", "400,10" }), "--sun: azimuth 400 is outside [0, 360]");
+  EXPECT_EQ(
+    with({ "--mode", "instant", "--sun", "180,95" }), "--sun: elevation 95 is outside [-90, 90]");
+  EXPECT_EQ(with({ "--mode", "instant", "--sun", "180,nan" }), "--sun: 'nan' is not a number");
+  EXPECT_EQ(with({ "--insolation", "w.png" }),
+    "--insolation: 'w.png': unknown output format (use .tif, .tiff, .vti) (see terroir --help)");
+  EXPECT_EQ(with({ "--insolation", "b.tif" }), "--insolation: 'b.tif' is also OUT");
+  EXPECT_EQ(ErrorOf({ "illumination", "", "b.tif" }), "the input file name is empty");
+  EXPECT_EQ(
+    ErrorOf({ "run", "--lat", "100" }), "--lat: 100 is outside [-90, 90] (see terroir --help)");
+}
+
+TEST(TerroirCommandLineParse, IlluminationOptionsMustFitTheMode)
+{
+  auto with = [](std::vector<std::string> extra)
+  {
+    std::vector<std::string> args{ "illumination", "a.tif", "b.tif" };
+    args.insert(args.end(), extra.begin(), extra.end());
+    return ErrorOf(args);
+  };
+  EXPECT_EQ(with({ "--mode", "instant" }), "--mode instant needs --time HH:MM (or --sun AZ,EL)");
+  EXPECT_EQ(with({ "--time", "12:00" }), "--time applies to --mode instant only");
+  EXPECT_EQ(with({ "--mode", "daily", "--utc-offset", "-8" }),
+    "--utc-offset applies to --mode instant only");
+  EXPECT_EQ(with({ "--sun", "180,30" }), "--sun applies to --mode instant only");
+  EXPECT_EQ(with({ "--incidence", "c.tif" }),
+    "--incidence applies to --mode instant only (daily and monthly give --insolation)");
+  EXPECT_EQ(with({ "--mode", "instant", "--time", "12:00", "--step", "5" }),
+    "--step applies to --mode daily or monthly");
+  EXPECT_EQ(with({ "--mode", "instant", "--time", "12:00", "--insolation", "w.tif" }),
+    "--insolation applies to --mode daily or monthly (instant gives --incidence)");
+  EXPECT_EQ(with({ "--date", "2025-06-21" }),
+    "--date applies to --mode instant or daily (monthly takes --year and --day)");
+  EXPECT_EQ(with({ "--mode", "daily", "--year", "2024" }),
+    "--year applies to --mode monthly (instant and daily take --date)");
+  EXPECT_EQ(with({ "--mode", "instant", "--time", "9:00", "--day", "3" }),
+    "--day applies to --mode monthly (instant and daily take --date)");
+  EXPECT_EQ(with({ "--mode", "instant", "--sun", "180,30", "--time", "12:00" }),
+    "--sun excludes --date, --time and --utc-offset");
+}
+
+TEST(TerroirCommandLineParse, BenchStages)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "bench" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.BenchStages, terroir::app::BenchStageNames());
+  EXPECT_EQ(line.BenchStages,
+    (std::vector<std::string>{ "slope", "temperature", "horizon", "instant", "monthly" }));
+  // Run in the fixed order, each once, whatever the order asked.
+  outcome = Parse({ "bench", "--stages", "monthly,horizon,instant,horizon" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.BenchStages, (std::vector<std::string>{ "horizon", "instant", "monthly" }));
+  EXPECT_EQ(ErrorOf({ "bench", "--stages", "slope,shadows" }),
+    "--stages: 'shadows' is not one of slope, temperature, horizon, instant, monthly");
+  EXPECT_EQ(ErrorOf({ "bench", "--stages", "" }), "--stages: no stage given");
 }

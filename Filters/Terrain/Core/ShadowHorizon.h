@@ -4,7 +4,7 @@
  *        map of K azimuth sectors by convex-hull sweeps (after Dozier & Frew 1990).
  *
  * Plain C++ (no VTK, no GL): the reference for vtkTerroirSolarIllumination's CPU kernel and
- * for Shaders/ShadowRayMarch.comp, ShadowSweep.comp and ShadowGather.comp.
+ * for Shaders/ShadowSweep.comp, ShadowGather.comp and SolarIllumination.comp (ray marching).
  *
  * Geometry. Cells are points at their centres; `dx`, `dy` are the spacings in metres (one per
  * axis: for geographic grids the filter passes the centre row's). A direction is a grid

@@ -137,6 +137,10 @@ void AccumulateIllumination(const GridView<T>& view,
     {
       const SunStep& step = steps[si];
       const T tanE = static_cast<T>(step.tanElevation);
+      if (!(tanE > T(0)))
+      {
+        continue; // the sun is below the horizontal plane: nothing is lit
+      }
       if (!source.map)
       {
         for (std::size_t c = b0; c < b1; ++c)

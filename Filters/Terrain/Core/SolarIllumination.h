@@ -4,15 +4,18 @@
  *        hours of direct sun and direct-beam energy per cell.
  *
  * Plain C++ (no VTK, no GL): the reference for vtkTerroirSolarIllumination's CPU kernel and
- * for Shaders/SolarIllumination.comp and ShadowRayMarch.comp.
+ * for Shaders/SolarIllumination.comp.
  *
  * A day is integrated over the 24 hours centred on mean solar noon at the terrain's longitude
  * (12:00 - longitude / 15 h UTC), in steps of `stepMinutes` (the last one shorter when the
  * step does not divide the day), each evaluated at its midpoint. For every step the sun's
  * position comes from SolarPositionNREL2004 (true azimuth, refracted elevation); its grid
  * azimuth is the true azimuth minus the bearing of grid north (the meridian convergence, or
- * the user's terrain orientation). A cell is lit at a step when tan(sun elevation) exceeds its
- * horizon tangent in the sun's direction (ShadowHorizon.h); then it gains the step's hours, and
+ * the user's terrain orientation). A cell is lit at a step when the sun is above the
+ * horizontal plane and tan(sun elevation) exceeds its horizon tangent in the sun's direction
+ * (ShadowHorizon.h): the horizon never counts below level, because the terrain beyond the
+ * DEM (where a falling slope leads) is unknown; the few minutes a summit would see a sun just
+ * below level are given up. Then the cell gains the step's hours, and
  * beam * hours * max(0, n . s) watt-hours per m^2, with n the surface normal and s the unit
  * vector to the sun (both in the grid frame).
  *
@@ -129,7 +132,8 @@ struct ShadowSource
 /**
  * @brief Adds the steps' hours and energy to cells [cell0, cell1) (row-major indices).
  *
- * Per cell and step: lit when tan(elevation) > h, with h the horizon tangent in the sun's
+ * Per cell and step: lit when tan(elevation) > 0 and tan(elevation) > h, with h the horizon
+ * tangent in the sun's
  * direction: from the map, (1 - w) H[sector0] + w H[sector1]; or by HorizonTangentRayMarch
  * when there is no map, or when `refine` and tan(elevation) lies strictly between H[sector0]
  * and H[sector1]. A lit cell gains `hours` and `energy * max(0, n . s)` in component `slot`.
