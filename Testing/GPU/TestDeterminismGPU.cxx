@@ -5,9 +5,11 @@
 #include "TerroirFilterTestUtilities.h"
 
 #include "vtkDataArray.h"
+#include "vtkFloatArray.h"
 #include "vtkPointData.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 
@@ -50,6 +52,11 @@ const std::map<std::string, GPUCase>& Cases()
     { "vtkTerroirTemperature",
       { [] { return vtkSmartPointer<vtkTerroirTemperature>::New(); },
         { { "Temperature", 1e-3 } } } },
+    { "vtkTerroirSoilHumidity",
+      { [] { return vtkSmartPointer<vtkTerroirSoilHumidity>::New(); },
+        { { "SoilHumidity", 1e-4 },
+          { "WeightedSoilHumidity", 1e-4 },
+          { "StandingWater", 1e-4 } } } },
   };
   return cases;
 }
@@ -64,6 +71,16 @@ vtkSmartPointer<vtkImageData> Terrain()
   {
     z->SetComponent(k, 0, std::nan(""));
   }
+  // Infiltration rates of 0 .. 12 mm/h, on both sides of the rain intensities, for
+  // vtkTerroirSoilHumidity (other filters ignore the array).
+  auto rate = vtkSmartPointer<vtkFloatArray>::New();
+  rate->SetName("InfiltrationRate");
+  rate->SetNumberOfValues(z->GetNumberOfTuples());
+  for (vtkIdType k = 0; k < z->GetNumberOfTuples(); ++k)
+  {
+    rate->SetValue(k, static_cast<float>(k % 97) * 0.125f);
+  }
+  t->GetPointData()->AddArray(rate);
   return t;
 }
 

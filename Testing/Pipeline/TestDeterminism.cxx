@@ -15,7 +15,9 @@
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoTIFFWriter.h"
+#include "vtkTerroirInfiltration.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirTerragenReader.h"
@@ -119,6 +121,26 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         f->SetHorizonSectors(16);
         f->SetOutputHorizonMap(true);
         f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirInfiltration",
+      []
+      {
+        // The default recipe: fill, then the slope rule with a slope computed inside.
+        vtkNew<vtkTerroirInfiltration> f;
+        f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirSoilHumidity",
+      []
+      {
+        vtkNew<vtkTerroirInfiltration> rates;
+        rates->SetInputData(TerrainWithHoles());
+        vtkNew<vtkTerroirSoilHumidity> f;
+        f->SetBackendToCPU();
+        f->SetInputConnection(rates->GetOutputPort());
         f->Update();
         return OutputBytes(f->GetOutput());
       } },

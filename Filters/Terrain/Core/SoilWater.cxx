@@ -1,0 +1,94 @@
+#include "SoilWater.h"
+
+#include <cmath>
+#include <limits>
+
+namespace terroir
+{
+namespace terrain
+{
+
+double FAOInfiltrationRate(int soilType)
+{
+  switch (soilType)
+  {
+    case static_cast<int>(SoilType::Sand):
+      return 30.0;
+    case static_cast<int>(SoilType::SandyLoam):
+      return 25.0;
+    case static_cast<int>(SoilType::Loam):
+      return 15.0;
+    case static_cast<int>(SoilType::ClayLoam):
+      return 7.5;
+    case static_cast<int>(SoilType::Clay):
+      return 3.0;
+    default:
+      return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+void SoilHumidityLong2016(const float* infiltration,
+  const std::uint8_t* valid,
+  const MonthlyRain& rain,
+  float* humidity,
+  float* weighted,
+  float* standing,
+  std::size_t begin,
+  std::size_t end)
+{
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = begin; k < end; ++k)
+  {
+    const float rate = infiltration[k];
+    const bool ok = !std::isnan(rate) && (!valid || valid[k] != 0);
+    float sh[12];
+    for (int m = 0; m < 12; ++m)
+    {
+      sh[m] = ok ? AbsorbedRainLong2016(rate, rain.quantityMm[m], rain.intensityMmPerHour[m]) : nan;
+    }
+    if (humidity)
+    {
+      for (int m = 0; m < 12; ++m)
+      {
+        humidity[12 * k + m] = sh[m];
+      }
+    }
+    if (weighted)
+    {
+      for (int m = 0; m < 12; ++m)
+      {
+        // Same operation order as Shaders/SoilHumidity.comp.
+        const float a = sh[m];
+        const float b = sh[(m + 11) % 12];
+        const float c = sh[(m + 10) % 12];
+        weighted[12 * k + m] = a * 0.5f + b * (1.0f / 3.0f) + c * (1.0f / 6.0f);
+      }
+    }
+    if (standing)
+    {
+      for (int m = 0; m < 12; ++m)
+      {
+        standing[12 * k + m] = ok ? rain.quantityMm[m] - sh[m] : nan;
+      }
+    }
+  }
+}
+
+void ApplySlopeRule(const float* slopeDegrees,
+  double thresholdDegrees,
+  float* rate,
+  std::size_t begin,
+  std::size_t end)
+{
+  const float threshold = static_cast<float>(thresholdDegrees);
+  for (std::size_t k = begin; k < end; ++k)
+  {
+    if (slopeDegrees[k] > threshold)
+    {
+      rate[k] = 0.0f;
+    }
+  }
+}
+
+} // namespace terrain
+} // namespace terroir

@@ -1,0 +1,364 @@
+#include "vtkTerroirSoilHumidity.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirGPU.h"
+#include "vtkTerroirSoilHumidityCS.h"
+#include "vtkTerroirTemperature.h"
+#include "vtkTerroirTerrainInput.h"
+
+#include "ClimateTable.h"
+#include "SoilWater.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirSoilHumidity);
+
+namespace
+{
+/// Cells per GPU dispatch: three 12-month float outputs of 48 MiB each.
+constexpr std::size_t kGPUSliceCells = std::size_t(1) << 20;
+
+struct SoilHumidityFunctor
+{
+  const float* Rate;
+  const std::uint8_t* Valid;
+  const terroir::terrain::MonthlyRain* Rain;
+  float* Humidity;
+  float* Weighted;
+  float* Standing;
+  void operator()(vtkIdType begin, vtkIdType end) const
+  {
+    terroir::terrain::SoilHumidityLong2016(this->Rate,
+      this->Valid,
+      *this->Rain,
+      this->Humidity,
+      this->Weighted,
+      this->Standing,
+      static_cast<std::size_t>(begin),
+      static_cast<std::size_t>(end));
+  }
+};
+
+/// Runs Shaders/SoilHumidity.comp (bindings documented there) in slices of cells.
+void RunSoilHumidityGPU(const float* rate,
+  const std::uint8_t* valid,
+  std::size_t n,
+  const terroir::terrain::MonthlyRain& rain,
+  float* humidity,
+  float* weighted,
+  float* standing)
+{
+  std::vector<std::uint32_t> mask(valid ? (n + 3) / 4 : 1, 0u);
+  if (valid)
+  {
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      mask[k / 4] |= static_cast<std::uint32_t>(valid[k] ? 1u : 0u) << (8 * (k % 4));
+    }
+  }
+  auto& ctx = terroir::gpu::Context::Global();
+  const terroir::gpu::Limits limits = ctx.GetLimits();
+  std::size_t slice = std::min(n, kGPUSliceCells);
+  if (limits.MaxShaderStorageBlockSize > 0)
+  {
+    slice = std::min<std::size_t>(
+      slice, static_cast<std::size_t>(limits.MaxShaderStorageBlockSize) / (12 * sizeof(float)));
+  }
+  if (limits.MaxWorkGroupCount[0] > 0)
+  {
+    slice =
+      std::min<std::size_t>(slice, static_cast<std::size_t>(limits.MaxWorkGroupCount[0]) * 256);
+  }
+  slice = std::max<std::size_t>(slice, 1);
+  ctx.Run(
+    [&]
+    {
+      const std::size_t outBytes = 12 * slice * sizeof(float);
+      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
+      terroir::gpu::StorageBuffer brate(slice * sizeof(float));
+      terroir::gpu::StorageBuffer bh(outBytes);
+      terroir::gpu::StorageBuffer bw(weighted ? outBytes : 4);
+      terroir::gpu::StorageBuffer bs(standing ? outBytes : 4);
+      auto& prog = ctx.GetProgram("SoilHumidity.comp", vtkTerroirSoilHumidityCS, { "LOCAL_X 256" });
+      prog.Use();
+      prog.SetInt("uHasMask", valid ? 1 : 0);
+      prog.SetInt("uWeighted", weighted ? 1 : 0);
+      prog.SetInt("uStanding", standing ? 1 : 0);
+      prog.SetFloatArray("uQuantity", rain.quantityMm, 12);
+      prog.SetFloatArray("uIntensity", rain.intensityMmPerHour, 12);
+      brate.Bind(0);
+      bmask.Bind(1);
+      bh.Bind(2);
+      bw.Bind(3);
+      bs.Bind(4);
+      for (std::size_t first = 0; first < n; first += slice)
+      {
+        const std::size_t count = std::min(slice, n - first);
+        brate.Upload(rate + first, count * sizeof(float));
+        prog.SetUInt("uCount", static_cast<unsigned>(count));
+        prog.SetUInt("uFirst", static_cast<unsigned>(first));
+        prog.Dispatch(static_cast<unsigned>((count + 255) / 256));
+        bh.Download(humidity + 12 * first, 12 * count * sizeof(float));
+        if (weighted)
+        {
+          bw.Download(weighted + 12 * first, 12 * count * sizeof(float));
+        }
+        if (standing)
+        {
+          bs.Download(standing + 12 * first, 12 * count * sizeof(float));
+        }
+      }
+    });
+}
+
+vtkSmartPointer<vtkDoubleArray> MonthlyFieldArray(const char* name,
+  const double values[12],
+  const char* units)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfValues(12);
+  for (int m = 0; m < 12; ++m)
+  {
+    a->SetValue(m, values[m]);
+  }
+  a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
+  return a;
+}
+
+/// "" when the 24 climate values are usable, else one line naming the first bad one.
+std::string CheckClimate(const double q[12], const double i[12])
+{
+  for (int m = 0; m < 12; ++m)
+  {
+    const std::string month = vtkTerroirTemperature::GetMonthName(m);
+    if (!(q[m] >= 0.0 && q[m] <= 10000.0))
+    {
+      return "precipitation of " + month + " " + std::to_string(q[m]) + " mm is outside [0, 10000]";
+    }
+    if (!(i[m] >= 0.0 && i[m] <= 500.0))
+    {
+      return "precipitation intensity of " + month + " " + std::to_string(i[m]) +
+        " mm/h is outside [0, 500]";
+    }
+    if (q[m] > 0.0 && !(i[m] > 0.0))
+    {
+      return "precipitation of " + month + " is " + std::to_string(q[m]) +
+        " mm but its intensity is 0: rain needs a positive intensity";
+    }
+  }
+  return std::string();
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTerroirSoilHumidity::vtkTerroirSoilHumidity()
+{
+  this->SetInputArrayToProcess(
+    1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "InfiltrationRate");
+}
+
+//------------------------------------------------------------------------------
+vtkTerroirSoilHumidity::~vtkTerroirSoilHumidity()
+{
+  this->SetClimateFileName(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirSoilHumidity::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Precipitation:";
+  for (double q : this->Precipitation)
+  {
+    os << " " << q;
+  }
+  os << "\n" << indent << "PrecipitationIntensity:";
+  for (double i : this->PrecipitationIntensity)
+  {
+    os << " " << i;
+  }
+  os << "\n";
+  os << indent << "ClimateFileName: " << (this->ClimateFileName ? this->ClimateFileName : "(none)")
+     << "\n";
+  os << indent
+     << "ComputeWeightedSoilHumidity: " << (this->ComputeWeightedSoilHumidity ? "On" : "Off")
+     << "\n";
+  os << indent << "ComputeStandingWater: " << (this->ComputeStandingWater ? "On" : "Off") << "\n";
+}
+
+//------------------------------------------------------------------------------
+double vtkTerroirSoilHumidity::EstimateMemory(double nx, double ny)
+{
+  const double outputs = 1.0 + (this->ComputeWeightedSoilHumidity ? 1.0 : 0.0) +
+    (this->ComputeStandingWater ? 1.0 : 0.0);
+  // 48 B per output per cell, a float copy of a non-float rate (4 B); the GPU path adds its
+  // packed mask and, on a software rasterizer, one slice of buffers in host memory.
+  double bytes = nx * ny * (48.0 * outputs + 4.0);
+  if (this->Backend != 1)
+  {
+    bytes += nx * ny * 1.0 + static_cast<double>(kGPUSliceCells) * (4.0 + 48.0 * outputs);
+  }
+  return bytes;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirSoilHumidity::CheckParameters()
+{
+  if (this->ClimateFileName && *this->ClimateFileName)
+  {
+    return std::string(); // checked when the file is read
+  }
+  return CheckClimate(this->Precipitation, this->PrecipitationIntensity);
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirSoilHumidity::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  const std::string prefix = this->SourcePrefix(input);
+  double q[12];
+  double intensity[12];
+  std::copy(this->Precipitation, this->Precipitation + 12, q);
+  std::copy(this->PrecipitationIntensity, this->PrecipitationIntensity + 12, intensity);
+  if (this->ClimateFileName && *this->ClimateFileName)
+  {
+    terroir::io::ClimateTable table;
+    std::string error;
+    if (!terroir::io::ReadClimateTableFile(this->ClimateFileName, table, error))
+    {
+      vtkErrorMacro(<< error);
+      return 0;
+    }
+    if (!table.hasPrecipitation || !table.hasIntensity)
+    {
+      vtkErrorMacro(<< this->ClimateFileName << ": needs both precipitation_mm and "
+                    << "intensity_mm_per_h for the soil-water model");
+      return 0;
+    }
+    std::copy(table.precipitationMm.begin(), table.precipitationMm.end(), q);
+    std::copy(table.intensityMmPerHour.begin(), table.intensityMmPerHour.end(), intensity);
+    const std::string bad = CheckClimate(q, intensity);
+    if (!bad.empty())
+    {
+      vtkErrorMacro(<< this->ClimateFileName << ": " << bad);
+      return 0;
+    }
+  }
+
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+  vtkDataArray* rateArray = this->GetInputArrayToProcess(1, input);
+  if (!rateArray)
+  {
+    vtkErrorMacro(<< prefix << "the terrain has no InfiltrationRate array (mm/h): run "
+                  << "vtkTerroirInfiltration first");
+    return 0;
+  }
+  if (rateArray->GetNumberOfComponents() != 1 ||
+    rateArray->GetNumberOfTuples() != static_cast<vtkIdType>(n))
+  {
+    vtkErrorMacro(<< prefix << "InfiltrationRate must have 1 component and " << n << " tuples, not "
+                  << rateArray->GetNumberOfComponents() << " and "
+                  << rateArray->GetNumberOfTuples());
+    return 0;
+  }
+  const float* rate = nullptr;
+  std::vector<float> rateCopy;
+  if (auto* f = vtkFloatArray::FastDownCast(rateArray))
+  {
+    rate = f->GetPointer(0);
+  }
+  else
+  {
+    rateCopy.resize(n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      rateCopy[k] = static_cast<float>(rateArray->GetComponent(static_cast<vtkIdType>(k), 0));
+    }
+    rate = rateCopy.data();
+  }
+  const double minRate = rateArray->GetRange(0)[0];
+  if (minRate < 0.0)
+  {
+    vtkErrorMacro(<< prefix << "InfiltrationRate has negative values (down to " << minRate
+                  << " mm/h)");
+    return 0;
+  }
+
+  terroir::terrain::MonthlyRain rain{};
+  for (int m = 0; m < 12; ++m)
+  {
+    rain.quantityMm[m] = static_cast<float>(q[m]);
+    rain.intensityMmPerHour[m] = static_cast<float>(intensity[m]);
+  }
+  const char* months[12];
+  for (int m = 0; m < 12; ++m)
+  {
+    months[m] = vtkTerroirTemperature::GetMonthName(m);
+  }
+  auto make = [&](const char* name)
+  {
+    return vtkSmartPointer<vtkFloatArray>::Take(
+      terroir::NewOutputArray(name, 12, static_cast<long long>(n), "mm", months));
+  };
+  vtkSmartPointer<vtkFloatArray> humidity = make(SoilHumidityName());
+  vtkSmartPointer<vtkFloatArray> weighted =
+    this->ComputeWeightedSoilHumidity ? make(WeightedSoilHumidityName()) : nullptr;
+  vtkSmartPointer<vtkFloatArray> standing =
+    this->ComputeStandingWater ? make(StandingWaterName()) : nullptr;
+  float* h = humidity->GetPointer(0);
+  float* w = weighted ? weighted->GetPointer(0) : nullptr;
+  float* s = standing ? standing->GetPointer(0) : nullptr;
+
+  int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
+  }
+  if (backend == 2)
+  {
+    backend = this->RunGPUPath([&] { RunSoilHumidityGPU(rate, v.valid, n, rain, h, w, s); });
+    if (backend < 0)
+    {
+      return 0;
+    }
+  }
+  if (backend == 1)
+  {
+    SoilHumidityFunctor functor{ rate, v.valid, &rain, h, w, s };
+    const int slices = static_cast<int>(std::min<std::size_t>(10, n));
+    for (int k = 0; k < slices; ++k)
+    {
+      const vtkIdType c0 = static_cast<vtkIdType>(n * k / slices);
+      const vtkIdType c1 = static_cast<vtkIdType>(n * (k + 1) / slices);
+      vtkSMPTools::For(c0, c1, 4096, functor);
+      this->UpdateProgress(0.9 * (k + 1) / slices);
+    }
+  }
+  output->GetPointData()->AddArray(humidity);
+  if (weighted)
+  {
+    output->GetPointData()->AddArray(weighted);
+  }
+  if (standing)
+  {
+    output->GetPointData()->AddArray(standing);
+  }
+  output->GetFieldData()->AddArray(MonthlyFieldArray("Precipitation", q, "mm"));
+  output->GetFieldData()->AddArray(MonthlyFieldArray("PrecipitationIntensity", intensity, "mm/h"));
+  return 1;
+}
