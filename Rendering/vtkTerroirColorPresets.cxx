@@ -42,6 +42,7 @@ const PresetInfo Presets[] = {
   { "Sunlit", "Illuminated", "", "Direct sun", true, { 0.0, 1.0 } },
   { "Incidence", "SunIncidence", "", "Sun incidence (cosine)", true, { 0.0, 1.0 } },
   { "Insolation", "Insolation", "Wh/m\xC2\xB2/day", "Insolation", false, { 0, 0 } },
+  { "WaterBodies", "WaterDepth", "m", "Lake depth", false, { 0, 0 } },
 };
 constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
 
@@ -173,6 +174,11 @@ bool vtkTerroirColorPresets::GetDefaultRange(const char* preset, double range[2]
   return true;
 }
 
+const char* vtkTerroirColorPresets::GetMaskArrayName(const char* preset)
+{
+  return preset && std::strcmp(preset, "WaterBodies") == 0 ? "WaterBody" : nullptr;
+}
+
 bool vtkTerroirColorPresets::IsCategorical(const char* preset)
 {
   return preset && (std::strcmp(preset, "Clusters") == 0 || std::strcmp(preset, "Sunlit") == 0);
@@ -293,7 +299,7 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     ctf->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
     ctf->AddRGBPoint(1.0, 0.0, 0.35, 1.0);
   }
-  else if (name == "Water")
+  else if (name == "Water" || name == "WaterBodies")
   {
     ctf->AddRGBPoint(0.0, 0.70, 0.85, 1.00);
     ctf->AddRGBPoint(1.0, 0.00, 0.12, 0.50);

@@ -21,6 +21,10 @@
  * - `Incidence`: `SunIncidence` (cosine, no units); black → white; 0 – 1.
  * - `Insolation`: `Insolation` (Wh/m²/day); black → dark red → orange → pale yellow; data
  *   range.
+ * - `WaterBodies`: `WaterDepth` (m) of lakes from vtkTerroirFloodFill; light → dark blue, every
+ *   bin opaque (a hydro-flattened lake has depth 0 and must still show); cells whose mask
+ *   array `WaterBody` is 0 (dry) are left transparent by the overlay view; data range of the
+ *   wet cells.
  *
  * Continuous presets are 256-entry vtkLookupTable objects sampled from a
  * vtkColorTransferFunction (RGB interpolation, diverging space for Temperature); values
@@ -56,7 +60,7 @@ public:
 
   ///@{
   /// The presets, in a fixed order: Elevation, Slope, Illumination, Temperature, Humidity,
-  /// Water, Clusters, Sunlit, Incidence, Insolation.
+  /// Water, Clusters, Sunlit, Incidence, Insolation, WaterBodies.
   static int GetNumberOfPresets();
   static const char* GetPresetName(int index);
   static bool HasPreset(const char* preset);
@@ -81,6 +85,10 @@ public:
   /// True when the preset has a fixed default range (Slope: 0–60; Sunlit, Incidence: 0–1);
   /// false when the data range should be used.
   static bool GetDefaultRange(const char* preset, double range[2]);
+
+  /// The point array whose zero cells a preset leaves uncoloured (transparent over the bare
+  /// terrain), or nullptr: `WaterBody` for WaterBodies (dry cells), none for the others.
+  static const char* GetMaskArrayName(const char* preset);
 
   /// True for categorical presets (Clusters, Sunlit).
   static bool IsCategorical(const char* preset);

@@ -273,6 +273,15 @@ bool vtkTerroirOverlayView::Render()
 
   // ---- colours ---------------------------------------------------------------------------
   const int comp = this->ArrayComponent;
+  // A preset's mask array (WaterBodies: WaterBody) leaves its zero cells uncoloured.
+  const char* maskName = vtkTerroirColorPresets::GetMaskArrayName(preset);
+  vtkDataArray* bodyMask = maskName ? pd->GetArray(maskName) : nullptr;
+  if (bodyMask && (bodyMask->GetNumberOfComponents() != 1 || bodyMask->GetNumberOfTuples() != n))
+  {
+    bodyMask = nullptr;
+  }
+  auto coloured = [bodyMask](vtkIdType k)
+  { return !bodyMask || bodyMask->GetComponent(k, 0) != 0.0; };
   double range[2];
   if (this->UseCustomRange)
   {
@@ -286,7 +295,7 @@ bool vtkTerroirOverlayView::Render()
     for (vtkIdType k = 0; k < n; ++k)
     {
       const double v = values->GetComponent(k, comp);
-      if (valid[k] && std::isfinite(v))
+      if (valid[k] && std::isfinite(v) && coloured(k))
       {
         range[0] = std::min(range[0], v);
         range[1] = std::max(range[1], v);
@@ -316,7 +325,7 @@ bool vtkTerroirOverlayView::Render()
   {
     const double v = values->GetComponent(k, comp);
     const unsigned char* rgba = lut->MapValue(v);
-    const double a = rgba[3] / 255.0;
+    const double a = coloured(k) ? rgba[3] / 255.0 : 0.0;
     unsigned char out[3];
     for (int c = 0; c < 3; ++c)
     {

@@ -96,6 +96,14 @@ TEST(TerroirColorPresets, WaterIsTransparentWhenDryAndDarkerWhenDeeper)
   EXPECT_GT(deep[2], deep[0]);
 }
 
+TEST(TerroirColorPresets, WaterBodiesAreOpaqueEvenAtDepthZero)
+{
+  // A hydro-flattened lake has depth 0 everywhere: it must still be blue, not transparent.
+  auto lut = Make("WaterBodies", 0.0, 2.0);
+  ExpectRGBA(lut, 0.0, 179, 217, 255, 255, 1); // light blue (0.7, 0.85, 1)
+  ExpectRGBA(lut, 2.0, 0, 31, 128, 255, 1);    // deepest: dark blue (0, 0.12, 0.5)
+}
+
 TEST(TerroirColorPresets, ClustersAreCategoricalDistinctAndInFixedOrder)
 {
   auto lut = Make("Clusters", 0.0, 11.0);
@@ -202,12 +210,17 @@ TEST(TerroirColorPresets, NaNMapsToTheNanColor)
 
 TEST(TerroirColorPresets, MetadataAndBadInput)
 {
-  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 10);
+  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 11);
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(0), "Elevation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(6), "Clusters");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(7), "Sunlit");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(9), "Insolation");
-  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(10), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(10), "WaterBodies");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(11), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("WaterBodies"), "WaterDepth");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetMaskArrayName("WaterBodies"), "WaterBody");
+  EXPECT_EQ(vtkTerroirColorPresets::GetMaskArrayName("Water"), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("WaterDepth"), "WaterBodies");
   EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("Illumination"), "IlluminationHours");
   EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("Water"), "WaterHeight");
   EXPECT_STREQ(vtkTerroirColorPresets::GetUnits("Temperature"),

@@ -16,8 +16,10 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 #include "vtkTerroirDEMReader.h"
+#include "vtkTerroirInfiltration.h"
 #include "vtkTerroirOverlayView.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 
@@ -80,6 +82,46 @@ vtkImageData* SagehenIllumination(int mode)
     illumination->Update();
     result = vtkSmartPointer<vtkImageData>::New();
     result->ShallowCopy(illumination->GetOutput());
+  }
+  return result;
+}
+
+// The bundled DEM through vtkTerroirInfiltration and vtkTerroirSoilHumidity: soils by height
+// band (clay below 2100 m, loam to 2300 m, sandy loam above; a made-up soil map, as the DEM
+// has none), dry cliffs above 30 degrees, and the monthly climate of the climate-file example
+// (wet winters at 2-2.5 mm/h, dry summers in showers of 5-10 mm/h).
+vtkImageData* SagehenSoilWater()
+{
+  static vtkSmartPointer<vtkImageData> result;
+  if (!result)
+  {
+    vtkImageData* terrain = SagehenTerrain();
+    auto soil = vtkSmartPointer<vtkImageData>::New();
+    soil->CopyStructure(terrain);
+    vtkNew<vtkIntArray> codes;
+    codes->SetName("Soil");
+    vtkDataArray* z = terrain->GetPointData()->GetArray("Elevation");
+    codes->SetNumberOfTuples(z->GetNumberOfTuples());
+    for (vtkIdType k = 0; k < z->GetNumberOfTuples(); ++k)
+    {
+      const double h = z->GetComponent(k, 0);
+      codes->SetValue(k, h < 2100.0 ? 5 : (h < 2300.0 ? 3 : 2));
+    }
+    soil->GetPointData()->SetScalars(codes);
+    vtkNew<vtkTerroirInfiltration> infiltration;
+    infiltration->SetInputData(terrain);
+    infiltration->AddSoilTypes(soil);
+    infiltration->AddSlopeRule(30.0);
+    vtkNew<vtkTerroirSoilHumidity> humidity;
+    humidity->SetInputConnection(infiltration->GetOutputPort());
+    humidity->SetBackendToCPU();
+    const double q[12] = { 150, 140, 110, 60, 35, 15, 5, 5, 15, 50, 110, 145 };
+    const double i[12] = { 2.5, 2.5, 2, 1.5, 3, 6, 10, 10, 5, 2, 2, 2.5 };
+    humidity->SetPrecipitation(q);
+    humidity->SetPrecipitationIntensity(i);
+    humidity->Update();
+    result = vtkSmartPointer<vtkImageData>::New();
+    result->ShallowCopy(humidity->GetOutput());
   }
   return result;
 }
@@ -290,5 +332,35 @@ TEST(TerroirOverlayImages, LegendShadowsMap)
     vtkTerroirOverlayView::Map);
   view->ShowLegendOn();
   view->SetTitle("Sagehen Creek, 2025-12-21 16:00 PST");
+  CompareWithBaseline(view);
+}
+
+// Weighted soil humidity of July (July, June and May rain), black -> blue: clay valley floors
+// (3 mm/h) absorb less of the summer showers than loam (by hand: 9.1 mm against 13.3 mm),
+// cliffs nothing.
+TEST(TerroirOverlayImages, WeightedSoilHumidityJulyMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(SagehenSoilWater());
+  view->SetArrayName(vtkTerroirSoilHumidity::WeightedSoilHumidityName());
+  view->SetArrayComponent(6);
+  view->SetModeToMap();
+  view->ShowLegendOff();
+  EXPECT_STREQ(view->GetEffectivePreset(), "Humidity");
+  CompareWithBaseline(view);
+}
+
+// The humidity legend in millimetres over the relief.
+TEST(TerroirOverlayImages, LegendSoilHumidityJanuaryRelief)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(SagehenSoilWater());
+  view->SetArrayName(vtkTerroirSoilHumidity::SoilHumidityName());
+  view->SetArrayComponent(0);
+  view->SetModeToRelief();
+  view->ShowLegendOn();
+  view->SetTitle("Soil humidity, January");
   CompareWithBaseline(view);
 }
