@@ -12,12 +12,14 @@ target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore)
 target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 
-add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h TerroirOverlayPlugin.h)
+add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h TerroirOverlayPlugin.h
+  TerroirWaterCommands.cxx TerroirWaterCommands.h)
 target_compile_definitions(terroir PRIVATE
   "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\""
   "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
 target_compile_options(terroir PRIVATE -Wall -Wextra)
 set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersTerrain
+  Terroir::FiltersHydrology
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc VTK::IOXML)
 target_link_libraries(terroir PRIVATE TerroirCommandLine ${_terroir_app_modules}
   TerroirTerrainCore TerroirIOCore nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})

@@ -11,6 +11,7 @@
 #include "vtkOutputWindow.h"
 #include "vtkXMLImageDataWriter.h"
 
+#include "vtkTerroirComputeContext.h"
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirTerragenReader.h"
@@ -356,6 +357,42 @@ double Now()
 {
   using clock = std::chrono::steady_clock;
   return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+}
+
+int ParseBackend(const std::string& name)
+{
+  if (name == "auto")
+  {
+    return vtkTerroirComputeContext::Auto;
+  }
+  if (name == "cpu")
+  {
+    return vtkTerroirComputeContext::CPU;
+  }
+  if (name == "gpu")
+  {
+    return vtkTerroirComputeContext::GPU;
+  }
+  throw Failure("--backend: '" + name + "' is not auto, cpu or gpu");
+}
+
+void WriteStageResult(vtkImageData* image,
+  const std::string& array,
+  const std::string& path,
+  bool overwrite)
+{
+  if (terroir::app::HasExtension(path, ".vti"))
+  {
+    terroir::app::WriteVTI(image, path, overwrite);
+  }
+  else if (terroir::app::HasExtension(path, ".tif") || terroir::app::HasExtension(path, ".tiff"))
+  {
+    terroir::app::WriteGeoTIFF(image, array, path, overwrite);
+  }
+  else
+  {
+    throw Failure(path + ": unknown output format (use .tif, .tiff or .vti)");
+  }
 }
 
 } // namespace app

@@ -60,6 +60,16 @@ void WriteGeoTIFF(vtkImageData* image,
   const std::string& path,
   bool overwrite);
 
+/// The backend named on the command line (auto, cpu, gpu) as vtkTerroirComputeContext's value.
+int ParseBackend(const std::string& name);
+
+/// Writes `array` of `image` as a GeoTIFF (.tif, .tiff: one band per component) or every array
+/// as VTK XML image data (.vti), by the file name's extension.
+void WriteStageResult(vtkImageData* image,
+  const std::string& array,
+  const std::string& path,
+  bool overwrite);
+
 /// True when the file name ends with `ext` (case-insensitive, ext with the dot).
 bool HasExtension(const std::string& path, const std::string& ext);
 

@@ -386,6 +386,286 @@ void CheckIllumination(IlluminationSettings& s, const IlluminationText& text)
   }
 }
 
+/// The string options of the soil-water commands, checked after parsing (CheckSoilWater).
+struct SoilWaterText
+{
+  std::string Precipitation;
+  std::string Intensity;
+  std::vector<std::string> Fill, SlopeRule, PaintRaster, PaintPolygons, SoilRaster, SoilPolygons;
+  std::vector<CLI::Option*> OperationOptions; ///< in the order of the vectors above
+};
+
+void AddClimateOptions(CLI::App* app, SoilWaterText& text)
+{
+  app->add_option(
+    "--precip", text.Precipitation, "12 monthly precipitation quantities, mm, January first");
+  app->add_option("--intensity",
+    text.Intensity,
+    "12 monthly mean precipitation intensities, mm/h, January first");
+}
+
+/// The infiltration operations, applied in the order given (infiltration, humidity).
+void AddInfiltrationOptions(CLI::App* app,
+  SoilWaterSettings& s,
+  SoilWaterText& text,
+  bool withRateInput)
+{
+  auto multi = [&](const char* name, std::vector<std::string>& into, const char* help)
+  {
+    CLI::Option* o =
+      app->add_option(name, into, help)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    o->expected(1);
+    o->allow_extra_args(false);
+    text.OperationOptions.push_back(o);
+  };
+  multi("--fill", text.Fill, "Fill every cell with RATE mm/h");
+  multi("--slope-rule", text.SlopeRule, "0 mm/h where the slope exceeds DEG degrees");
+  multi("--paint-raster",
+    text.PaintRaster,
+    "FILE=RATE: RATE mm/h where the raster (on the DEM's grid) is non-zero");
+  multi("--paint-polygons",
+    text.PaintPolygons,
+    "FILE=RATE: RATE mm/h inside the polygons (any OGR vector format)");
+  multi("--soil-raster",
+    text.SoilRaster,
+    "FILE: FAO rates of the soil codes 1..5 (sand .. clay) of a raster on the DEM's grid");
+  multi("--soil-polygons",
+    text.SoilPolygons,
+    "FILE=FIELD: FAO rates of the soil codes 1..5 in FIELD of the polygons");
+  if (!withRateInput)
+  {
+    return;
+  }
+  app
+    ->add_option("--infiltration",
+      s.InfiltrationInput,
+      "Read InfiltrationRate (mm/h) from this raster (on the DEM's grid) instead")
+    ->excludes(text.OperationOptions[0])
+    ->excludes(text.OperationOptions[1])
+    ->excludes(text.OperationOptions[2])
+    ->excludes(text.OperationOptions[3])
+    ->excludes(text.OperationOptions[4])
+    ->excludes(text.OperationOptions[5]);
+}
+
+/// "FILE=VALUE" split at the last '='.
+std::pair<std::string, std::string> SplitAssignment(const std::string& text,
+  const std::string& option,
+  const char* what)
+{
+  const std::size_t eq = text.rfind('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+  {
+    throw std::invalid_argument(option + ": '" + text + "' is not FILE=" + what);
+  }
+  return { text.substr(0, eq), text.substr(eq + 1) };
+}
+
+double RateValue(const std::string& text, const std::string& option)
+{
+  const std::vector<double> v = ParseNumberList(text, option);
+  if (v.size() != 1 || v[0] < 0.0 || v[0] > 1000.0)
+  {
+    throw std::invalid_argument(option + ": '" + text + "' is not a rate in [0, 1000] mm/h");
+  }
+  return v[0];
+}
+
+/// 12 comma-separated values in [lo, hi] (precipitation, intensity).
+std::vector<double> TwelveValues(const std::string& text,
+  const std::string& option,
+  double lo,
+  double hi)
+{
+  std::vector<double> v = ParseNumberList(text, option);
+  if (v.size() != 12)
+  {
+    throw std::invalid_argument(
+      option + ": expected 12 values (January first), got " + std::to_string(v.size()));
+  }
+  for (std::size_t k = 0; k < 12; ++k)
+  {
+    if (v[k] < lo || v[k] > hi)
+    {
+      std::ostringstream os;
+      os << option << ": value " << k + 1 << " (" << v[k] << ") is outside [" << lo << ", " << hi
+         << "]";
+      throw std::invalid_argument(os.str());
+    }
+  }
+  return v;
+}
+
+/// Turns the soil-water text options into settings; operations keep the command line's order.
+void CheckSoilWater(SoilWaterSettings& s, const SoilWaterText& text, const CLI::App& app)
+{
+  if (!text.Precipitation.empty())
+  {
+    s.Precipitation = TwelveValues(text.Precipitation, "--precip", 0.0, 10000.0);
+  }
+  if (!text.Intensity.empty())
+  {
+    s.Intensity = TwelveValues(text.Intensity, "--intensity", 0.0, 500.0);
+  }
+  if (!s.Precipitation.empty() || !s.Intensity.empty())
+  {
+    if (!s.ClimateFile.empty())
+    {
+      throw std::invalid_argument("--precip and --intensity exclude --climate");
+    }
+    // Each defaults to the filter's; a rainy month must then have a positive intensity,
+    // which the filter checks against the values actually used.
+    for (std::size_t k = 0; k < s.Precipitation.size() && k < s.Intensity.size(); ++k)
+    {
+      if (s.Precipitation[k] > 0.0 && !(s.Intensity[k] > 0.0))
+      {
+        throw std::invalid_argument("--intensity: month " + std::to_string(k + 1) +
+          " has rain (--precip) but intensity 0: rain needs a positive intensity");
+      }
+    }
+  }
+  const std::vector<std::string>* values[6] = { &text.Fill,
+    &text.SlopeRule,
+    &text.PaintRaster,
+    &text.PaintPolygons,
+    &text.SoilRaster,
+    &text.SoilPolygons };
+  const char* kinds[6] = {
+    "fill", "slope-rule", "paint-raster", "paint-polygons", "soil-raster", "soil-polygons"
+  };
+  std::size_t next[6] = { 0, 0, 0, 0, 0, 0 };
+  for (const CLI::Option* o : app.parse_order())
+  {
+    for (int k = 0; k < 6 && k < static_cast<int>(text.OperationOptions.size()); ++k)
+    {
+      if (o != text.OperationOptions[k] || next[k] >= values[k]->size())
+      {
+        continue;
+      }
+      const std::string& v = (*values[k])[next[k]++];
+      const std::string option = std::string("--") + kinds[k];
+      InfiltrationOperation op;
+      op.Kind = kinds[k];
+      if (k == 0)
+      {
+        op.Value = RateValue(v, option);
+      }
+      else if (k == 1)
+      {
+        const std::vector<double> d = ParseNumberList(v, option);
+        if (d.size() != 1 || d[0] < 0.0 || d[0] > 90.0)
+        {
+          throw std::invalid_argument(option + ": '" + v + "' is not an angle in [0, 90] degrees");
+        }
+        op.Value = d[0];
+      }
+      else if (k == 2 || k == 3)
+      {
+        auto [file, rate] = SplitAssignment(v, option, "RATE");
+        op.File = file;
+        op.Value = RateValue(rate, option);
+      }
+      else if (k == 4)
+      {
+        if (v.empty())
+        {
+          throw std::invalid_argument(option + ": the file name is empty");
+        }
+        op.File = v;
+      }
+      else
+      {
+        auto [file, field] = SplitAssignment(v, option, "FIELD");
+        op.File = file;
+        op.Attribute = field;
+      }
+      s.Operations.push_back(op);
+    }
+  }
+}
+
+void AddFloodFillOptions(CLI::App* app,
+  FloodFillSettings& s,
+  std::vector<std::string>& seeds,
+  std::vector<std::string>& cells)
+{
+  app->add_option("--seed", seeds, "X,Y[,LEVEL]: a seed in the DEM's coordinates (metres)")
+    ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app->add_option("--seed-cell", cells, "I,J[,LEVEL]: a seed cell (column, row; row 0 south)")
+    ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app
+    ->add_option("--level",
+      s.Level,
+      "Water level, metres, of seeds without their own (default: the terrain at the seed)")
+    ->check(FiniteIn(-20000.0, 20000.0));
+  app->add_flag("--fill-depressions",
+    s.FillDepressions,
+    "Find every closed depression and hydro-flattened lake instead of filling from seeds");
+  app->add_option("--min-area", s.MinimumArea, "Smallest water body kept, m2 (--fill-depressions)")
+    ->check(FiniteIn(0.0, 1e15))
+    ->capture_default_str();
+  app->add_flag("!--no-flat-surfaces",
+    s.FlatSurfaces,
+    "Do not count flat surfaces at their outlet's level as lakes (--fill-depressions)");
+}
+
+void CheckFloodFill(FloodFillSettings& s,
+  const std::vector<std::string>& seeds,
+  const std::vector<std::string>& cells,
+  const CLI::App& app)
+{
+  for (int kind = 0; kind < 2; ++kind)
+  {
+    const std::vector<std::string>& list = kind == 0 ? seeds : cells;
+    const std::string option = kind == 0 ? "--seed" : "--seed-cell";
+    for (const std::string& text : list)
+    {
+      const std::vector<double> v = ParseNumberList(text, option);
+      if (v.size() != 2 && v.size() != 3)
+      {
+        throw std::invalid_argument(
+          option + ": '" + text + "' is not " + (kind == 0 ? "X,Y[,LEVEL]" : "I,J[,LEVEL]"));
+      }
+      FloodFillSettings::Seed seed;
+      seed.X = v[0];
+      seed.Y = v[1];
+      seed.Cell = kind == 1;
+      if (seed.Cell &&
+        (v[0] != std::floor(v[0]) || v[1] != std::floor(v[1]) || v[0] < 0.0 || v[1] < 0.0 ||
+          v[0] > 2147483647.0 || v[1] > 2147483647.0))
+      {
+        throw std::invalid_argument(
+          option + ": '" + text + "': I and J must be cell indices (>= 0)");
+      }
+      if (v.size() == 3)
+      {
+        seed.Level = v[2];
+      }
+      s.Seeds.push_back(seed);
+    }
+  }
+  const bool seeded = !s.Seeds.empty();
+  if (s.FillDepressions && seeded)
+  {
+    throw std::invalid_argument("--fill-depressions excludes --seed and --seed-cell");
+  }
+  if (!s.FillDepressions && !seeded)
+  {
+    throw std::invalid_argument(
+      "floodfill needs --seed X,Y (or --seed-cell I,J) or --fill-depressions");
+  }
+  if (s.FillDepressions && app.get_option("--level")->count() > 0)
+  {
+    throw std::invalid_argument("--level applies to seeds, not to --fill-depressions");
+  }
+  if (!s.FillDepressions &&
+    (app.get_option("--min-area")->count() > 0 ||
+      app.get_option("--no-flat-surfaces")->count() > 0))
+  {
+    throw std::invalid_argument("--min-area and --no-flat-surfaces apply to --fill-depressions");
+  }
+}
+
 std::string OneLine(std::string text)
 {
   std::replace(text.begin(), text.end(), '\n', ' ');
@@ -399,9 +679,15 @@ std::string OneLine(std::string text)
 
 const std::vector<std::string>& BenchStageNames()
 {
-  static const std::vector<std::string> names{
-    "slope", "temperature", "horizon", "instant", "monthly"
-  };
+  static const std::vector<std::string> names{ "slope",
+    "temperature",
+    "horizon",
+    "instant",
+    "monthly",
+    "infiltration",
+    "humidity",
+    "floodfill",
+    "depressions" };
   return names;
 }
 
@@ -463,6 +749,8 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   run->add_flag("--no-png", line.NoPng, "Skip the PNG overlays (they need an X display)");
   addCommon(run);
   AddTemperatureOptions(run, line.Temperature, runMonthly);
+  SoilWaterText runSoilText;
+  AddClimateOptions(run, runSoilText);
   AddLocationOptions(run, line.Illumination);
 
   // slope
@@ -505,6 +793,53 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   AddIlluminationOptions(illum, line.Illumination, illumText);
   addCommon(illum);
 
+  // infiltration
+  CLI::App* infil = app.add_subcommand(
+    "infiltration", "Infiltration rate map (mm/h) from fill, slope-rule and paint operations");
+  SoilWaterText infilText;
+  infil->add_option("IN", line.Input, "Input DEM")->required();
+  infil->add_option("OUT", line.Output, "Output .tif (InfiltrationRate) or .vti (all arrays)")
+    ->required()
+    ->check(EndsWith(rasterOut));
+  AddInfiltrationOptions(infil, line.SoilWater, infilText, false);
+  addCommon(infil);
+
+  // humidity
+  CLI::App* humid = app.add_subcommand(
+    "humidity", "Monthly soil humidity, its weighted average and standing water (mm)");
+  SoilWaterText humidText;
+  humid->add_option("IN", line.Input, "Input DEM")->required();
+  humid
+    ->add_option(
+      "OUT", line.Output, "Output .tif (SoilHumidity, 12 bands Jan..Dec) or .vti (all arrays)")
+    ->required()
+    ->check(EndsWith(rasterOut));
+  AddClimateOptions(humid, humidText);
+  humid->add_option("--climate",
+    line.SoilWater.ClimateFile,
+    "Climate table (CSV or JSON) with precipitation_mm and intensity_mm_per_h");
+  AddInfiltrationOptions(humid, line.SoilWater, humidText, true);
+  humid
+    ->add_option(
+      "--weighted", line.SoilWater.WeightedOutput, "Also write WeightedSoilHumidity here")
+    ->check(EndsWith(rasterOut));
+  humid->add_option("--standing", line.SoilWater.StandingOutput, "Also write StandingWater here")
+    ->check(EndsWith(rasterOut));
+  addCommon(humid);
+
+  // floodfill
+  CLI::App* flood = app.add_subcommand(
+    "floodfill", "Lakes: flood fill from seeds, or every closed depression (priority-flood)");
+  std::vector<std::string> floodSeeds, floodCells;
+  flood->add_option("IN", line.Input, "Input DEM")->required();
+  flood->add_option("OUT", line.Output, "Output .tif (WaterDepth, m; 0 dry) or .vti (all arrays)")
+    ->required()
+    ->check(EndsWith(rasterOut));
+  AddFloodFillOptions(flood, line.FloodFill, floodSeeds, floodCells);
+  flood->add_option("--ids", line.FloodFill.IdsOutput, "Also write WaterBody ids (0 dry) here")
+    ->check(EndsWith(rasterOut));
+  addCommon(flood);
+
   // bench
   CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
   std::string backends = "cpu,gpu";
@@ -517,7 +852,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   bench->add_option("--backends", backends, "Comma-separated backends")->capture_default_str();
   bench->add_flag("--bandwidth",
     line.BenchBandwidth,
-    "Also measure memory bandwidth and the slope kernel's share");
+    "Also measure memory bandwidth and the slope and soil-humidity kernels' share");
   bench->add_option("--json", line.BenchJson, "Also write the results as JSON here");
   std::string stages;
   {
@@ -555,16 +890,46 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   {
     // CLI11 wants a mutable argv; it does not modify the strings.
     app.parse(argc, const_cast<char**>(argv));
-    for (CLI::App* sub : { run, slope, temp, illum, bench, info, fractal })
+    for (CLI::App* sub : { run, slope, temp, illum, infil, humid, flood, bench, info, fractal })
     {
       if (*sub)
       {
         line.Command = sub->get_name();
       }
     }
+    if (*infil)
+    {
+      CheckSoilWater(line.SoilWater, infilText, *infil);
+    }
+    if (*humid)
+    {
+      CheckSoilWater(line.SoilWater, humidText, *humid);
+      for (const std::string* extra :
+        { &line.SoilWater.WeightedOutput, &line.SoilWater.StandingOutput })
+      {
+        if (!extra->empty() && *extra == line.Output)
+        {
+          throw std::invalid_argument("'" + *extra + "' is both OUT and an extra output");
+        }
+      }
+      if (!line.SoilWater.WeightedOutput.empty() &&
+        line.SoilWater.WeightedOutput == line.SoilWater.StandingOutput)
+      {
+        throw std::invalid_argument("--weighted and --standing name the same file");
+      }
+    }
+    if (*flood)
+    {
+      CheckFloodFill(line.FloodFill, floodSeeds, floodCells, *flood);
+      if (line.FloodFill.IdsOutput == line.Output)
+      {
+        throw std::invalid_argument("--ids: '" + line.Output + "' is also OUT");
+      }
+    }
     if (*run)
     {
       CheckTemperature(line.Temperature, runMonthly);
+      CheckSoilWater(line.SoilWater, runSoilText, *run);
     }
     if (*temp)
     {
@@ -629,7 +994,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
         }
       }
     }
-    if ((*slope || *temp || *illum || *info) && line.Input.empty())
+    if ((*slope || *temp || *illum || *infil || *humid || *flood || *info) && line.Input.empty())
     {
       throw std::invalid_argument("the input file name is empty");
     }
@@ -642,7 +1007,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   catch (const CLI::CallForHelp&)
   {
     const CLI::App* sub = nullptr;
-    for (CLI::App* s : { run, slope, temp, illum, bench, info, fractal })
+    for (CLI::App* s : { run, slope, temp, illum, infil, humid, flood, bench, info, fractal })
     {
       if (*s)
       {

@@ -61,10 +61,55 @@ struct IlluminationSettings
   std::string IncidenceOutput;    ///< --incidence FILE (instant)
 };
 
+/// One infiltration operation, in the order the command line gives them (infiltration,
+/// humidity). Kind: fill (Value mm/h), slope-rule (Value degrees), paint-raster (File, Value:
+/// cells where the raster is non-zero), paint-polygons (File, Value), soil-raster (File: codes
+/// 1..5), soil-polygons (File, Attribute: a field holding codes 1..5).
+struct InfiltrationOperation
+{
+  std::string Kind;
+  double Value = 0.0;
+  std::string File;
+  std::string Attribute;
+};
+
+/// Options of the soil-water filters (`infiltration`, `humidity`; `run` uses the climate).
+struct SoilWaterSettings
+{
+  std::vector<InfiltrationOperation> Operations; ///< empty: fill 15 mm/h, slope rule 30 deg
+  std::vector<double> Precipitation; ///< --precip: 12 values, mm, or empty (default / climate)
+  std::vector<double> Intensity;     ///< --intensity: 12 values, mm/h, or empty
+  std::string ClimateFile;           ///< --climate (humidity): precipitation and intensity
+  std::string InfiltrationInput;     ///< --infiltration FILE: rates instead of the operations
+  std::string WeightedOutput;        ///< --weighted FILE (humidity)
+  std::string StandingOutput;        ///< --standing FILE (humidity)
+};
+
+/// Options of `floodfill`.
+struct FloodFillSettings
+{
+  /// --seed X,Y[,LEVEL] (world coordinates, metres of the DEM's CRS) or --seed-cell I,J[,LEVEL]
+  /// (column and row, row 0 in the south); LEVEL NaN = --level, else the terrain at the seed.
+  struct Seed
+  {
+    double X = 0.0;
+    double Y = 0.0;
+    double Level = std::numeric_limits<double>::quiet_NaN();
+    bool Cell = false;
+  };
+  std::vector<Seed> Seeds;
+  double Level = std::numeric_limits<double>::quiet_NaN(); ///< --level H, metres
+  bool FillDepressions = false;                            ///< --fill-depressions
+  double MinimumArea = 10000.0;                            ///< --min-area, m2
+  bool FlatSurfaces = true;                                ///< off with --no-flat-surfaces
+  std::string IdsOutput;                                   ///< --ids FILE: WaterBody ids
+};
+
 /// Everything the command line says.
 struct CommandLine
 {
-  std::string Command; ///< run, slope, temperature, illumination, bench, info or fractal
+  std::string Command; ///< run, slope, temperature, illumination, infiltration, humidity,
+                       ///< floodfill, bench, info or fractal
   bool Verbose = false;
   std::string Backend = "auto"; ///< auto, cpu or gpu
   bool Overwrite = false;
@@ -81,6 +126,10 @@ struct CommandLine
   TemperatureSettings Temperature; ///< run, temperature
 
   IlluminationSettings Illumination; ///< illumination (run: Latitude, Longitude)
+
+  SoilWaterSettings SoilWater; ///< infiltration, humidity (run: the climate)
+
+  FloodFillSettings FloodFill; ///< floodfill
 
   int BenchSize = 2048;
   int BenchRepeat = 3;

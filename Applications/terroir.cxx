@@ -4,6 +4,9 @@
 //   terroir slope IN OUT                Horn slope (gdaldem style), GeoTIFF or .vti
 //   terroir temperature IN OUT          monthly temperature (12 bands)
 //   terroir illumination IN OUT         shadows, hours of sun, insolation (instant/daily/monthly)
+//   terroir infiltration IN OUT         infiltration rates (fill, slope rule, paint, soil types)
+//   terroir humidity IN OUT             monthly soil humidity, weighted, standing water
+//   terroir floodfill IN OUT            lakes from seeds, or every closed depression
 //   terroir bench [--size N]            time per stage and backend, per million cells
 //   terroir info IN                     grid and georeference of a DEM
 //   terroir fractal OUT --size N        a seeded synthetic DEM (GeoTIFF or .vti)
@@ -15,6 +18,7 @@
 #include "TerroirCommandLine.h"
 #include "TerroirOverlayPlugin.h"
 #include "TerroirSafeOutput.h"
+#include "TerroirWaterCommands.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -28,9 +32,12 @@
 #include "vtkSMPTools.h"
 
 #include "vtkTerroirComputeContext.h"
+#include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoreference.h"
+#include "vtkTerroirInfiltration.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 
@@ -38,6 +45,7 @@
 #include "GridView.h"
 #include "MemoryBudget.h"
 #include "SlopeHorn1981.h"
+#include "SoilWater.h"
 
 #include <nlohmann/json.hpp>
 
@@ -54,30 +62,15 @@
 
 namespace fs = std::filesystem;
 using terroir::app::Failure;
+using terroir::app::ParseBackend;
+using terroir::app::WriteStageResult;
 using json = nlohmann::json;
 
 namespace
 {
-int ParseBackend(const std::string& name)
-{
-  if (name == "auto")
-  {
-    return vtkTerroirComputeContext::Auto;
-  }
-  if (name == "cpu")
-  {
-    return vtkTerroirComputeContext::CPU;
-  }
-  if (name == "gpu")
-  {
-    return vtkTerroirComputeContext::GPU;
-  }
-  throw Failure("--backend: '" + name + "' is not auto, cpu or gpu");
-}
-
 /// Reads the climate table of --climate (before any other work) into the 12 monthly sea-level
 /// temperatures.
-void LoadClimate(terroir::app::TemperatureSettings& t)
+void LoadClimate(terroir::app::TemperatureSettings& t, terroir::app::SoilWaterSettings* soil)
 {
   if (t.ClimateFile.empty())
   {
@@ -94,6 +87,14 @@ void LoadClimate(terroir::app::TemperatureSettings& t)
     throw Failure(t.ClimateFile + ": no temperature_c values (needed by the temperature model)");
   }
   t.Monthly.assign(table.temperatureC.begin(), table.temperatureC.end());
+  // `run`: the same file's rain, when it has both series, feeds the soil-water model (unless
+  // --precip or --intensity say otherwise).
+  if (soil && table.hasPrecipitation && table.hasIntensity && soil->Precipitation.empty() &&
+    soil->Intensity.empty())
+  {
+    soil->Precipitation.assign(table.precipitationMm.begin(), table.precipitationMm.end());
+    soil->Intensity.assign(table.intensityMmPerHour.begin(), table.intensityMmPerHour.end());
+  }
 }
 
 /// Sets the temperature filter from the command line's temperature settings.
@@ -278,7 +279,8 @@ int CommandRun(const std::string& demArg,
   bool png,
   bool allowNetwork,
   const terroir::app::TemperatureSettings& tempOpts,
-  const terroir::app::IlluminationSettings& illumOpts)
+  const terroir::app::IlluminationSettings& illumOpts,
+  const terroir::app::SoilWaterSettings& soilOpts)
 {
   const std::string dem = demArg.empty() ? terroir::app::DefaultDEM() : demArg;
   const int backend = ParseBackend(backendName);
@@ -303,11 +305,29 @@ int CommandRun(const std::string& demArg,
   const std::string illuminationJunPng = (out / "illumination_jun.png").string();
   const std::string insolationDecPng = (out / "insolation_dec.png").string();
   const std::string insolationJunPng = (out / "insolation_jun.png").string();
+  const std::string infiltrationTif = (out / "infiltration.tif").string();
+  const std::string humidityTif = (out / "humidity.tif").string();
+  const std::string weightedTif = (out / "weighted_humidity.tif").string();
+  const std::string standingTif = (out / "standing_water.tif").string();
+  const std::string lakesTif = (out / "lakes.tif").string();
+  const std::string humidityJanPng = (out / "humidity_jan.png").string();
+  const std::string humidityJulPng = (out / "humidity_jul.png").string();
+  const std::string lakesPng = (out / "lakes.png").string();
   const std::string reportMd = (out / "report.md").string();
   const std::string reportJson = (out / "report.json").string();
-  std::vector<std::string> outputs = {
-    vti, slopeTif, aspectTif, temperatureTif, illuminationTif, insolationTif, reportMd, reportJson
-  };
+  std::vector<std::string> outputs = { vti,
+    slopeTif,
+    aspectTif,
+    temperatureTif,
+    illuminationTif,
+    insolationTif,
+    infiltrationTif,
+    humidityTif,
+    weightedTif,
+    standingTif,
+    lakesTif,
+    reportMd,
+    reportJson };
   if (png)
   {
     if (!HaveDisplay())
@@ -322,7 +342,10 @@ int CommandRun(const std::string& demArg,
         illuminationDecPng,
         illuminationJunPng,
         insolationDecPng,
-        insolationJunPng });
+        insolationJunPng,
+        humidityJanPng,
+        humidityJulPng,
+        lakesPng });
   }
   // Refuse before any work, so a refused run leaves nothing behind.
   terroir::app::CheckWritable(outputs, overwrite);
@@ -396,6 +419,22 @@ int CommandRun(const std::string& demArg,
     }
   }
 
+  // Soil water with the default infiltration recipe (fill 15 mm/h, no infiltration on slopes
+  // over 30 degrees) and the climate of --precip/--intensity, --climate or the defaults; then
+  // the lakes: every closed depression and hydro-flattened water surface of at least 1 ha.
+  vtkNew<vtkTerroirInfiltration> infiltration;
+  result = RunStage(infiltration.Get(), result, "infiltration", stages);
+  vtkNew<vtkTerroirSoilHumidity> humidity;
+  humidity->SetBackend(backend);
+  terroir::app::ApplyClimate(soilOpts, humidity);
+  result = RunStage(humidity.Get(), result, "humidity", stages);
+  vtkNew<vtkTerroirFloodFill> lakes;
+  lakes->SetModeToFillDepressions();
+  result = RunStage(lakes.Get(), result, "lakes", stages);
+  vtkDataArray* lakeLevels =
+    result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyLevelName());
+  stages["lakes"]["water_bodies"] = lakeLevels ? lakeLevels->GetNumberOfTuples() : 0;
+
   const double tw = terroir::app::Now();
   terroir::app::WriteVTI(result, vti, overwrite);
   terroir::app::WriteGeoTIFF(result, "Slope", slopeTif, overwrite);
@@ -406,8 +445,38 @@ int CommandRun(const std::string& demArg,
     terroir::app::WriteGeoTIFF(result, "IlluminationHours", illuminationTif, overwrite);
     terroir::app::WriteGeoTIFF(result, "Insolation", insolationTif, overwrite);
   }
+  terroir::app::WriteGeoTIFF(
+    result, vtkTerroirInfiltration::InfiltrationRateName(), infiltrationTif, overwrite);
+  terroir::app::WriteGeoTIFF(
+    result, vtkTerroirSoilHumidity::SoilHumidityName(), humidityTif, overwrite);
+  terroir::app::WriteGeoTIFF(
+    result, vtkTerroirSoilHumidity::WeightedSoilHumidityName(), weightedTif, overwrite);
+  terroir::app::WriteGeoTIFF(
+    result, vtkTerroirSoilHumidity::StandingWaterName(), standingTif, overwrite);
+  terroir::app::WriteGeoTIFF(result, vtkTerroirFloodFill::WaterDepthName(), lakesTif, overwrite);
   if (png)
   {
+    WriteOverlay(result,
+      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
+      0,
+      "Humidity",
+      "Weighted soil humidity, January (mm)",
+      humidityJanPng,
+      overwrite);
+    WriteOverlay(result,
+      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
+      6,
+      "Humidity",
+      "Weighted soil humidity, July (mm)",
+      humidityJulPng,
+      overwrite);
+    WriteOverlay(result,
+      vtkTerroirFloodFill::WaterDepthName(),
+      0,
+      "WaterBodies",
+      "Lakes and closed depressions (depth, m)",
+      lakesPng,
+      overwrite);
     WriteOverlay(result, "Slope", 0, "Slope", "Slope (°)", slopePng, overwrite);
     WriteOverlay(result,
       "Temperature",
@@ -502,7 +571,14 @@ int CommandRun(const std::string& demArg,
        << std::setprecision(2);
   }
   md << "\n| stage | seconds | backend |\n|---|---|---|\n";
-  for (const char* s : { "read", "slope", "temperature", "illumination", "write" })
+  for (const char* s : { "read",
+         "slope",
+         "temperature",
+         "illumination",
+         "infiltration",
+         "humidity",
+         "lakes",
+         "write" })
   {
     if (!stages[s].contains("seconds"))
     {
@@ -543,7 +619,8 @@ int CommandRun(const std::string& demArg,
   terroir::app::WriteTextFile(reportMd, md.str(), overwrite);
 
   std::cout << "terroir run: " << dims[0] << "x" << dims[1] << " cells from " << dem << "\n";
-  for (const char* s : { "slope", "temperature", "illumination" })
+  for (const char* s :
+    { "slope", "temperature", "illumination", "infiltration", "humidity", "lakes" })
   {
     if (!stages[s].contains("seconds"))
     {
@@ -565,25 +642,6 @@ int CommandRun(const std::string& demArg,
 
 // ---------------------------------------------------------------------------------------------
 /// Writes a single-stage result: GeoTIFF of `array` for .tif/.tiff, every array for .vti.
-void WriteStageResult(vtkImageData* image,
-  const std::string& array,
-  const std::string& path,
-  bool overwrite)
-{
-  if (terroir::app::HasExtension(path, ".vti"))
-  {
-    terroir::app::WriteVTI(image, path, overwrite);
-  }
-  else if (terroir::app::HasExtension(path, ".tif") || terroir::app::HasExtension(path, ".tiff"))
-  {
-    terroir::app::WriteGeoTIFF(image, array, path, overwrite);
-  }
-  else
-  {
-    throw Failure(path + ": unknown output format (use .tif, .tiff or .vti)");
-  }
-}
-
 int CommandSlope(const std::string& in,
   const std::string& outPath,
   bool overwrite,
@@ -790,6 +848,54 @@ double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
   return best;
 }
 
+/// Best time of the soil-humidity kernel alone (core SoilHumidityLong2016 over blocks of cells
+/// with vtkSMPTools, outputs allocated and touched beforehand, the default climate), seconds.
+double TimeHumidityKernel(vtkImageData* withRates, bool allOutputs, int repeat)
+{
+  auto* rate = vtkFloatArray::SafeDownCast(
+    withRates->GetPointData()->GetArray(vtkTerroirInfiltration::InfiltrationRateName()));
+  if (!rate)
+  {
+    throw Failure("bench: no float InfiltrationRate array");
+  }
+  const std::size_t n = static_cast<std::size_t>(rate->GetNumberOfTuples());
+  vtkNew<vtkTerroirSoilHumidity> defaults;
+  terroir::terrain::MonthlyRain rain{};
+  for (int m = 0; m < 12; ++m)
+  {
+    rain.quantityMm[m] = static_cast<float>(defaults->GetPrecipitation()[m]);
+    rain.intensityMmPerHour[m] = static_cast<float>(defaults->GetPrecipitationIntensity()[m]);
+  }
+  std::vector<float> h(12 * n, 0.0f), w(allOutputs ? 12 * n : 0, 0.0f),
+    st(allOutputs ? 12 * n : 0, 0.0f);
+  const float* r = rate->GetPointer(0);
+  double best = 1e300;
+  for (int k = 0; k < repeat + 1; ++k) // the first run warms caches and page tables
+  {
+    const double t0 = terroir::app::Now();
+    vtkSMPTools::For(0,
+      static_cast<vtkIdType>(n),
+      4096,
+      [&](vtkIdType c0, vtkIdType c1)
+      {
+        terroir::terrain::SoilHumidityLong2016(r,
+          nullptr,
+          rain,
+          h.data(),
+          allOutputs ? w.data() : nullptr,
+          allOutputs ? st.data() : nullptr,
+          static_cast<std::size_t>(c0),
+          static_cast<std::size_t>(c1));
+      });
+    const double dt = terroir::app::Now() - t0;
+    if (k > 0)
+    {
+      best = std::min(best, dt);
+    }
+  }
+  return best;
+}
+
 int CommandBench(int size,
   int repeat,
   const std::string& backends,
@@ -841,6 +947,7 @@ int CommandBench(int size,
             << std::setw(14) << mcells / genSeconds << "\n";
 
   double slopeCpuSeconds = 0;
+  vtkSmartPointer<vtkImageData> humidityInput; // terrain + InfiltrationRate, for --bandwidth
   auto report = [&](const std::string& stage, const char* bname, double best, json extra)
   {
     std::cout << std::left << std::setw(18) << stage << std::setw(8) << bname << std::right
@@ -955,6 +1062,91 @@ int CommandBench(int size,
           const double march = bestOf([&] { return timedUpdate(g, stage); });
           report("instant-raymarch", bname, march, json{ { "method", "raymarch" } });
         }
+        else if (stage == "infiltration")
+        {
+          // The default recipe: fill, then the slope rule on a slope computed inside (CPU only).
+          if (b != vtkTerroirComputeContext::CPU)
+          {
+            continue;
+          }
+          vtkNew<vtkTerroirInfiltration> f;
+          f->SetInputData(terrain);
+          report(stage, bname, bestOf([&] { return timedUpdate(f, stage); }), json::object());
+        }
+        else if (stage == "humidity")
+        {
+          // Soil humidity alone (the seed's first kernel) and with the weighted average and
+          // standing water (its second), from rates of the default infiltration recipe.
+          vtkNew<vtkTerroirInfiltration> rates;
+          rates->SetInputData(terrain);
+          terroir::app::UpdateOrThrow(rates, "infiltration");
+          vtkNew<vtkTerroirSoilHumidity> f;
+          f->SetBackend(b);
+          f->SetInputConnection(rates->GetOutputPort());
+          f->ComputeWeightedSoilHumidityOff();
+          f->ComputeStandingWaterOff();
+          report("humidity",
+            bname,
+            bestOf([&] { return timedUpdate(f, stage); }),
+            json{ { "outputs", "SoilHumidity" } });
+          f->ComputeWeightedSoilHumidityOn();
+          f->ComputeStandingWaterOn();
+          report("humidity-all",
+            bname,
+            bestOf([&] { return timedUpdate(f, stage); }),
+            json{ { "outputs", "SoilHumidity, WeightedSoilHumidity, StandingWater" } });
+          if (b == vtkTerroirComputeContext::CPU)
+          {
+            humidityInput = vtkSmartPointer<vtkImageData>::New();
+            humidityInput->ShallowCopy(rates->GetOutput());
+          }
+        }
+        else if (stage == "floodfill" || stage == "depressions")
+        {
+          // Seeds: one seed in the lowest cell, level at the median height (about half the
+          // terrain connected to it floods); depressions: priority-flood and lakes.
+          if (b != vtkTerroirComputeContext::CPU)
+          {
+            continue;
+          }
+          vtkNew<vtkTerroirFloodFill> f;
+          f->SetInputData(terrain);
+          json extra = json::object();
+          if (stage == "floodfill")
+          {
+            vtkDataArray* z = terrain->GetPointData()->GetArray("Elevation");
+            std::vector<float> sorted(static_cast<std::size_t>(z->GetNumberOfTuples()));
+            vtkIdType lowest = 0;
+            for (vtkIdType k = 0; k < z->GetNumberOfTuples(); ++k)
+            {
+              sorted[static_cast<std::size_t>(k)] = static_cast<float>(z->GetComponent(k, 0));
+              if (z->GetComponent(k, 0) < z->GetComponent(lowest, 0))
+              {
+                lowest = k;
+              }
+            }
+            std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+            const double median = sorted[sorted.size() / 2];
+            f->AddSeedCell(
+              static_cast<int>(lowest % size), static_cast<int>(lowest / size), median);
+            extra["level_m"] = median;
+          }
+          else
+          {
+            f->SetModeToFillDepressions();
+          }
+          const double best = bestOf([&] { return timedUpdate(f, stage); });
+          vtkDataArray* cells =
+            f->GetOutput()->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyCellsName());
+          double wet = 0.0;
+          for (vtkIdType k = 0; cells && k < cells->GetNumberOfTuples(); ++k)
+          {
+            wet += cells->GetComponent(k, 0);
+          }
+          extra["water_bodies"] = cells ? cells->GetNumberOfTuples() : 0;
+          extra["wet_cells"] = wet;
+          report(stage, bname, best, extra);
+        }
         else if (stage == "monthly")
         {
           // Monthly mode with its defaults (the 15th of each month, 10-minute steps), a fresh
@@ -1017,6 +1209,25 @@ int CommandBench(int size,
                 << std::setprecision(2);
       doc[all ? "slope_kernel_all_GBps" : "slope_kernel_slope_only_GBps"] = bytes / sec / 1e9;
     }
+    if (humidityInput)
+    {
+      // Soil humidity: 4 B read (the rate) and 48 B written per output (12 months).
+      for (bool all : { false, true })
+      {
+        const double sec = TimeHumidityKernel(humidityInput, all, std::max(3, repeat));
+        const double bytes = (all ? 4.0 + 3 * 48.0 : 4.0 + 48.0) * mcells * 1e6;
+        const char* what =
+          all ? "humidity kernel (all three outputs)" : "humidity kernel (SoilHumidity)";
+        std::cout << what << ": " << std::setprecision(2) << sec * 1e3 << " ms, "
+                  << sec * 1e3 / mcells << " ms/Mcell, " << bytes / sec / 1e9
+                  << " GB/s = " << std::setprecision(0) << 100.0 * bytes / sec / bw
+                  << " % of copy bandwidth\n"
+                  << std::setprecision(2);
+        doc[all ? "humidity_kernel_all_seconds" : "humidity_kernel_seconds"] = sec;
+        doc[all ? "humidity_kernel_all_fraction_of_bandwidth"
+                : "humidity_kernel_fraction_of_bandwidth"] = bytes / sec / bw;
+      }
+    }
     if (slopeCpuSeconds > 0)
     {
       const double eff = bytesPerCell * mcells * 1e6 / slopeCpuSeconds;
@@ -1074,7 +1285,7 @@ int main(int argc, char** argv)
   terroir::InstallSignalCleanup();
   try
   {
-    LoadClimate(c.Temperature);
+    LoadClimate(c.Temperature, c.Command == "run" ? &c.SoilWater : nullptr);
     if (c.Command == "run")
     {
       return CommandRun(c.Input,
@@ -1084,7 +1295,8 @@ int main(int argc, char** argv)
         !c.NoPng,
         c.AllowNetwork,
         c.Temperature,
-        c.Illumination);
+        c.Illumination,
+        c.SoilWater);
     }
     if (c.Command == "slope")
     {
@@ -1106,6 +1318,18 @@ int main(int argc, char** argv)
     {
       return CommandIllumination(
         c.Input, c.Output, c.Overwrite, c.Backend, c.AllowNetwork, c.Illumination);
+    }
+    if (c.Command == "infiltration")
+    {
+      return terroir::app::CommandInfiltration(c);
+    }
+    if (c.Command == "humidity")
+    {
+      return terroir::app::CommandHumidity(c);
+    }
+    if (c.Command == "floodfill")
+    {
+      return terroir::app::CommandFloodFill(c);
     }
     if (c.Command == "bench")
     {

@@ -1,0 +1,48 @@
+/**
+ * @file TerroirWaterCommands.h
+ * @brief The soil-water and water-body commands of `terroir` (infiltration, humidity,
+ * floodfill) and the pieces `terroir run` shares with them.
+ */
+#ifndef TerroirWaterCommands_h
+#define TerroirWaterCommands_h
+
+#include "TerroirCommandLine.h"
+
+#include <string>
+
+class vtkImageData;
+class vtkTerroirFloodFill;
+class vtkTerroirInfiltration;
+class vtkTerroirSoilHumidity;
+
+namespace terroir
+{
+namespace app
+{
+
+/// Adds the infiltration operations of `s` to `filter`, in order: reads the rasters (which must
+/// lie on the terrain's grid) and burns the polygons onto it. Throws Failure naming the file.
+void ApplyInfiltration(const SoilWaterSettings& s,
+  vtkTerroirInfiltration* filter,
+  vtkImageData* terrain,
+  bool allowNetwork);
+
+/// Sets the soil-humidity filter's climate: --precip / --intensity (each replacing the
+/// filter's default), or --climate (read by the filter).
+void ApplyClimate(const SoilWaterSettings& s, vtkTerroirSoilHumidity* filter);
+
+/// Adds the seeds of `s` to `filter` (or sets FillDepressions mode) and its parameters.
+void ApplyFloodFill(const FloodFillSettings& s, vtkTerroirFloodFill* filter);
+
+/// Prints one line per water body of a vtkTerroirFloodFill output (id, level, cells, area,
+/// volume, deepest point), at most `limit` of them, largest first.
+void PrintWaterBodies(vtkImageData* result, int limit);
+
+int CommandInfiltration(const CommandLine& c);
+int CommandHumidity(const CommandLine& c);
+int CommandFloodFill(const CommandLine& c);
+
+} // namespace app
+} // namespace terroir
+
+#endif
