@@ -1,6 +1,7 @@
 """Composes terroir.vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature (and
-vtkTerroirSolarIllumination after the slope) on the bundled DEM and checks the arrays and a
-few values against numpy computations.
+vtkTerroirSolarIllumination after the slope, and vtkTerroirInfiltration ->
+vtkTerroirSoilHumidity after the slope) on the bundled DEM and checks the arrays and a few
+values against numpy computations.
 
 Run by CTest with Debian's /usr/bin/python3 (PYTHONPATH = the built terroir package,
 TERROIR_DATA_DIR = the bundled data). Exits non-zero on failure.
@@ -137,6 +138,50 @@ north = ((a < 45.0) | (a > 315.0)) & (s > 15.0)
 check(ins[:, :, 11][south].mean() > 1.5 * ins[:, :, 11][north].mean(),
       "December insolation: south-facing %.0f vs north-facing %.0f Wh/m2"
       % (ins[:, :, 11][south].mean(), ins[:, :, 11][north].mean()))
+
+# Soil water: reader -> slope -> infiltration (loam everywhere, a clay patch painted from a
+# mask array, no infiltration on slopes over 30 degrees) -> soil humidity, against numpy.
+patch = np.zeros((ny, nx), dtype=np.uint8)
+patch[100:200, 300:500] = 1
+from vtkmodules.util.numpy_support import numpy_to_vtk
+with_patch = terroir.vtkTerroirSlope()
+with_patch.SetInputConnection(reader.GetOutputPort())
+with_patch.SetBackendToCPU()
+with_patch.Update()
+terrain = with_patch.GetOutput()
+mask = numpy_to_vtk(patch.ravel(), deep=True)
+mask.SetName("ClayPatch")
+terrain.GetPointData().AddArray(mask)
+infiltration = terroir.vtkTerroirInfiltration()
+infiltration.SetInputData(terrain)
+infiltration.AddFill(15.0)
+infiltration.AddPaintMaskArray("ClayPatch", 3.0)
+infiltration.AddSlopeRule(30.0)
+humidity = terroir.vtkTerroirSoilHumidity()
+humidity.SetInputConnection(infiltration.GetOutputPort())
+humidity.SetBackendToCPU()
+rain = [150, 140, 110, 60, 35, 15, 5, 5, 15, 50, 110, 145]
+intensity = [2.5, 2.5, 2, 1.5, 3, 6, 10, 10, 5, 2, 2, 2.5]
+humidity.SetPrecipitation(rain)
+humidity.SetPrecipitationIntensity(intensity)
+humidity.Update()
+hp = humidity.GetOutput().GetPointData()
+rate = vtk_to_numpy(hp.GetArray("InfiltrationRate")).reshape(ny, nx)
+expected_rate = np.where(s > 30.0, 0.0, np.where(patch == 1, 3.0, 15.0))
+check(np.array_equal(rate, expected_rate), "InfiltrationRate = fill, clay patch, slope rule")
+sh = vtk_to_numpy(hp.GetArray("SoilHumidity")).reshape(ny, nx, 12)
+swh = vtk_to_numpy(hp.GetArray("WeightedSoilHumidity")).reshape(ny, nx, 12)
+sw = vtk_to_numpy(hp.GetArray("StandingWater")).reshape(ny, nx, 12)
+q = np.array(rain, dtype=np.float64)
+ri = np.array(intensity, dtype=np.float64)
+sh_np = np.minimum(rate[:, :, None] / ri[None, None, :], 1.0) * q[None, None, :]
+check(np.abs(sh - sh_np).max() < 1e-4, "SoilHumidity vs numpy: %g" % np.abs(sh - sh_np).max())
+swh_np = sh_np / 2 + np.roll(sh_np, 1, axis=2) / 3 + np.roll(sh_np, 2, axis=2) / 6
+check(np.abs(swh - swh_np).max() < 1e-4, "WeightedSoilHumidity vs numpy (periodic year)")
+check(np.abs(sw - (q[None, None, :] - sh_np)).max() < 1e-4, "StandingWater = rain - absorbed")
+print("soil water: July absorbed %.2f mm on clay, %.2f mm on loam; %.1f %% of cells are cliffs"
+      % (sh[150, 400, 6] if rate[150, 400] == 3.0 else float("nan"),
+         sh[:, :, 6][rate == 15.0].mean(), 100.0 * (rate == 0.0).mean()))
 
 if failures:
     print("%d failure(s)" % len(failures))
