@@ -13,6 +13,7 @@
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
 #include "vtkTerroirDEMReader.h"
+#include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirInfiltration.h"
@@ -143,6 +144,26 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         f->SetInputConnection(rates->GetOutputPort());
         f->Update();
         return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirFloodFill",
+      []
+      {
+        // Both modes: a seed fill of Independence Lake and every depression and flat.
+        Bytes all;
+        for (int mode : { vtkTerroirFloodFill::Seeds, vtkTerroirFloodFill::FillDepressions })
+        {
+          vtkNew<vtkTerroirFloodFill> f;
+          f->SetMode(mode);
+          f->AddSeedPoint(215365.0, 4371215.0);
+          f->AddSeedPoint(216000.0, 4368000.0, 2100.0);
+          f->SetInputData(TerrainWithHoles());
+          f->Update();
+          for (const auto& [key, bytes] : OutputBytes(f->GetOutput()))
+          {
+            all[std::string(f->GetModeAsString()) + ":" + key] = bytes;
+          }
+        }
+        return all;
       } },
     { "vtkTerroirTemperature",
       []

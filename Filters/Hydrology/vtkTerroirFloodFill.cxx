@@ -1,0 +1,310 @@
+#include "vtkTerroirFloodFill.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkIntArray.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
+#include "vtkTerroirTerrainInput.h"
+
+#include "DepressionWaterBodies.h"
+#include "FloodFill.h"
+#include "PriorityFlood.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <new>
+#include <sstream>
+
+vtkStandardNewMacro(vtkTerroirFloodFill);
+
+namespace
+{
+/// A number as people write it: up to 10 significant digits, no trailing zeros.
+std::string Num(double v)
+{
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+vtkSmartPointer<vtkDoubleArray> BodyArray(const char* name,
+  const char* units,
+  const std::vector<terroir::hydrology::WaterBodyStats>& bodies,
+  double terroir::hydrology::WaterBodyStats::*member)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfTuples(static_cast<vtkIdType>(bodies.size()));
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+  {
+    a->SetValue(static_cast<vtkIdType>(b), bodies[b].*member);
+  }
+  a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
+  return a;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTerroirFloodFill::vtkTerroirFloodFill() = default;
+
+//------------------------------------------------------------------------------
+vtkTerroirFloodFill::~vtkTerroirFloodFill() = default;
+
+//------------------------------------------------------------------------------
+void vtkTerroirFloodFill::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Mode: " << this->GetModeAsString() << "\n";
+  os << indent << "Seeds: " << this->SeedList.size() << "\n";
+  for (std::size_t s = 0; s < this->SeedList.size(); ++s)
+  {
+    const Seed& seed = this->SeedList[s];
+    os << indent.GetNextIndent() << this->DescribeSeed(s) << ", level "
+       << (seed.HasLevel ? Num(seed.Level) + " m" : std::string("terrain")) << "\n";
+  }
+  os << indent << "MinimumArea: " << this->MinimumArea << "\n";
+  os << indent << "IncludeFlatSurfaces: " << (this->IncludeFlatSurfaces ? "On" : "Off") << "\n";
+}
+
+//------------------------------------------------------------------------------
+const char* vtkTerroirFloodFill::GetModeAsString()
+{
+  return this->Mode == FillDepressions ? "FillDepressions" : "Seeds";
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirFloodFill::AddSeed(const Seed& seed)
+{
+  this->SeedList.push_back(seed);
+  this->Modified();
+}
+
+void vtkTerroirFloodFill::AddSeedPoint(double x, double y)
+{
+  this->AddSeed(Seed{ false, x, y, 0, 0, false, 0.0 });
+}
+
+void vtkTerroirFloodFill::AddSeedPoint(double x, double y, double level)
+{
+  this->AddSeed(Seed{ false, x, y, 0, 0, true, level });
+}
+
+void vtkTerroirFloodFill::AddSeedCell(int i, int j)
+{
+  this->AddSeed(Seed{ true, 0.0, 0.0, i, j, false, 0.0 });
+}
+
+void vtkTerroirFloodFill::AddSeedCell(int i, int j, double level)
+{
+  this->AddSeed(Seed{ true, 0.0, 0.0, i, j, true, level });
+}
+
+void vtkTerroirFloodFill::RemoveAllSeeds()
+{
+  if (!this->SeedList.empty())
+  {
+    this->SeedList.clear();
+    this->Modified();
+  }
+}
+
+int vtkTerroirFloodFill::GetNumberOfSeeds()
+{
+  return static_cast<int>(this->SeedList.size());
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirFloodFill::DescribeSeed(std::size_t s) const
+{
+  const Seed& seed = this->SeedList[s];
+  return "seed " + std::to_string(s + 1) +
+    (seed.IsCell ? " at cell (" + std::to_string(seed.I) + ", " + std::to_string(seed.J) + ")"
+                 : " at (" + Num(seed.X) + ", " + Num(seed.Y) + ")");
+}
+
+//------------------------------------------------------------------------------
+double vtkTerroirFloodFill::EstimateMemory(double nx, double ny)
+{
+  // Outputs: WaterBody 4 B + WaterDepth 4 B per cell. Seeds: the fill stack holds each wet cell
+  // once (4 B), up to twice that while std::vector grows. FillDepressions, at its peak during
+  // Priority-Flood: the filled surface (4 B), visited flags (1 B), the priority queue (8 B per
+  // queued cell, up to twice that while growing; at worst every cell) and the pit FIFO (4 B);
+  // the labelling that follows needs less (1 B flags, 4-8 B queue) after those are freed.
+  const double perCell = this->Mode == FillDepressions ? 8.0 + 4.0 + 1.0 + 16.0 + 4.0 : 8.0 + 8.0;
+  return nx * ny * perCell;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirFloodFill::CheckParameters()
+{
+  if (!(this->MinimumArea >= 0.0) || !std::isfinite(this->MinimumArea))
+  {
+    return "MinimumArea " + Num(this->MinimumArea) + " m2 must be a finite number >= 0";
+  }
+  if (this->Mode != Seeds)
+  {
+    return std::string();
+  }
+  if (this->SeedList.empty())
+  {
+    return "Seeds mode needs at least one seed (AddSeedPoint or AddSeedCell)";
+  }
+  for (std::size_t s = 0; s < this->SeedList.size(); ++s)
+  {
+    const Seed& seed = this->SeedList[s];
+    if (!seed.IsCell && !(std::isfinite(seed.X) && std::isfinite(seed.Y)))
+    {
+      return this->DescribeSeed(s) + " has non-finite coordinates";
+    }
+    if (seed.HasLevel && !std::isfinite(seed.Level))
+    {
+      return this->DescribeSeed(s) + " has a non-finite level " + Num(seed.Level);
+    }
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  namespace hy = terroir::hydrology;
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+  if (this->SelectBackend(this->HasGPUPath()) < 0)
+  {
+    return 0; // a GPU request: this filter has no GPU path
+  }
+
+  // Seeds to cells, with every check before anything is allocated.
+  std::vector<hy::FloodSeed> seeds;
+  if (this->Mode == Seeds)
+  {
+    int ext[6];
+    double origin[3], spacing[3];
+    input->GetExtent(ext);
+    input->GetOrigin(origin);
+    input->GetSpacing(spacing);
+    for (std::size_t s = 0; s < this->SeedList.size(); ++s)
+    {
+      const Seed& seed = this->SeedList[s];
+      double ci = seed.I;
+      double cj = seed.J;
+      if (!seed.IsCell)
+      {
+        ci = std::floor((seed.X - origin[0]) / spacing[0] + 0.5) - ext[0];
+        cj = std::floor((seed.Y - origin[1]) / spacing[1] + 0.5) - ext[2];
+      }
+      if (!(ci >= 0.0 && ci < v.nx && cj >= 0.0 && cj < v.ny))
+      {
+        std::string where;
+        if (seed.IsCell)
+        {
+          where = "the terrain of " + std::to_string(v.nx) + " x " + std::to_string(v.ny) +
+            " cells (i 0.." + std::to_string(v.nx - 1) + ", j 0.." + std::to_string(v.ny - 1) + ")";
+        }
+        else
+        {
+          const double x0 = origin[0] + (ext[0] - 0.5) * spacing[0];
+          const double x1 = origin[0] + (ext[1] + 0.5) * spacing[0];
+          const double y0 = origin[1] + (ext[2] - 0.5) * spacing[1];
+          const double y1 = origin[1] + (ext[3] + 0.5) * spacing[1];
+          where = "the terrain, which covers x " + Num(std::min(x0, x1)) + " .. " +
+            Num(std::max(x0, x1)) + ", y " + Num(std::min(y0, y1)) + " .. " + Num(std::max(y0, y1));
+        }
+        vtkErrorMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << " lies outside "
+                      << where);
+        return 0;
+      }
+      const int i = static_cast<int>(ci);
+      const int j = static_cast<int>(cj);
+      const std::size_t k = v.Index(i, j);
+      if (!hy::detail::HasData(v, k))
+      {
+        vtkErrorMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << " falls on cell ("
+                      << i << ", " << j << "), which holds no data");
+        return 0;
+      }
+      if (seed.HasLevel && seed.Level < v.data[k])
+      {
+        vtkWarningMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << ": level "
+                        << Num(seed.Level) << " m is below the terrain there (" << Num(v.data[k])
+                        << " m); its water body is empty");
+      }
+      hy::FloodSeed fs;
+      fs.cell = k;
+      if (seed.HasLevel)
+      {
+        fs.level = seed.Level;
+      }
+      seeds.push_back(fs);
+    }
+  }
+
+  vtkSmartPointer<vtkFloatArray> depth = vtkSmartPointer<vtkFloatArray>::Take(
+    terroir::NewOutputArray(WaterDepthName(), 1, static_cast<long long>(n), "m"));
+  auto ids = vtkSmartPointer<vtkIntArray>::New();
+  ids->SetName(WaterBodyName());
+  if (!ids->Allocate(static_cast<vtkIdType>(n)))
+  {
+    throw std::bad_alloc();
+  }
+  ids->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  std::int32_t* idp = ids->GetPointer(0);
+  float* dp = depth->GetPointer(0);
+
+  std::vector<hy::WaterBodyStats> bodies;
+  if (this->Mode == Seeds)
+  {
+    bodies = hy::FloodFillSeeds(
+      v, seeds, idp, dp, [this](double f) { this->UpdateProgress(0.05 + 0.9 * f); });
+  }
+  else
+  {
+    vtkDebugMacro(<< "FillDepressions: improved Priority-Flood, "
+                  << hy::kPriorityFloodBarnes2014Citation);
+    std::vector<float> filled(n);
+    hy::PriorityFloodBarnes2014(
+      v, filled.data(), [this](double f) { this->UpdateProgress(0.05 + 0.7 * f); });
+    hy::DepressionWaterBodyOptions options;
+    options.minimumArea = this->MinimumArea;
+    options.includeFlatSurfaces = this->IncludeFlatSurfaces;
+    bodies = hy::DepressionWaterBodies(v,
+      filled.data(),
+      options,
+      idp,
+      dp,
+      [this](double f) { this->UpdateProgress(0.75 + 0.2 * f); });
+  }
+
+  output->GetPointData()->AddArray(ids);
+  output->GetPointData()->AddArray(depth);
+  vtkFieldData* fd = output->GetFieldData();
+  fd->AddArray(BodyArray(WaterBodyLevelName(), "m", bodies, &hy::WaterBodyStats::level));
+  fd->AddArray(BodyArray(WaterBodyAreaName(), "m2", bodies, &hy::WaterBodyStats::area));
+  fd->AddArray(BodyArray(WaterBodyVolumeName(), "m3", bodies, &hy::WaterBodyStats::volume));
+  fd->AddArray(BodyArray(WaterBodyMaxDepthName(), "m", bodies, &hy::WaterBodyStats::maxDepth));
+  auto cells = vtkSmartPointer<vtkIdTypeArray>::New();
+  cells->SetName(WaterBodyCellsName());
+  cells->SetNumberOfTuples(static_cast<vtkIdType>(bodies.size()));
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+  {
+    cells->SetValue(static_cast<vtkIdType>(b), static_cast<vtkIdType>(bodies[b].cells));
+  }
+  fd->AddArray(cells);
+  auto mode = vtkSmartPointer<vtkStringArray>::New();
+  mode->SetName(FloodFillModeName());
+  mode->InsertNextValue(this->GetModeAsString());
+  fd->AddArray(mode);
+  return 1;
+}
