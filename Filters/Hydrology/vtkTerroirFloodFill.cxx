@@ -229,7 +229,7 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
       const int i = static_cast<int>(ci);
       const int j = static_cast<int>(cj);
       const std::size_t k = v.Index(i, j);
-      if (!hy::detail::HasData(v, k))
+      if (!hy::HasData(v, k))
       {
         vtkErrorMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << " falls on cell ("
                       << i << ", " << j << "), which holds no data");

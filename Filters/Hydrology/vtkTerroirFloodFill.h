@@ -41,7 +41,8 @@
  * Testing/Unit/TestFloodFill.cxx (hand-worked grids; Priority-Flood against a brute-force
  * fixed point on 50 random terrains), Testing/Pipeline/TestTerroirFloodFill.cxx (Independence
  * Lake on the bundled Sagehen DEM found by both modes; arrays, units, errors),
- * Testing/Pipeline/TestDeterminism.cxx.
+ * Testing/Pipeline/TestDeterminism.cxx, Testing/Python/TestFloodFill.py (the lake equals an
+ * independent breadth-first fill in Python).
  *
  * @par References
  * Barnes, R., Lehman, C., Mulla, D. (2014). Priority-Flood: An optimal depression-filling and

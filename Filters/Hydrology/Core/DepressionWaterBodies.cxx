@@ -24,7 +24,7 @@ std::vector<WaterBodyStats> DepressionWaterBodies(const GridView<float>& view,
   for (std::size_t k = 0; k < n; ++k)
   {
     bodyId[k] = 0;
-    const bool data = detail::HasData(view, k) && !std::isnan(filled[k]);
+    const bool data = HasData(view, k) && !std::isnan(filled[k]);
     depth[k] = data ? 0.0f : std::numeric_limits<float>::quiet_NaN();
     seen[k] = data ? 0 : 1;
   }

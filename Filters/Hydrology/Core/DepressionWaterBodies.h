@@ -20,9 +20,10 @@
  * bed. Such a lake is not a closed depression, so depression filling finds at most a few cells
  * along its shore. On the bundled Sagehen Creek DEM (786 x 720 cells of 10 m), Independence
  * Lake in the north-west is a flat of 23,531 cells at exactly 2117.804 m (float
- * 2117.803955078125); Priority-Flood raises only its 67 shore cells (by at most 0.1 m). The
- * flat rule finds the whole lake (Testing/Pipeline/TestTerroirFloodFill.cxx). Depths on such a
- * lake are 0: the DEM records the water surface, not the bed.
+ * 2117.803955078125); Priority-Flood raises only the 67 shore cells around it (by at most
+ * 0.06 m). The flat rule finds the whole lake, 23,598 cells with those shore cells
+ * (Testing/Pipeline/TestTerroirFloodFill.cxx). Depths on such a lake are 0 (a few centimetres
+ * at the shore): the DEM records the water surface, not the bed.
  *
  * Caveat. On a DEM quantised to whole metres (or coarser), equal-height plateaus are common
  * and would be reported as water surfaces when they are at least `minimumArea` large: raise

@@ -30,7 +30,7 @@ std::vector<WaterBodyStats> FloodFillSeeds(const GridView<float>& view,
   for (std::size_t k = 0; k < n; ++k)
   {
     bodyId[k] = 0;
-    depth[k] = detail::HasData(view, k) ? 0.0f : std::numeric_limits<float>::quiet_NaN();
+    depth[k] = HasData(view, k) ? 0.0f : std::numeric_limits<float>::quiet_NaN();
   }
 
   // Resolved levels, and the order: highest level first, ties in seed order. Seeds without a
@@ -42,8 +42,8 @@ std::vector<WaterBodyStats> FloodFillSeeds(const GridView<float>& view,
     double level = seeds[s].level;
     if (std::isnan(level))
     {
-      level = detail::HasData(view, c) ? static_cast<double>(view.data[c])
-                                       : std::numeric_limits<double>::quiet_NaN();
+      level = HasData(view, c) ? static_cast<double>(view.data[c])
+                               : std::numeric_limits<double>::quiet_NaN();
     }
     stats[s].level = level;
   }
@@ -67,7 +67,7 @@ std::vector<WaterBodyStats> FloodFillSeeds(const GridView<float>& view,
     {
       progress(static_cast<double>(done) / static_cast<double>(order.size()));
     }
-    if (std::isnan(level) || !detail::HasData(view, c) || bodyId[c] != 0 ||
+    if (std::isnan(level) || !HasData(view, c) || bodyId[c] != 0 ||
       !(static_cast<double>(view.data[c]) <= level))
     {
       continue; // no data, already wet (joins that body), or the terrain is above the level

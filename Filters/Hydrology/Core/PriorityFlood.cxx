@@ -47,7 +47,7 @@ std::size_t PriorityFloodBarnes2014(const GridView<float>& view,
   std::vector<std::uint8_t> closed(n, 0);
   for (std::size_t k = 0; k < n; ++k)
   {
-    if (detail::HasData(view, k))
+    if (HasData(view, k))
     {
       filled[k] = view.data[k];
     }
@@ -74,8 +74,8 @@ std::size_t PriorityFloodBarnes2014(const GridView<float>& view,
       bool outlet = i == 0 || j == 0 || i == nx - 1 || j == ny - 1;
       for (int e = 0; e < 8 && !outlet; ++e)
       {
-        outlet = !detail::HasData(
-          view, view.Index(i + detail::kNeighbourDi[e], j + detail::kNeighbourDj[e]));
+        outlet =
+          !HasData(view, view.Index(i + detail::kNeighbourDi[e], j + detail::kNeighbourDj[e]));
       }
       if (outlet)
       {

@@ -48,13 +48,15 @@ struct WaterBodyStats
   }
 };
 
-namespace detail
-{
-/// True when cell k holds data: no mask or mask 1, and an elevation that is not NaN.
+/// True when cell k holds data: no mask or mask 1, and an elevation that is not NaN (the
+/// no-data rule of every hydrology core).
 inline bool HasData(const GridView<float>& view, std::size_t k)
 {
   return (!view.valid || view.valid[k] != 0) && !std::isnan(view.data[k]);
 }
+
+namespace detail
+{
 
 /// The cores keep cell indices in 32-bit queues: refuse grids with more cells than that.
 inline void CheckCellCount(const GridView<float>& view, const char* function)
