@@ -16,6 +16,7 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 #include "vtkTerroirDEMReader.h"
+#include "vtkTerroirFloodFill.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirOverlayView.h"
 #include "vtkTerroirSlope.h"
@@ -362,5 +363,25 @@ TEST(TerroirOverlayImages, LegendSoilHumidityJanuaryRelief)
   view->SetModeToRelief();
   view->ShowLegendOn();
   view->SetTitle("Soil humidity, January");
+  CompareWithBaseline(view);
+}
+
+// Lakes of the bundled DEM (FillDepressions: Independence Lake, a hydro-flattened surface at
+// 2117.8 m in the north-west, and a small closed depression), blue over the bare terrain, with
+// the depth legend. Independence Lake has depth 0 (the DEM records its surface): light blue.
+TEST(TerroirOverlayImages, LegendLakesMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirFloodFill> lakes;
+  lakes->SetInputData(SagehenTerrain());
+  lakes->SetModeToFillDepressions();
+  lakes->Update();
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(lakes->GetOutput());
+  view->SetArrayName(vtkTerroirFloodFill::WaterDepthName());
+  view->SetModeToMap();
+  EXPECT_STREQ(view->GetEffectivePreset(), "WaterBodies");
+  view->ShowLegendOn();
+  view->SetTitle("Lakes (FillDepressions)");
   CompareWithBaseline(view);
 }

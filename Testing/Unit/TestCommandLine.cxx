@@ -371,12 +371,182 @@ TEST(TerroirCommandLineParse, BenchStages)
   ASSERT_TRUE(outcome.Run) << outcome.Error;
   EXPECT_EQ(line.BenchStages, terroir::app::BenchStageNames());
   EXPECT_EQ(line.BenchStages,
-    (std::vector<std::string>{ "slope", "temperature", "horizon", "instant", "monthly" }));
+    (std::vector<std::string>{ "slope",
+      "temperature",
+      "horizon",
+      "instant",
+      "monthly",
+      "infiltration",
+      "humidity",
+      "floodfill",
+      "depressions" }));
   // Run in the fixed order, each once, whatever the order asked.
   outcome = Parse({ "bench", "--stages", "monthly,horizon,instant,horizon" }, line);
   ASSERT_TRUE(outcome.Run) << outcome.Error;
   EXPECT_EQ(line.BenchStages, (std::vector<std::string>{ "horizon", "instant", "monthly" }));
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "slope,shadows" }),
-    "--stages: 'shadows' is not one of slope, temperature, horizon, instant, monthly");
+    "--stages: 'shadows' is not one of slope, temperature, horizon, instant, monthly, "
+    "infiltration, humidity, floodfill, depressions");
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "" }), "--stages: no stage given");
+}
+
+TEST(TerroirCommandLineParse, InfiltrationOperationsKeepTheirOrder)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "infiltration",
+                         "dem.tif",
+                         "rates.tif",
+                         "--fill",
+                         "15",
+                         "--paint-polygons",
+                         "rock=s.geojson=2.5",
+                         "--slope-rule",
+                         "30",
+                         "--soil-polygons",
+                         "soils.shp=TEXTURE",
+                         "--fill",
+                         "7",
+                         "--soil-raster",
+                         "soil.tif",
+                         "--paint-raster",
+                         "mask.tif=0" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Command, "infiltration");
+  const auto& ops = line.SoilWater.Operations;
+  ASSERT_EQ(ops.size(), 7u);
+  const char* kinds[7] = {
+    "fill", "paint-polygons", "slope-rule", "soil-polygons", "fill", "soil-raster", "paint-raster"
+  };
+  for (int k = 0; k < 7; ++k)
+  {
+    EXPECT_EQ(ops[k].Kind, kinds[k]) << k;
+  }
+  EXPECT_EQ(ops[0].Value, 15.0);
+  EXPECT_EQ(ops[1].File, "rock=s.geojson"); // split at the last '='
+  EXPECT_EQ(ops[1].Value, 2.5);
+  EXPECT_EQ(ops[2].Value, 30.0);
+  EXPECT_EQ(ops[3].File, "soils.shp");
+  EXPECT_EQ(ops[3].Attribute, "TEXTURE");
+  EXPECT_EQ(ops[4].Value, 7.0);
+  EXPECT_EQ(ops[5].File, "soil.tif");
+  EXPECT_EQ(ops[6].Value, 0.0);
+  // No operation: the filter's default recipe.
+  outcome = Parse({ "infiltration", "dem.tif", "rates.tif" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_TRUE(line.SoilWater.Operations.empty());
+  EXPECT_EQ(ErrorOf({ "infiltration", "d.tif", "r.tif", "--fill", "-1" }),
+    "--fill: '-1' is not a rate in [0, 1000] mm/h");
+  EXPECT_EQ(ErrorOf({ "infiltration", "d.tif", "r.tif", "--slope-rule", "95" }),
+    "--slope-rule: '95' is not an angle in [0, 90] degrees");
+  EXPECT_EQ(ErrorOf({ "infiltration", "d.tif", "r.tif", "--paint-raster", "mask.tif" }),
+    "--paint-raster: 'mask.tif' is not FILE=RATE");
+  EXPECT_EQ(ErrorOf({ "infiltration", "d.tif", "r.tif", "--soil-polygons", "soils.shp=" }),
+    "--soil-polygons: 'soils.shp=' is not FILE=FIELD");
+}
+
+TEST(TerroirCommandLineParse, HumidityClimate)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "humidity",
+                         "dem.tif",
+                         "h.tif",
+                         "--precip",
+                         "1,2,3,4,5,6,7,8,9,10,11,12",
+                         "--intensity",
+                         "2,2,2,2,2,2,2,2,2,2,2,2",
+                         "--weighted",
+                         "w.tif",
+                         "--standing",
+                         "s.vti",
+                         "--infiltration",
+                         "rates.tif" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  ASSERT_EQ(line.SoilWater.Precipitation.size(), 12u);
+  EXPECT_EQ(line.SoilWater.Precipitation[11], 12.0);
+  EXPECT_EQ(line.SoilWater.Intensity[0], 2.0);
+  EXPECT_EQ(line.SoilWater.WeightedOutput, "w.tif");
+  EXPECT_EQ(line.SoilWater.StandingOutput, "s.vti");
+  EXPECT_EQ(line.SoilWater.InfiltrationInput, "rates.tif");
+  EXPECT_EQ(ErrorOf({ "humidity", "d.tif", "h.tif", "--precip", "80,70" }),
+    "--precip: expected 12 values (January first), got 2");
+  EXPECT_EQ(ErrorOf({ "humidity", "d.tif", "h.tif", "--precip", "1,2,3,4,5,6,7,8,9,10,11,-12" }),
+    "--precip: value 12 (-12) is outside [0, 10000]");
+  EXPECT_EQ(ErrorOf({ "humidity",
+              "d.tif",
+              "h.tif",
+              "--precip",
+              "1,2,3,4,5,6,7,8,9,10,11,12",
+              "--intensity",
+              "2,2,0,2,2,2,2,2,2,2,2,2" }),
+    "--intensity: month 3 has rain (--precip) but intensity 0: rain needs a positive intensity");
+  EXPECT_EQ(ErrorOf({ "humidity",
+              "d.tif",
+              "h.tif",
+              "--climate",
+              "c.csv",
+              "--precip",
+              "1,2,3,4,5,6,7,8,9,10,11,12" }),
+    "--precip and --intensity exclude --climate");
+  EXPECT_EQ(ErrorOf({ "humidity", "d.tif", "h.tif", "--weighted", "h.tif" }),
+    "'h.tif' is both OUT and an extra output");
+  EXPECT_NE(
+    ErrorOf({ "humidity", "d.tif", "h.tif", "--infiltration", "r.tif", "--fill", "3" }), "");
+}
+
+TEST(TerroirCommandLineParse, FloodFillSeeds)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "floodfill",
+                         "dem.tif",
+                         "lake.tif",
+                         "--seed",
+                         "215375,4371215",
+                         "--seed",
+                         "1,2,2100.5",
+                         "--seed-cell",
+                         "10,20",
+                         "--level",
+                         "2118" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  const auto& f = line.FloodFill;
+  ASSERT_EQ(f.Seeds.size(), 3u);
+  EXPECT_EQ(f.Seeds[0].X, 215375.0);
+  EXPECT_TRUE(std::isnan(f.Seeds[0].Level));
+  EXPECT_EQ(f.Seeds[1].Level, 2100.5);
+  EXPECT_TRUE(f.Seeds[2].Cell);
+  EXPECT_EQ(f.Seeds[2].Y, 20.0);
+  EXPECT_EQ(f.Level, 2118.0);
+  EXPECT_FALSE(f.FillDepressions);
+  outcome = Parse({ "floodfill",
+                    "dem.tif",
+                    "lakes.tif",
+                    "--fill-depressions",
+                    "--min-area",
+                    "500",
+                    "--no-flat-surfaces",
+                    "--ids",
+                    "ids.tif" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_TRUE(line.FloodFill.FillDepressions);
+  EXPECT_EQ(line.FloodFill.MinimumArea, 500.0);
+  EXPECT_FALSE(line.FloodFill.FlatSurfaces);
+  EXPECT_EQ(line.FloodFill.IdsOutput, "ids.tif");
+  EXPECT_EQ(ErrorOf({ "floodfill", "d.tif", "l.tif" }),
+    "floodfill needs --seed X,Y (or --seed-cell I,J) or --fill-depressions");
+  EXPECT_EQ(
+    ErrorOf({ "floodfill", "d.tif", "l.tif", "--seed", "1" }), "--seed: '1' is not X,Y[,LEVEL]");
+  EXPECT_EQ(ErrorOf({ "floodfill", "d.tif", "l.tif", "--seed-cell", "1.5,2" }),
+    "--seed-cell: '1.5,2': I and J must be cell indices (>= 0)");
+  EXPECT_EQ(ErrorOf({ "floodfill", "d.tif", "l.tif", "--seed", "1,2", "--fill-depressions" }),
+    "--fill-depressions excludes --seed and --seed-cell");
+  EXPECT_EQ(ErrorOf({ "floodfill", "d.tif", "l.tif", "--seed", "1,2", "--min-area", "5" }),
+    "--min-area and --no-flat-surfaces apply to --fill-depressions");
+  EXPECT_EQ(ErrorOf({ "floodfill", "d.tif", "l.tif", "--fill-depressions", "--level", "5" }),
+    "--level applies to seeds, not to --fill-depressions");
+  EXPECT_EQ(
+    ErrorOf({ "floodfill", "d.tif", "l.tif", "--seed", "1,nan" }), "--seed: 'nan' is not a number");
 }
