@@ -23,6 +23,7 @@
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirTerragenReader.h"
 #include "vtkTerroirTerragenWriter.h"
+#include "vtkTerroirVectorRasterizer.h"
 
 #include <gtest/gtest.h>
 
@@ -211,6 +212,19 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         w->Write();
         EXPECT_STREQ(w->GetErrorMessage(), "");
         return FileBytes(Scratch("dem.tif"));
+      } },
+    { "vtkTerroirVectorRasterizer",
+      []
+      {
+        // GDAL's rasterisation is single-threaded; checked all the same, lines and polygons.
+        vtkNew<vtkTerroirVectorRasterizer> f;
+        f->SetInputData(TerrainWithHoles());
+        f->SetFileName(
+          terroir_test::DataFile("sagehen_creek_ca/sagehen_nhd_flowlines_utm11n.geojson").c_str());
+        f->SetAttributeName("FCODE");
+        f->AllTouchedOn();
+        f->Update();
+        return OutputBytes(f->GetOutput());
       } },
     { "vtkTerroirTerragenWriter",
       []

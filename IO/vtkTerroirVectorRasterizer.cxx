@@ -1,0 +1,824 @@
+#include "vtkTerroirVectorRasterizer.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirGDALPrivate.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirIOPrivate.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "MemoryBudget.h"
+
+#include <cpl_minixml.h>
+#include <cpl_string.h>
+#include <gdal.h>
+#include <gdal_alg.h>
+#include <ogr_api.h>
+#include <ogr_srs_api.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+vtkStandardNewMacro(vtkTerroirVectorRasterizer);
+
+namespace
+{
+using terroir::io::detail::GDALErrorCapture;
+
+struct DatasetCloser
+{
+  void operator()(void* ds) const
+  {
+    if (ds)
+    {
+      GDALClose(static_cast<GDALDatasetH>(ds));
+    }
+  }
+};
+using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
+
+struct SRSDeleter
+{
+  void operator()(void* srs) const
+  {
+    if (srs)
+    {
+      OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(srs));
+    }
+  }
+};
+using SRSPtr = std::unique_ptr<void, SRSDeleter>;
+
+struct CTDeleter
+{
+  void operator()(void* ct) const
+  {
+    if (ct)
+    {
+      OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(ct));
+    }
+  }
+};
+using CTPtr = std::unique_ptr<void, CTDeleter>;
+
+struct FeatureDeleter
+{
+  void operator()(void* f) const
+  {
+    if (f)
+    {
+      OGR_F_Destroy(static_cast<OGRFeatureH>(f));
+    }
+  }
+};
+using FeaturePtr = std::unique_ptr<void, FeatureDeleter>;
+
+struct GeometryDeleter
+{
+  void operator()(void* g) const
+  {
+    if (g)
+    {
+      OGR_G_DestroyGeometry(static_cast<OGRGeometryH>(g));
+    }
+  }
+};
+using GeometryPtr = std::unique_ptr<void, GeometryDeleter>;
+
+/// Short names of the OGR drivers that read from servers or databases by design.
+bool IsVectorServerDriver(const std::string& shortName)
+{
+  static const char* const servers[] = { "wfs",
+    "oapif",
+    "carto",
+    "elasticsearch",
+    "postgresql",
+    "mysql",
+    "mssqlspatial",
+    "oci",
+    "odbc",
+    "pgeo",
+    "mongodbv3",
+    "hana",
+    "ngw",
+    "amigocloud",
+    "csw",
+    "plscenes",
+    "eeda" };
+  const std::string lower = terroir::io::detail::ToLower(shortName);
+  return terroir::io::detail::IsServerDriver(shortName) ||
+    std::any_of(std::begin(servers), std::end(servers), [&](const char* s) { return lower == s; });
+}
+
+/// Text of every <SrcDataSource> element under `node` (OGR VRT files, unions included).
+void CollectVRTSources(const CPLXMLNode* node, std::vector<std::string>& out)
+{
+  for (; node; node = node->psNext)
+  {
+    if (node->eType == CXT_Element && EQUAL(node->pszValue, "SrcDataSource"))
+    {
+      const char* text = CPLGetXMLValue(node, nullptr, nullptr);
+      if (text)
+      {
+        out.emplace_back(text);
+      }
+    }
+    CollectVRTSources(node->psChild, out);
+  }
+}
+
+/// "refers to '<url>' ..." when the network refusal stopped a request, else "".
+std::string RefusedRequest(const terroir::io::detail::ScopedNetworkRefusal* offline)
+{
+  if (!offline || offline->RefusedURL().empty())
+  {
+    return std::string();
+  }
+  return "refers to '" + offline->RefusedURL() +
+    "', a network path: refused; turn AllowNetworkPaths on to read it";
+}
+
+/// Opens a vector file after the path checks; on failure returns null and sets `error`.
+/// `offline` is the caller's ScopedNetworkRefusal, or null when network access is allowed;
+/// with one, a dataset that still needs the network (a server driver, a file naming remote or
+/// archived data, a request GDAL tried to send) is refused.
+DatasetPtr OpenVector(const char* fileName,
+  const terroir::io::detail::ScopedNetworkRefusal* offline,
+  std::string& error)
+{
+  const bool allowNetwork = offline == nullptr;
+  using terroir::io::detail::IsNetworkOrArchivePath;
+  if (!fileName || !*fileName)
+  {
+    error = "no file name set";
+    return DatasetPtr();
+  }
+  const std::string path = fileName;
+  const bool remote = IsNetworkOrArchivePath(path);
+  if (remote && !allowNetwork)
+  {
+    error = "network and archive paths (/vsicurl/, /vsizip/, http://, ...) are refused; "
+            "turn AllowNetworkPaths on to read them";
+    return DatasetPtr();
+  }
+  // A folder is a vector dataset too (shapefiles, FileGDB); anything else must be a regular,
+  // readable file (a FIFO or a device could block the read forever).
+  struct stat st;
+  const bool folder = ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+  if (folder && ::access(path.c_str(), R_OK | X_OK) != 0)
+  {
+    error = std::string("cannot be read (") + std::strerror(errno) + ")";
+    return DatasetPtr();
+  }
+  if (!remote && !folder && path.rfind("/vsimem/", 0) != 0 &&
+    !terroir::io::detail::CheckInputFile(path, error))
+  {
+    return DatasetPtr();
+  }
+  GDALErrorCapture capture;
+  DatasetPtr ds(GDALOpenEx(fileName,
+    GDAL_OF_VECTOR | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR,
+    nullptr,
+    nullptr,
+    nullptr));
+  if (!ds)
+  {
+    error = RefusedRequest(offline);
+    if (error.empty())
+    {
+      error = "not a vector file OGR can read" + capture.Suffix();
+    }
+    return ds;
+  }
+  if (allowNetwork)
+  {
+    return ds;
+  }
+  auto dataset = static_cast<GDALDatasetH>(ds.get());
+  const char* driver = GDALGetDriverShortName(GDALGetDatasetDriver(dataset));
+  if (driver && IsVectorServerDriver(driver))
+  {
+    error = std::string("the ") + driver +
+      " driver reads from a server: network access is refused; turn AllowNetworkPaths on";
+    return DatasetPtr();
+  }
+  std::vector<std::string> named;
+  char** files = GDALGetFileList(dataset);
+  for (char** f = files; f && *f; ++f)
+  {
+    named.emplace_back(*f);
+  }
+  CSLDestroy(files);
+  // An OGR VRT opens its sources lazily and lists only itself: read them from the XML.
+  if (driver && EQUAL(driver, "OGR_VRT") && !folder)
+  {
+    CPLXMLNode* xml = CPLParseXMLFile(fileName);
+    CollectVRTSources(xml, named);
+    CPLDestroyXMLNode(xml);
+  }
+  for (const std::string& f : named)
+  {
+    if (IsNetworkOrArchivePath(f))
+    {
+      error = "refers to '" + f +
+        "', a network or archive path: refused; turn AllowNetworkPaths on to read it";
+      return DatasetPtr();
+    }
+  }
+  return ds;
+}
+
+std::string LayerList(GDALDatasetH ds)
+{
+  std::string names;
+  const int n = GDALDatasetGetLayerCount(ds);
+  for (int k = 0; k < n; ++k)
+  {
+    OGRLayerH layer = GDALDatasetGetLayer(ds, k);
+    names += (k ? ", '" : "'") + std::string(layer ? OGR_L_GetName(layer) : "?") + "'";
+  }
+  return names;
+}
+
+std::string NumericFieldList(OGRFeatureDefnH defn)
+{
+  std::string names;
+  for (int k = 0; k < OGR_FD_GetFieldCount(defn); ++k)
+  {
+    OGRFieldDefnH field = OGR_FD_GetFieldDefn(defn, k);
+    const OGRFieldType type = OGR_Fld_GetType(field);
+    if (type == OFTInteger || type == OFTInteger64 || type == OFTReal)
+    {
+      names += (names.empty() ? "'" : ", '") + std::string(OGR_Fld_GetNameRef(field)) + "'";
+    }
+  }
+  return names.empty() ? std::string("none") : names;
+}
+
+std::string CRSName(OGRSpatialReferenceH srs)
+{
+  const char* name = srs ? OSRGetName(srs) : nullptr;
+  return name && *name ? name : "unnamed CRS";
+}
+
+std::string Number(double v)
+{
+  std::ostringstream os;
+  os.precision(12);
+  os << v;
+  return os.str();
+}
+
+/// Where the terrain's points are on the grid of its geotransform: point (i, j) is GDAL pixel
+/// (Col0 + i, Row0 + RowStep * j).
+struct Placement
+{
+  long long Col0 = 0;
+  long long Row0 = 0;
+  int RowStep = -1;
+};
+
+/// Nearest integer to v when v is within 1e-6 of it.
+bool NearInteger(double v, long long& n)
+{
+  if (!std::isfinite(v) || std::fabs(v) > 1e15)
+  {
+    return false;
+  }
+  const double r = std::round(v);
+  n = static_cast<long long>(r);
+  return std::fabs(v - r) <= 1e-6;
+}
+
+/// Places the terrain on the grid of its geotransform (see the class comment).
+bool Place(vtkImageData* image,
+  const int wholeExtent[6],
+  const double gt[6],
+  OGRSpatialReferenceH srs,
+  Placement& p,
+  std::string& error)
+{
+  std::ostringstream gtText;
+  gtText.precision(12);
+  gtText << "(" << gt[0] << ", " << gt[1] << ", " << gt[2] << ", " << gt[3] << ", " << gt[4] << ", "
+         << gt[5] << ")";
+  if (gt[2] != 0.0 || gt[4] != 0.0)
+  {
+    error = "the terrain's TerroirGeoTransform " + gtText.str() +
+      " is rotated or sheared; only north-up grids are supported";
+    return false;
+  }
+  if (!(gt[1] > 0.0) || gt[5] == 0.0 || !std::isfinite(gt[1]) || !std::isfinite(gt[5]) ||
+    !std::isfinite(gt[0]) || !std::isfinite(gt[3]))
+  {
+    error = "the terrain's TerroirGeoTransform " + gtText.str() +
+      " has no positive finite pixel width, no finite pixel height or no finite origin";
+    return false;
+  }
+  p.RowStep = gt[5] < 0.0 ? -1 : 1;
+  if (OSRIsGeographic(srs))
+  {
+    // Geographic terrains have origin (0, 0) and metric spacings: cells are placed by index.
+    if (wholeExtent[0] != 0 || wholeExtent[2] != 0)
+    {
+      error = "the terrain's whole extent starts at (" + std::to_string(wholeExtent[0]) + ", " +
+        std::to_string(wholeExtent[2]) +
+        "), not (0, 0): it was cropped after reading, and its geographic TerroirGeoTransform "
+        "no longer places it; rasterise onto the terrain as read, then crop";
+      return false;
+    }
+    const long long rows = static_cast<long long>(wholeExtent[3]) + 1;
+    vtkDoubleArray* rowSpacing = vtkTerroirGeoreference::GetRowSpacing(image);
+    if (rowSpacing && rowSpacing->GetNumberOfTuples() != rows)
+    {
+      error = "the terrain has " + std::to_string(rows) + " rows but its TerroirRowSpacing " +
+        std::to_string(rowSpacing->GetNumberOfTuples()) +
+        ": it was cropped after reading, and its geographic TerroirGeoTransform no longer "
+        "places it; rasterise onto the terrain as read, then crop";
+      return false;
+    }
+    p.Col0 = 0;
+    p.Row0 = p.RowStep < 0 ? rows - 1 : 0;
+    return true;
+  }
+  // Projected (or local) CRS: the image origin and spacing are CRS coordinates in metres.
+  const double unit = OSRIsProjected(srs) ? OSRGetLinearUnits(srs, nullptr) : 1.0;
+  double spacing[3], origin[3];
+  image->GetSpacing(spacing);
+  image->GetOrigin(origin);
+  const double expectedDx = gt[1] * unit;
+  const double expectedDy = std::fabs(gt[5]) * unit;
+  if (!(unit > 0.0) || std::fabs(spacing[0] - expectedDx) > 1e-9 * expectedDx ||
+    std::fabs(spacing[1] - expectedDy) > 1e-9 * expectedDy)
+  {
+    error = "the terrain's spacing (" + Number(spacing[0]) + ", " + Number(spacing[1]) +
+      ") m is not the (" + Number(expectedDx) + ", " + Number(expectedDy) +
+      ") m of its TerroirGeoTransform " + gtText.str() + ": it was resampled after reading";
+    return false;
+  }
+  const double col0 = (origin[0] / unit - gt[0]) / gt[1] - 0.5;
+  const double row0 = (origin[1] / unit - gt[3]) / gt[5] - 0.5;
+  if (!NearInteger(col0, p.Col0) || !NearInteger(row0, p.Row0))
+  {
+    error = "the terrain's origin (" + Number(origin[0]) + ", " + Number(origin[1]) +
+      ") m is not a cell centre of its TerroirGeoTransform " + gtText.str() +
+      "; as vtkTerroirDEMReader does, set it to the south-west cell centre in CRS metres";
+    return false;
+  }
+  return true;
+}
+
+int CPL_STDCALL RasterizeProgress(double fraction, const char*, void* data)
+{
+  auto* self = static_cast<vtkTerroirVectorRasterizer*>(data);
+  self->UpdateProgress(0.2 + 0.7 * fraction);
+  return self->GetAbortExecute() ? FALSE : TRUE;
+}
+} // namespace
+
+vtkTerroirVectorRasterizer::vtkTerroirVectorRasterizer()
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(1);
+  this->SetOutputArrayName("Mask");
+  GDALAllRegister();
+}
+
+vtkTerroirVectorRasterizer::~vtkTerroirVectorRasterizer()
+{
+  this->SetFileName(nullptr);
+  this->SetLayerName(nullptr);
+  this->SetAttributeFilter(nullptr);
+  this->SetAttributeName(nullptr);
+  this->SetOutputArrayName(nullptr);
+}
+
+void vtkTerroirVectorRasterizer::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  auto text = [](const char* s) { return s ? s : "(none)"; };
+  os << indent << "FileName: " << text(this->FileName) << "\n";
+  os << indent << "LayerName: " << text(this->LayerName) << "\n";
+  os << indent << "AttributeFilter: " << text(this->AttributeFilter) << "\n";
+  os << indent << "BurnValue: " << this->BurnValue << "\n";
+  os << indent << "AttributeName: " << text(this->AttributeName) << "\n";
+  os << indent << "OutputArrayName: " << text(this->OutputArrayName) << "\n";
+  os << indent << "AllTouched: " << this->AllTouched << "\n";
+  os << indent << "AllowNetworkPaths: " << this->AllowNetworkPaths << "\n";
+  os << indent << "ErrorMessage: " << this->ErrorMessage << "\n";
+  os << indent << "NumberOfFeatures: " << this->NumberOfFeatures << "\n";
+  os << indent << "NumberOfCoveredCells: " << this->NumberOfCoveredCells << "\n";
+}
+
+void vtkTerroirVectorRasterizer::Fail(const std::string& problem)
+{
+  this->ErrorMessage =
+    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
+    problem;
+  vtkErrorMacro(<< this->ErrorMessage);
+}
+
+void vtkTerroirVectorRasterizer::Warn(const std::string& problem)
+{
+  vtkWarningMacro(<< (this->FileName ? this->FileName : "(no file name)") << ": " << problem);
+}
+
+int vtkTerroirVectorRasterizer::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  vtkImageData* input = vtkImageData::GetData(inputVector[0], 0);
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  output->Initialize();
+  this->ErrorMessage.clear();
+  this->NumberOfFeatures = 0;
+  this->NumberOfCoveredCells = 0;
+
+  // --- Parameters and the terrain --------------------------------------------------------
+  const bool useAttribute = this->AttributeName && *this->AttributeName;
+  if (!useAttribute && !std::isfinite(this->BurnValue))
+  {
+    this->Fail("BurnValue " + Number(this->BurnValue) + " is not a finite number");
+    return 0;
+  }
+  if (!this->OutputArrayName || !*this->OutputArrayName)
+  {
+    this->Fail("OutputArrayName is empty");
+    return 0;
+  }
+  int extent[6];
+  input->GetExtent(extent);
+  if (input->GetNumberOfPoints() < 1)
+  {
+    this->Fail("the input terrain is empty");
+    return 0;
+  }
+  if (extent[4] != extent[5])
+  {
+    this->Fail("the input is not a 2-D terrain (an image of nx x ny x 1 points)");
+    return 0;
+  }
+  const std::string wkt = vtkTerroirGeoreference::GetCRS(input);
+  double gt[6];
+  const bool hasGT = vtkTerroirGeoreference::GetGeoTransform(input, gt);
+  if (wkt.empty() || !hasGT)
+  {
+    this->Fail(std::string("the terrain has no georeference (") +
+      (wkt.empty() && !hasGT ? "TerroirCRS and TerroirGeoTransform are"
+          : wkt.empty()      ? "TerroirCRS is"
+                             : "TerroirGeoTransform is") +
+      " missing): it must come from a georeferenced DEM (vtkTerroirDEMReader with a CRS)");
+    return 0;
+  }
+  SRSPtr terrainSRSOwner(OSRNewSpatialReference(nullptr));
+  auto terrainSRS = static_cast<OGRSpatialReferenceH>(terrainSRSOwner.get());
+  {
+    GDALErrorCapture capture;
+    // WKT only: OSRSetFromUserInput would also take file names and URLs.
+    char* text = const_cast<char*>(wkt.c_str());
+    if (OSRImportFromWkt(terrainSRS, &text) != OGRERR_NONE)
+    {
+      this->Fail("the terrain's TerroirCRS cannot be parsed" + capture.Suffix());
+      return 0;
+    }
+  }
+  OSRSetAxisMappingStrategy(terrainSRS, OAMS_TRADITIONAL_GIS_ORDER);
+  int wholeExtent[6];
+  std::copy(extent, extent + 6, wholeExtent);
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
+  }
+  Placement place;
+  std::string error;
+  if (!Place(input, wholeExtent, gt, terrainSRS, place, error))
+  {
+    this->Fail(error);
+    return 0;
+  }
+  const int nx = extent[1] - extent[0] + 1;
+  const int ny = extent[3] - extent[2] + 1;
+  const vtkIdType cells = static_cast<vtkIdType>(nx) * ny;
+  const bool asByte = !useAttribute && this->BurnValue >= 1.0 && this->BurnValue <= 255.0 &&
+    this->BurnValue == std::floor(this->BurnValue);
+  const int cellBytes = asByte ? 1 : 4;
+  // The MEM raster and the output array.
+  error =
+    terroir::CheckMemory(2.0 * cellBytes * static_cast<double>(cells), "rasterising the layer");
+  if (!error.empty())
+  {
+    this->Fail(error);
+    return 0;
+  }
+
+  // --- The vector file, its layer, filter and attribute ------------------------------------
+  std::unique_ptr<terroir::io::detail::ScopedNetworkRefusal> offline;
+  if (!this->AllowNetworkPaths)
+  {
+    offline.reset(new terroir::io::detail::ScopedNetworkRefusal);
+  }
+  DatasetPtr ds = OpenVector(this->FileName, offline.get(), error);
+  if (!ds)
+  {
+    this->Fail(error);
+    return 0;
+  }
+  auto dataset = static_cast<GDALDatasetH>(ds.get());
+  GDALErrorCapture capture;
+  if (GDALDatasetGetLayerCount(dataset) < 1)
+  {
+    this->Fail("holds no vector layer");
+    return 0;
+  }
+  OGRLayerH layer = nullptr;
+  if (this->LayerName && *this->LayerName)
+  {
+    layer = GDALDatasetGetLayerByName(dataset, this->LayerName);
+    if (!layer)
+    {
+      this->Fail(
+        std::string("no layer '") + this->LayerName + "' (layers: " + LayerList(dataset) + ")");
+      return 0;
+    }
+  }
+  else
+  {
+    layer = GDALDatasetGetLayer(dataset, 0);
+  }
+  const std::string layerName = OGR_L_GetName(layer);
+  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
+  int field = -1;
+  if (useAttribute)
+  {
+    field = OGR_FD_GetFieldIndex(defn, this->AttributeName);
+    if (field < 0)
+    {
+      this->Fail(std::string("no attribute '") + this->AttributeName + "' in layer '" + layerName +
+        "' (numeric attributes: " + NumericFieldList(defn) + ")");
+      return 0;
+    }
+    const OGRFieldType type = OGR_Fld_GetType(OGR_FD_GetFieldDefn(defn, field));
+    if (type != OFTInteger && type != OFTInteger64 && type != OFTReal)
+    {
+      this->Fail(std::string("attribute '") + this->AttributeName + "' of layer '" + layerName +
+        "' is a " + OGR_GetFieldTypeName(type) +
+        " field, not a number (numeric attributes: " + NumericFieldList(defn) + ")");
+      return 0;
+    }
+  }
+  const bool filtered = this->AttributeFilter && *this->AttributeFilter;
+  if (filtered && OGR_L_SetAttributeFilter(layer, this->AttributeFilter) != OGRERR_NONE)
+  {
+    this->Fail(
+      std::string("invalid attribute filter '") + this->AttributeFilter + "'" + capture.Suffix());
+    return 0;
+  }
+
+  // --- Coordinate transformation -------------------------------------------------------------
+  CTPtr ctOwner;
+  OGRSpatialReferenceH layerSRS = OGR_L_GetSpatialRef(layer);
+  SRSPtr layerSRSOwner(layerSRS ? OSRClone(layerSRS) : nullptr);
+  layerSRS = static_cast<OGRSpatialReferenceH>(layerSRSOwner.get());
+  if (!layerSRS)
+  {
+    this->Warn("layer '" + layerName +
+      "' has no CRS: its coordinates are taken as already in the terrain's CRS (" +
+      CRSName(terrainSRS) + ")");
+  }
+  else
+  {
+    OSRSetAxisMappingStrategy(layerSRS, OAMS_TRADITIONAL_GIS_ORDER);
+    if (!OSRIsSame(layerSRS, terrainSRS))
+    {
+      ctOwner.reset(OCTNewCoordinateTransformation(layerSRS, terrainSRS));
+      if (!ctOwner)
+      {
+        // GDAL's message only repeats both CRSs as WKT: their names say it in one line.
+        this->Fail("cannot transform coordinates from the layer's CRS (" + CRSName(layerSRS) +
+          ") to the terrain's (" + CRSName(terrainSRS) + ")");
+        return 0;
+      }
+    }
+  }
+  auto ct = static_cast<OGRCoordinateTransformationH>(ctOwner.get());
+
+  // --- Features: geometries in the terrain's CRS and their burn values ----------------------
+  std::vector<GeometryPtr> geometries;
+  std::vector<double> burnValues;
+  vtkIdType nullValues = 0;
+  {
+    GDALErrorCapture reading;
+    OGR_L_ResetReading(layer);
+    for (FeaturePtr feature(OGR_L_GetNextFeature(layer)); feature;
+         feature.reset(OGR_L_GetNextFeature(layer)))
+    {
+      auto f = static_cast<OGRFeatureH>(feature.get());
+      OGRGeometryH geometry = OGR_F_GetGeometryRef(f);
+      if (!geometry || OGR_G_IsEmpty(geometry))
+      {
+        continue;
+      }
+      double value = this->BurnValue;
+      if (useAttribute)
+      {
+        if (!OGR_F_IsFieldSetAndNotNull(f, field))
+        {
+          ++nullValues;
+          continue;
+        }
+        value = OGR_F_GetFieldAsDouble(f, field);
+      }
+      GeometryPtr copy(OGR_G_HasCurveGeometry(geometry, TRUE)
+          ? OGR_G_GetLinearGeometry(geometry, 0.0, nullptr)
+          : OGR_G_Clone(geometry));
+      if (!copy)
+      {
+        this->Fail("feature " + std::to_string(static_cast<long long>(OGR_F_GetFID(f))) +
+          " of layer '" + layerName + "' has a geometry that cannot be copied" + reading.Suffix());
+        return 0;
+      }
+      if (ct && OGR_G_Transform(static_cast<OGRGeometryH>(copy.get()), ct) != OGRERR_NONE)
+      {
+        this->Fail("feature " + std::to_string(static_cast<long long>(OGR_F_GetFID(f))) +
+          " of layer '" + layerName + "' cannot be transformed from " + CRSName(layerSRS) +
+          " to the terrain's CRS (" + CRSName(terrainSRS) + ")" + reading.Suffix());
+        return 0;
+      }
+      geometries.push_back(std::move(copy));
+      burnValues.push_back(value);
+    }
+    if (reading.Failed())
+    {
+      // A driver that fails half-way through a file reports it here, not by a null feature.
+      // SQL drivers (GeoPackage, SQLite) accept any filter and compile it at the first read.
+      if (filtered && geometries.empty() && nullValues == 0)
+      {
+        this->Fail(std::string("invalid attribute filter '") + this->AttributeFilter + "'" +
+          reading.Suffix());
+      }
+      else
+      {
+        this->Fail("reading the features of layer '" + layerName + "' failed" + reading.Suffix());
+      }
+      return 0;
+    }
+  }
+  error = RefusedRequest(offline.get());
+  if (!error.empty())
+  {
+    this->Fail(error);
+    return 0;
+  }
+  this->NumberOfFeatures = static_cast<vtkIdType>(geometries.size());
+  this->UpdateProgress(0.2);
+
+  // --- Burn into a MEM raster with the terrain's cells --------------------------------------
+  // GDAL rows of the terrain's first and last rows; the MEM raster's row 0 is the upper one.
+  const long long rowA = place.Row0 + static_cast<long long>(place.RowStep) * extent[2];
+  const long long rowB = place.Row0 + static_cast<long long>(place.RowStep) * extent[3];
+  const long long rowTop = std::min(rowA, rowB);
+  const long long colLeft = place.Col0 + extent[0];
+  GDALDriverH memDriver = GDALGetDriverByName("MEM");
+  DatasetPtr memOwner(memDriver
+      ? GDALCreate(memDriver, "", nx, ny, 1, asByte ? GDT_Byte : GDT_Float32, nullptr)
+      : nullptr);
+  if (!memOwner)
+  {
+    this->Fail("cannot create the in-memory raster" + capture.Suffix());
+    return 0;
+  }
+  auto mem = static_cast<GDALDatasetH>(memOwner.get());
+  double memGT[6] = { gt[0] + static_cast<double>(colLeft) * gt[1],
+    gt[1],
+    0.0,
+    gt[3] + static_cast<double>(rowTop) * gt[5],
+    0.0,
+    gt[5] };
+  GDALSetGeoTransform(mem, memGT);
+  GDALRasterBandH band = GDALGetRasterBand(mem, 1);
+  const double background = asByte ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+  GDALFillRaster(band, background, 0.0);
+  if (!geometries.empty())
+  {
+    std::vector<OGRGeometryH> handles(geometries.size());
+    std::transform(geometries.begin(),
+      geometries.end(),
+      handles.begin(),
+      [](const GeometryPtr& g) { return static_cast<OGRGeometryH>(g.get()); });
+    int bandList[1] = { 1 };
+    char** options = nullptr;
+    if (this->AllTouched)
+    {
+      options = CSLSetNameValue(options, "ALL_TOUCHED", "TRUE");
+    }
+    const CPLErr err = GDALRasterizeGeometries(mem,
+      1,
+      bandList,
+      static_cast<int>(handles.size()),
+      handles.data(),
+      nullptr,
+      nullptr,
+      burnValues.data(),
+      options,
+      &RasterizeProgress,
+      this);
+    CSLDestroy(options);
+    if (err != CE_None)
+    {
+      this->Fail(this->GetAbortExecute() ? std::string("rasterisation aborted")
+                                         : "rasterisation failed" + capture.Suffix());
+      return 0;
+    }
+  }
+
+  // --- Rows into VTK order (j = 0 south) -----------------------------------------------------
+  vtkSmartPointer<vtkDataArray> array;
+  if (asByte)
+  {
+    array = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  }
+  else
+  {
+    array = vtkSmartPointer<vtkFloatArray>::New();
+  }
+  array->SetName(this->OutputArrayName);
+  array->SetNumberOfTuples(cells);
+  array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "");
+  auto* base = static_cast<unsigned char*>(array->GetVoidPointer(0));
+  for (int j = extent[2]; j <= extent[3]; ++j)
+  {
+    const long long memRow = place.Row0 + static_cast<long long>(place.RowStep) * j - rowTop;
+    void* dst = base + static_cast<std::size_t>(j - extent[2]) * nx * cellBytes;
+    if (GDALRasterIO(band,
+          GF_Read,
+          0,
+          static_cast<int>(memRow),
+          nx,
+          1,
+          dst,
+          nx,
+          1,
+          asByte ? GDT_Byte : GDT_Float32,
+          0,
+          0) != CE_None)
+    {
+      this->Fail("reading the in-memory raster failed" + capture.Suffix());
+      return 0;
+    }
+  }
+  vtkIdType covered = 0;
+  if (asByte)
+  {
+    const unsigned char* v = base;
+    covered =
+      static_cast<vtkIdType>(std::count_if(v, v + cells, [](unsigned char c) { return c; }));
+  }
+  else
+  {
+    const auto* v = reinterpret_cast<const float*>(base);
+    covered =
+      static_cast<vtkIdType>(std::count_if(v, v + cells, [](float x) { return !std::isnan(x); }));
+  }
+  this->NumberOfCoveredCells = covered;
+
+  if (nullValues > 0)
+  {
+    this->Warn(std::to_string(static_cast<long long>(nullValues)) + " feature(s) of layer '" +
+      layerName + "' have no value in '" + this->AttributeName + "' and were left out");
+  }
+  if (geometries.empty())
+  {
+    this->Warn("layer '" + layerName + "' has no feature with a geometry" +
+      (filtered ? std::string(" matching the filter '") + this->AttributeFilter + "'"
+                : std::string()) +
+      ": nothing burnt");
+  }
+  else if (covered == 0)
+  {
+    this->Warn("none of the " + std::to_string(static_cast<long long>(geometries.size())) +
+      " features of layer '" + layerName + "' covers a cell of the terrain: nothing burnt");
+  }
+
+  output->ShallowCopy(input);
+  output->GetPointData()->AddArray(array);
+  this->UpdateProgress(1.0);
+  return 1;
+}
