@@ -77,13 +77,15 @@ vtkSmartPointer<vtkImageData> ReadGridOperand(const std::string& path,
 }
 
 /// Polygons burnt onto the terrain's grid: a new image whose scalars are the burnt values
-/// (BurnValue 1 inside, or the attribute `field`, NaN outside).
+/// (1 inside and 0 outside, or the attribute `field` inside and NaN outside).
 vtkSmartPointer<vtkImageData> RasterizePolygons(const std::string& path,
   const std::string& field,
-  vtkImageData* terrain)
+  vtkImageData* terrain,
+  bool allowNetwork)
 {
   vtkNew<vtkTerroirVectorRasterizer> rasterizer;
   rasterizer->SetInputData(terrain);
+  rasterizer->SetAllowNetworkPaths(allowNetwork);
   rasterizer->SetFileName(path.c_str());
   rasterizer->SetOutputArrayName("Painted");
   if (!field.empty())
@@ -125,7 +127,7 @@ void ApplyInfiltration(const SoilWaterSettings& s,
     }
     else if (op.Kind == "paint-polygons")
     {
-      filter->AddPaintMask(RasterizePolygons(op.File, "", terrain), op.Value);
+      filter->AddPaintMask(RasterizePolygons(op.File, "", terrain, allowNetwork), op.Value);
     }
     else if (op.Kind == "soil-raster")
     {
@@ -133,7 +135,7 @@ void ApplyInfiltration(const SoilWaterSettings& s,
     }
     else if (op.Kind == "soil-polygons")
     {
-      filter->AddSoilTypes(RasterizePolygons(op.File, op.Attribute, terrain));
+      filter->AddSoilTypes(RasterizePolygons(op.File, op.Attribute, terrain, allowNetwork));
     }
     else
     {

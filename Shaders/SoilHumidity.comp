@@ -1,7 +1,8 @@
 // SoilHumidity.comp: absorbed rain, its weighted average and standing water, one thread per
 // cell; mirrors terroir::terrain::SoilHumidityLong2016 (Filters/Terrain/Core/SoilWater.cxx),
 // the same float operations in the same order.
-//   S_h(m)  = R_q(m) > 0 ? min(S_ir / R_i(m), 1) * R_q(m) : 0
+//   S_h(m)  = min(S_ir * uInverseIntensity[m], 1) * uQuantity[m]   (both 0 for a dry month;
+//             a NaN rate or a masked cell is no data: NaN in every output)
 //   S_wh(m) = S_h(m) * 0.5 + S_h(m-1) * (1/3) + S_h(m-2) * (1/6)   (months mod 12)
 //   W(m)    = R_q(m) - S_h(m)
 //
@@ -15,7 +16,8 @@
 //   4  writeonly float standing[12*count]        W, mm (written when uStanding)
 // NaN in every output for no-data cells.
 // Uniforms: uint uCount, uint uFirst, int uHasMask, int uWeighted, int uStanding,
-// float uQuantity[12] (mm), float uIntensity[12] (mm/h).
+// float uQuantity[12] (mm, 0 for a dry month), float uInverseIntensity[12] (h/mm, 1/R_i; 0 for a
+// dry month).
 // Work group LOCAL_X (define, 256 by default); dispatch ceil(count/LOCAL_X).
 
 #ifndef LOCAL_X
@@ -36,7 +38,7 @@ uniform int uHasMask;
 uniform int uWeighted;
 uniform int uStanding;
 uniform float uQuantity[12];
-uniform float uIntensity[12];
+uniform float uInverseIntensity[12];
 
 void main()
 {
@@ -45,6 +47,9 @@ void main()
   {
     return;
   }
+  // No data is tested explicitly: GLSL does not promise IEEE NaN propagation through the
+  // select below (llvmpipe turns it into a min that drops the NaN).
+  float nan = uintBitsToFloat(0x7fc00000u);
   float s = rate[k];
   bool ok = !isnan(s);
   if (uHasMask != 0)
@@ -52,18 +57,11 @@ void main()
     uint g = uFirst + k;
     ok = ok && (((validMask[g >> 2u] >> (8u * (g & 3u))) & 0xffu) != 0u);
   }
-  float nan = uintBitsToFloat(0x7fc00000u);
   float sh[12];
   for (int m = 0; m < 12; ++m)
   {
-    float q = uQuantity[m];
-    float absorbed = 0.0;
-    if (q > 0.0)
-    {
-      float ratio = s / uIntensity[m];
-      absorbed = (ratio < 1.0 ? ratio : 1.0) * q;
-    }
-    sh[m] = ok ? absorbed : nan;
+    float ratio = s * uInverseIntensity[m];
+    sh[m] = ok ? (ratio > 1.0 ? 1.0 : ratio) * uQuantity[m] : nan;
     humidity[12u * k + uint(m)] = sh[m];
   }
   if (uWeighted != 0)

@@ -96,8 +96,17 @@ void RunSoilHumidityGPU(const float* rate,
       prog.SetInt("uHasMask", valid ? 1 : 0);
       prog.SetInt("uWeighted", weighted ? 1 : 0);
       prog.SetInt("uStanding", standing ? 1 : 0);
-      prog.SetFloatArray("uQuantity", rain.quantityMm, 12);
-      prog.SetFloatArray("uIntensity", rain.intensityMmPerHour, 12);
+      // The same per-month constants as terroir::terrain::SoilHumidityLong2016.
+      float q[12];
+      float inverse[12];
+      for (int m = 0; m < 12; ++m)
+      {
+        const bool rains = rain.quantityMm[m] > 0.0f;
+        q[m] = rains ? rain.quantityMm[m] : 0.0f;
+        inverse[m] = rains ? 1.0f / rain.intensityMmPerHour[m] : 0.0f;
+      }
+      prog.SetFloatArray("uQuantity", q, 12);
+      prog.SetFloatArray("uInverseIntensity", inverse, 12);
       brate.Bind(0);
       bmask.Bind(1);
       bh.Bind(2);

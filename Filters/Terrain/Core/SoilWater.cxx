@@ -37,14 +37,25 @@ void SoilHumidityLong2016(const float* infiltration,
   std::size_t end)
 {
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  // Branch-free form of AbsorbedRainLong2016, so that the month loops vectorise: a dry month
+  // gets q = 0 and a zero reciprocal intensity (0 whatever the rate); a no-data cell a NaN rate,
+  // which every output carries ((NaN > 1) is false). Shaders/SoilHumidity.comp does the same.
+  float q[12];
+  float inverse[12];
+  for (int m = 0; m < 12; ++m)
+  {
+    const bool rains = rain.quantityMm[m] > 0.0f;
+    q[m] = rains ? rain.quantityMm[m] : 0.0f;
+    inverse[m] = rains ? 1.0f / rain.intensityMmPerHour[m] : 0.0f;
+  }
   for (std::size_t k = begin; k < end; ++k)
   {
-    const float rate = infiltration[k];
-    const bool ok = !std::isnan(rate) && (!valid || valid[k] != 0);
+    const float rate = (!valid || valid[k] != 0) ? infiltration[k] : nan;
     float sh[12];
     for (int m = 0; m < 12; ++m)
     {
-      sh[m] = ok ? AbsorbedRainLong2016(rate, rain.quantityMm[m], rain.intensityMmPerHour[m]) : nan;
+      const float ratio = rate * inverse[m];
+      sh[m] = (ratio > 1.0f ? 1.0f : ratio) * q[m];
     }
     if (humidity)
     {
@@ -55,9 +66,9 @@ void SoilHumidityLong2016(const float* infiltration,
     }
     if (weighted)
     {
+      // Same operation order as Shaders/SoilHumidity.comp.
       for (int m = 0; m < 12; ++m)
       {
-        // Same operation order as Shaders/SoilHumidity.comp.
         const float a = sh[m];
         const float b = sh[(m + 11) % 12];
         const float c = sh[(m + 10) % 12];
@@ -68,7 +79,7 @@ void SoilHumidityLong2016(const float* infiltration,
     {
       for (int m = 0; m < 12; ++m)
       {
-        standing[12 * k + m] = ok ? rain.quantityMm[m] - sh[m] : nan;
+        standing[12 * k + m] = q[m] - sh[m];
       }
     }
   }
