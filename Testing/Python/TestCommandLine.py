@@ -56,11 +56,12 @@ class TerroirCommandLine(unittest.TestCase):
         r = terroir(*args)
         self.assertEqual(r.returncode, 0, r.stderr)
         expected = ["terrain.vti", "slope.tif", "aspect.tif", "temperature.tif", "illumination.tif",
-                    "insolation.tif", "report.md", "report.json"]
+                    "insolation.tif", "infiltration.tif", "humidity.tif", "weighted_humidity.tif",
+                    "standing_water.tif", "lakes.tif", "report.md", "report.json"]
         if os.environ.get("DISPLAY"):
             expected += ["slope.png", "temperature_jan.png", "temperature_jul.png",
                          "illumination_dec.png", "illumination_jun.png", "insolation_dec.png",
-                         "insolation_jun.png"]
+                         "insolation_jun.png", "humidity_jan.png", "humidity_jul.png", "lakes.png"]
         for name in expected:
             path = os.path.join(out, name)
             self.assertTrue(os.path.getsize(path) > 0, name)
@@ -106,6 +107,54 @@ class TerroirCommandLine(unittest.TestCase):
             jun = ds.GetRasterBand(6).ReadAsArray().astype(np.float64)
             self.assertGreater(jun.mean(), 1.3 * dec.mean())
         self.assertLessEqual(hours.GetRasterBand(6).ReadAsArray().max(), 24.0)
+        # Soil water with the defaults: 15 mm/h, 0 on slopes over 30 degrees; absorbed plus
+        # standing water is the month's rain (60 mm in January); lakes: Independence Lake.
+        rates = gdal.Open(os.path.join(out, "infiltration.tif")).ReadAsArray()
+        self.assertEqual(set(np.unique(rates)), {0.0, 15.0})
+        np.testing.assert_array_equal(rates == 0.0, a > 30.0)
+        sh = gdal.Open(os.path.join(out, "humidity.tif"))
+        sw = gdal.Open(os.path.join(out, "standing_water.tif"))
+        self.assertEqual((sh.RasterCount, sw.RasterCount), (12, 12))
+        total = sh.GetRasterBand(1).ReadAsArray() + sw.GetRasterBand(1).ReadAsArray()
+        np.testing.assert_allclose(total, 60.0, atol=1e-4)
+        self.assertGreaterEqual(report["stages"]["lakes"]["water_bodies"], 1)
+        depth = gdal.Open(os.path.join(out, "lakes.tif")).ReadAsArray()
+        self.assertTrue(np.all(depth >= 0.0))
+
+    def test_soil_water_and_lake_commands(self):
+        rates = os.path.join(self.work, "rates.tif")
+        watershed = os.path.join(os.path.dirname(DEM), "sagehen_watershed_utm11n.geojson")
+        r = terroir("infiltration", DEM, rates, "--fill", "15", "--paint-polygons",
+                    watershed + "=4", "--slope-rule", "30")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rate = gdal.Open(rates).ReadAsArray()
+        mask = gdal.Open(os.path.join(os.path.dirname(DEM),
+                                      "sagehen_watershed_mask_utm11n_10m.tif")).ReadAsArray()
+        slope_ds = gdal.DEMProcessing(os.path.join(self.work, "s.tif"), DEM, "slope",
+                                      computeEdges=True)
+        slope = slope_ds.ReadAsArray()
+        # The shipped watershed mask was burnt by gdal_rasterize from the same polygon.
+        expected = np.where(slope > 30.0, 0.0, np.where(mask == 1, 4.0, 15.0))
+        self.assertLess(np.mean(rate != expected), 1e-3)
+        h, w = (os.path.join(self.work, n) for n in ("h.tif", "w.tif"))
+        r = terroir("humidity", DEM, h, "--infiltration", rates, "--weighted", w, "--precip",
+                    "10,20,30,40,50,60,70,80,90,100,110,120", "--intensity", "8,8,8,8,8,8,8,8,8,8,8,8")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        sh = gdal.Open(h)
+        self.assertEqual(sh.RasterCount, 12)
+        for m in (0, 6, 11):
+            got = sh.GetRasterBand(m + 1).ReadAsArray()
+            np.testing.assert_allclose(got, np.minimum(rate / 8.0, 1.0) * 10.0 * (m + 1), atol=1e-4)
+        lake = os.path.join(self.work, "lake.tif")
+        r = terroir("floodfill", DEM, lake, "--seed", "215375,4371215")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("2117.80", r.stdout)
+        ids = os.path.join(self.work, "ids.tif")
+        r = terroir("floodfill", DEM, os.path.join(self.work, "lakes.tif"), "--fill-depressions",
+                    "--ids", ids)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        body = gdal.Open(ids).ReadAsArray()
+        self.assertGreaterEqual(np.count_nonzero(body), 23000)  # Independence Lake and more
 
     def test_existing_outputs_are_kept_without_overwrite(self):
         out = os.path.join(self.work, "slope.tif")
@@ -210,7 +259,8 @@ class TerroirCommandLine(unittest.TestCase):
             bench = json.load(f)
         stages = [x["stage"] for x in bench["results"]]
         self.assertEqual(stages, ["slope", "temperature", "horizon", "instant", "instant-raymarch",
-                                  "monthly"])
+                                  "monthly", "infiltration", "humidity", "humidity-all",
+                                  "floodfill", "depressions"])
         self.assertTrue(all(x["seconds"] > 0 for x in bench["results"]))
         self.assertTrue(all(x["mcells"] == 64 * 64 / 1e6 for x in bench["results"]))
         rows = {x["stage"]: x for x in bench["results"]}
@@ -230,7 +280,8 @@ class TerroirCommandLine(unittest.TestCase):
         r = terroir("bench", "--stages", "shadows")
         self.assertEqual(r.returncode, 2)
         self.assertEqual(r.stderr, "terroir: error: --stages: 'shadows' is not one of slope, "
-                                   "temperature, horizon, instant, monthly\n")
+                                   "temperature, horizon, instant, monthly, infiltration, humidity, floodfill, "
+                                   "depressions\n")
 
     def flat_dem(self, name="flat.tif"):
         """A flat 60 x 50 GeoTIFF at 1900 m near Sagehen Creek (UTM 11N, about 39.5 N)."""
