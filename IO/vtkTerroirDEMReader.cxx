@@ -36,47 +36,14 @@ vtkStandardNewMacro(vtkTerroirDEMReader);
 
 namespace
 {
+using terroir::io::detail::CTPtr;
+using terroir::io::detail::DatasetPtr;
 using terroir::io::detail::GDALErrorCapture;
+using terroir::io::detail::SRSPtr;
 constexpr double kFoot = 0.3048;
 constexpr double kUSSurveyFoot = 1200.0 / 3937.0;
 /// Larger magnitudes (and NaN, infinities) are no-data: no terrain is 1e30 m high.
 constexpr float kLargestHeight = 1.0e30f;
-
-struct DatasetCloser
-{
-  void operator()(void* ds) const
-  {
-    if (ds)
-    {
-      GDALClose(static_cast<GDALDatasetH>(ds));
-    }
-  }
-};
-using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
-
-struct SRSDeleter
-{
-  void operator()(void* srs) const
-  {
-    if (srs)
-    {
-      OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(srs));
-    }
-  }
-};
-using SRSPtr = std::unique_ptr<void, SRSDeleter>;
-
-struct CTDeleter
-{
-  void operator()(void* ct) const
-  {
-    if (ct)
-    {
-      OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(ct));
-    }
-  }
-};
-using CTPtr = std::unique_ptr<void, CTDeleter>;
 
 /// Metres per unit for a unit name; 0 when the name is not a length unit we know.
 double LengthUnitFromName(const std::string& name)

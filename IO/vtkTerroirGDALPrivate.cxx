@@ -3,6 +3,8 @@
 #include <cpl_conv.h>
 #include <cpl_error.h>
 #include <cpl_http.h>
+#include <gdal.h>
+#include <ogr_srs_api.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,6 +16,30 @@ namespace io
 {
 namespace detail
 {
+
+void DatasetCloser::operator()(void* ds) const
+{
+  if (ds)
+  {
+    GDALClose(static_cast<GDALDatasetH>(ds));
+  }
+}
+
+void SRSDeleter::operator()(void* srs) const
+{
+  if (srs)
+  {
+    OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(srs));
+  }
+}
+
+void CTDeleter::operator()(void* ct) const
+{
+  if (ct)
+  {
+    OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(ct));
+  }
+}
 namespace
 {
 constexpr const char* kNoURL = "terroir:network-access-refused";

@@ -7,6 +7,7 @@
 #ifndef vtkTerroirGDALPrivate_h
 #define vtkTerroirGDALPrivate_h
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,24 @@ namespace io
 {
 namespace detail
 {
+
+/// Owners of GDAL/OGR handles (opaque pointers here, so that this header needs no GDAL one):
+/// GDALClose, OSRDestroySpatialReference, OCTDestroyCoordinateTransformation.
+struct DatasetCloser
+{
+  void operator()(void* ds) const;
+};
+using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
+struct SRSDeleter
+{
+  void operator()(void* srs) const;
+};
+using SRSPtr = std::unique_ptr<void, SRSDeleter>;
+struct CTDeleter
+{
+  void operator()(void* ct) const;
+};
+using CTPtr = std::unique_ptr<void, CTDeleter>;
 
 /// Collects GDAL's failure messages on this thread while alive (a scoped error handler).
 class GDALErrorCapture

@@ -40,43 +40,10 @@ vtkStandardNewMacro(vtkTerroirVectorRasterizer);
 
 namespace
 {
+using terroir::io::detail::CTPtr;
+using terroir::io::detail::DatasetPtr;
 using terroir::io::detail::GDALErrorCapture;
-
-struct DatasetCloser
-{
-  void operator()(void* ds) const
-  {
-    if (ds)
-    {
-      GDALClose(static_cast<GDALDatasetH>(ds));
-    }
-  }
-};
-using DatasetPtr = std::unique_ptr<void, DatasetCloser>;
-
-struct SRSDeleter
-{
-  void operator()(void* srs) const
-  {
-    if (srs)
-    {
-      OSRDestroySpatialReference(static_cast<OGRSpatialReferenceH>(srs));
-    }
-  }
-};
-using SRSPtr = std::unique_ptr<void, SRSDeleter>;
-
-struct CTDeleter
-{
-  void operator()(void* ct) const
-  {
-    if (ct)
-    {
-      OCTDestroyCoordinateTransformation(static_cast<OGRCoordinateTransformationH>(ct));
-    }
-  }
-};
-using CTPtr = std::unique_ptr<void, CTDeleter>;
+using terroir::io::detail::SRSPtr;
 
 struct FeatureDeleter
 {

@@ -191,7 +191,8 @@ TEST(TerroirShadowHorizon, EarthCurvatureLowersDistantTerrain)
   const double drop15 = 15000.0 * 15000.0 / (2.0 * tt::kEarthRadiusM);
   EXPECT_NEAR(ray[v.Index(5, 1)], (300.0 - drop15) / 15000.0, 1e-9);
   const std::vector<double> west = RayMarchAll(v, 270.0, curv);
-  EXPECT_NEAR(west[v.Index(5, 1)], -1000.0 / (2.0 * tt::kEarthRadiusM), 1e-10); // float32 coefficient
+  EXPECT_NEAR(
+    west[v.Index(5, 1)], -1000.0 / (2.0 * tt::kEarthRadiusM), 1e-10); // float32 coefficient
 }
 
 // Along axes and diagonals (dx = dy) the sweep lines pass through cell centres, so the sweep
