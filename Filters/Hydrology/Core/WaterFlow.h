@@ -1,0 +1,308 @@
+/**
+ * @file WaterFlow.h
+ * @brief The hydrostatic water-flow simulation (Long 2016, section 3.3) in its 8-neighbour form.
+ *
+ * Plain C++ (no VTK, no GL): the CPU path of vtkTerroirWaterFlow, and the reference its GPU
+ * kernel (Shaders/WaterFlow.comp) is tested against.
+ *
+ * State. Terrain height T (metres) and water depth W >= 0 (metres) per cell; the absolute
+ * height of a cell is H = T + W. The grid is surrounded by the seed's one-cell border whose
+ * heights continue the slope (2 T(edge) - T(next inward), T(edge) when the grid is one cell
+ * thick); no-data cells get the lowest terrain height among their valid neighbours. Border and
+ * no-data cells are outlets: they hold no water, and what flows onto them is counted as
+ * outflow, never stored.
+ *
+ * One iteration (Jacobi: every cell reads only the previous state, so the result does not depend
+ * on the order of the cells or on the number of threads). A cell i with water gives to each
+ * neighbour k (8-neighbourhood) the amount
+ *
+ *     f_ik = s_i * c_ik * max(0, L_i - H_k)
+ *
+ * where c_ik = d_min / d_ik is the neighbour's closeness (d_ik the distance between cell
+ * centres, d_min the smallest spacing of the grid: 1 for the nearest neighbours of a square
+ * grid, 1/sqrt(2) for its diagonals), and the giver's new level L_i and scale s_i are the seed's
+ * three cases of water evacuation capacity (its table 3.3), generalised from 1-D to 8
+ * neighbours:
+ * - none: no neighbour is lower (H_k >= H_i for all k) or W_i = 0: nothing moves;
+ * - all: A_i = sum_k c_ik max(0, T_i - H_k) >= W_i: all the water leaves, split in proportion to
+ *   c_ik (T_i - H_k); L_i = T_i, s_i = W_i / A_i. No receiver rises above T_i, the giver's new
+ *   level;
+ * - part: otherwise the giver and its lower neighbours level out: L_i is the root of
+ *   sum_k c_ik max(0, L - H_k) = H_i - L (water lost = water received) on (T_i, H_i), s_i = 1.
+ *   A receiver rises to H_k + c_ik (L_i - H_k) <= L_i: never above the giver's new level.
+ * Restricted to 1-D with one lower neighbour (c = 1) these are the seed's equations: all the
+ * water when H_k + W_i <= T_i, half the difference (H_i - H_k) / 2 otherwise, nothing when the
+ * neighbour is not lower. Water only moves down (to H_k < L_i <= H_i), in proportion to the
+ * drop to the giver's new level weighted by closeness.
+ *
+ * The new depth is W_i' = W_i - sum_k f_ik + sum_k f_ki (a gather: each cell sums what its
+ * neighbours send it, computed from the neighbours' (L, s) with the same expression the giver
+ * uses), so volume is conserved up to float rounding apart from what reaches an outlet.
+ * `Discharge` accumulates, per cell, the water that left it (depth times cell area, m^3, in
+ * double). The cell area of row j is DxAt(j) * DyAt(j); between rows j and j + 1 the spacing is
+ * the mean of the two rows' spacings, so a giver and its receiver always use the same c_ik.
+ *
+ * Stopping (WaterFlowStopRule): the seed's rule stops after the first iteration whose moved
+ * volume is below `autoStopRatio` (1/1000) of the volume moved in all iterations so far; also
+ * when nothing moved, or after `maximumIterations`.
+ *
+ * Cost: O(n) per iteration, rows in parallel through the ParallelFor callback (each block of
+ * rows computes its givers' (L, s) for its rows plus one halo row on each side, in a ring of
+ * three row buffers, then gathers: 20 bytes of memory traffic per cell and iteration).
+ *
+ * @par Correctness
+ * Testing/Unit/TestWaterFlow.cxx: the seed's three 1-D cases on worked examples; conservation on
+ * closed and open terrains (1e-6 relative, double sums); a tilted plane drains completely; a
+ * closed bowl fills to one flat level; symmetric terrain gives a symmetric result; water never
+ * moves uphill; the auto-stop rule; thread count independence. Testing/GPU/TestWaterFlowGPU.cxx:
+ * the GPU kernel against this code.
+ *
+ * @par Reference
+ * Long, J. (2016). Thesis of the seed system (the issue tracker's "Long 2016"), section 3.3,
+ * hydrostatic water flow, table 3.3 and equations 3.8-3.12 (the 1-D form generalised here).
+ */
+#ifndef terroir_hydrology_WaterFlow_h
+#define terroir_hydrology_WaterFlow_h
+
+#include "GridView.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace terroir
+{
+namespace hydrology
+{
+
+/// Neighbour order used everywhere (kernel, GPU, tests): E, NE, N, NW, W, SW, S, SE
+/// (north = row j + 1).
+constexpr int kWaterFlowNeighbours = 8;
+
+/// What a giver cell does in one iteration: f_ik = scale * c_ik * max(0, level - H_k).
+struct WaterFlowGiver
+{
+  double level = 0.0; ///< the giver's new absolute height L, metres
+  double scale = 0.0; ///< s: 0 (none), W / A (all), 1 (part)
+  double out = 0.0;   ///< water the cell gives, metres of depth (sum of f_ik)
+};
+
+/**
+ * @brief One giver's evacuation (the three cases above) from its own terrain and water and its
+ *        neighbours' absolute heights and closenesses.
+ * @param terrain T_i, metres; @param water W_i >= 0, metres
+ * @param height H_k of the 8 neighbours (order E, NE, N, NW, W, SW, S, SE), metres
+ * @param closeness c_ik in (0, 1]
+ */
+inline WaterFlowGiver WaterFlowEvacuation(double terrain,
+  double water,
+  const double height[kWaterFlowNeighbours],
+  const double closeness[kWaterFlowNeighbours])
+{
+  WaterFlowGiver g;
+  g.level = terrain + water;
+  if (!(water > 0.0))
+  {
+    return g;
+  }
+  const double h = terrain + water;
+  double all = 0.0;
+  for (int k = 0; k < kWaterFlowNeighbours; ++k)
+  {
+    const double drop = terrain - height[k];
+    all += drop > 0.0 ? closeness[k] * drop : 0.0;
+  }
+  if (all >= water)
+  {
+    g.level = terrain;
+    g.scale = water / all;
+  }
+  else
+  {
+    // Part: L = (H_i + sum_R c_k H_k) / (1 + sum_R c_k) over the receivers R = {H_k < L}.
+    // Start with every lower neighbour; dropping one with H_k >= L lowers L, so the set only
+    // shrinks and the loop ends after at most 8 passes at the unique root.
+    double num = h;
+    double den = 1.0;
+    unsigned receivers = 0;
+    for (int k = 0; k < kWaterFlowNeighbours; ++k)
+    {
+      if (height[k] < h)
+      {
+        num += closeness[k] * height[k];
+        den += closeness[k];
+        receivers |= 1u << k;
+      }
+    }
+    if (receivers == 0)
+    {
+      return g;
+    }
+    double level = num / den;
+    for (bool changed = true; changed;)
+    {
+      changed = false;
+      for (int k = 0; k < kWaterFlowNeighbours; ++k)
+      {
+        if ((receivers >> k & 1u) && height[k] >= level)
+        {
+          num -= closeness[k] * height[k];
+          den -= closeness[k];
+          receivers &= ~(1u << k);
+          changed = true;
+        }
+      }
+      if (changed)
+      {
+        level = num / den;
+      }
+    }
+    g.level = level;
+    g.scale = 1.0;
+  }
+  if (g.scale < 1.0)
+  {
+    // All: the giver is emptied exactly (its receivers' shares add up to W within rounding).
+    g.out = water;
+    return g;
+  }
+  double out = 0.0;
+  for (int k = 0; k < kWaterFlowNeighbours; ++k)
+  {
+    const double drop = g.level - height[k];
+    out += drop > 0.0 ? closeness[k] * drop : 0.0;
+  }
+  g.out = out;
+  return g;
+}
+
+/// When a run stops.
+struct WaterFlowStopRule
+{
+  /// Stop after an iteration that moved less than this fraction of all the water moved so far
+  /// (the seed's 1/1000); 0 disables the rule.
+  double autoStopRatio = 1e-3;
+  /// Stop after this many iterations in all (counting earlier runs); must be >= 0.
+  long long maximumIterations = 10000;
+};
+
+/// Why a run stopped.
+enum class WaterFlowStopReason
+{
+  AutoStop,          ///< the moved volume fell below autoStopRatio of the total moved
+  NoMovement,        ///< an iteration moved nothing
+  MaximumIterations, ///< the iteration limit was reached
+};
+
+/// Name of a stop reason ("AutoStop", "NoMovement", "MaximumIterations").
+const char* WaterFlowStopReasonName(WaterFlowStopReason reason);
+
+/// True when an iteration that moved `moved` after `movedBefore` in all earlier iterations ends
+/// the run under the seed's rule (ratio > 0).
+inline bool WaterFlowAutoStop(double moved, double movedBefore, double ratio)
+{
+  return ratio > 0.0 && moved < ratio * (movedBefore + moved);
+}
+
+/// Volumes of one iteration (m^3).
+struct WaterFlowIteration
+{
+  double moved = 0.0;   ///< water that left cells (sum of out times cell area)
+  double outflow = 0.0; ///< water that reached an outlet (border or no-data cell)
+};
+
+/**
+ * @brief The simulation state and its CPU iteration.
+ *
+ * Holds padded (nx + 2) x (ny + 2) arrays: terrain (with the border and no-data heights),
+ * water depth, and the per-cell discharge.
+ */
+class WaterFlowSimulation
+{
+public:
+  /// Runs body(begin, end) over disjoint row ranges covering [begin, end); may run them in
+  /// parallel. The default runs body(begin, end) once.
+  using ParallelFor =
+    std::function<void(int begin, int end, const std::function<void(int, int)>& body)>;
+
+  /**
+   * @param terrain elevations (metres), optional validity mask, spacing (rowDx/rowDy honoured)
+   * @param waterMetres nx*ny initial depths, metres (ignored on no-data cells)
+   * @throws std::invalid_argument on a negative or non-finite depth on a valid cell, a
+   *         non-finite or non-positive spacing, or an empty grid
+   */
+  WaterFlowSimulation(const GridView<float>& terrain, const float* waterMetres);
+
+  void SetParallelFor(ParallelFor parallelFor) { this->Parallel = std::move(parallelFor); }
+
+  /// One iteration on the CPU.
+  WaterFlowIteration Step();
+
+  /// Iterates until a stop rule fires; returns why.
+  WaterFlowStopReason Run(const WaterFlowStopRule& rule);
+
+  /// Records an iteration computed elsewhere (the GPU path), for the totals and stop rules.
+  void RecordIteration(const WaterFlowIteration& it);
+
+  int Nx() const { return this->NX; }
+  int Ny() const { return this->NY; }
+  long long Iterations() const { return this->IterationCount; }
+  double TotalMoved() const { return this->MovedTotal; }     ///< m^3
+  double TotalOutflow() const { return this->OutflowTotal; } ///< m^3
+  double InitialVolume() const { return this->Initial; }     ///< m^3
+  /// Water stored on the terrain now, m^3 (double sum in row order).
+  double StoredVolume() const;
+
+  /// Depths (metres, nx*ny; NaN on no-data cells).
+  void GetWaterDepth(float* depth) const;
+  /// Discharge (m^3, nx*ny; NaN on no-data cells).
+  void GetDischarge(double* discharge) const;
+
+  ///@{
+  /// The padded state, row-major (nx + 2) columns, row 0 = the southern border; for the GPU
+  /// path and checkpoints. Discharge is kept in metres of depth (times the row's cell area on
+  /// output).
+  int Stride() const { return this->NX + 2; }
+  const std::vector<float>& PaddedTerrain() const { return this->Terrain; }
+  const std::vector<std::uint8_t>& PaddedIsCell() const { return this->IsCell; }
+  std::vector<double>& PaddedWater() { return this->Water; }
+  std::vector<double>& PaddedDischarge() { return this->DischargeDepth; }
+  /// Closeness between a cell of padded row r and its E/W, N/S (rows r, r + 1) and diagonal
+  /// (rows r, r + 1) neighbours; cell area of padded row r (m^2).
+  const std::vector<double>& ClosenessEW() const { return this->CloseEW; }
+  const std::vector<double>& ClosenessNS() const { return this->CloseNS; }
+  const std::vector<double>& ClosenessDiagonal() const { return this->CloseDiag; }
+  const std::vector<double>& CellArea() const { return this->Area; }
+  ///@}
+
+  /// Restores totals saved with the padded state (checkpoints).
+  void SetTotals(long long iterations, double moved, double outflow);
+
+private:
+  void RowBlock(int begin, int end);
+
+  int NX = 0;
+  int NY = 0;
+  std::vector<float> Terrain;
+  std::vector<std::uint8_t> IsCell;
+  std::vector<double> Water;
+  std::vector<double> NextWater;
+  std::vector<double> DischargeDepth;
+  std::vector<double> CloseEW;
+  std::vector<double> CloseNS;
+  std::vector<double> CloseDiag;
+  std::vector<double> Area;
+  std::vector<double> RowMoved;
+  std::vector<double> RowOutflow;
+  ParallelFor Parallel;
+  long long IterationCount = 0;
+  double MovedTotal = 0.0;
+  double OutflowTotal = 0.0;
+  double Initial = 0.0;
+};
+
+} // namespace hydrology
+} // namespace terroir
+
+#endif

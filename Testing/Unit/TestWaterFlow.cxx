@@ -1,0 +1,525 @@
+// Unit tests of the hydrostatic water flow (terroir::hydrology::WaterFlowSimulation and
+// WaterFlowEvacuation). Expected values are worked out by hand in the comments (the seed's 1-D
+// cases), or are properties that hold for any correct implementation (conservation, draining,
+// one flat level in a closed bowl, symmetry, no uphill flow, the stop rule, independence from
+// the row blocking that threads use).
+#include "WaterFlow.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+namespace
+{
+using terroir::GridView;
+namespace hy = terroir::hydrology;
+
+constexpr double kHigh = 1.0e6;
+
+/// A terrain and its initial water (metres), with the view the simulation reads.
+struct Scene
+{
+  int nx;
+  int ny;
+  std::vector<float> z;
+  std::vector<float> water;
+  std::vector<std::uint8_t> valid;
+  GridView<float> view;
+
+  Scene(int nx_, int ny_, double spacing = 1.0)
+    : nx(nx_)
+    , ny(ny_)
+    , z(static_cast<std::size_t>(nx_) * ny_, 0.0f)
+    , water(z.size(), 0.0f)
+  {
+    view.data = z.data();
+    view.nx = nx;
+    view.ny = ny;
+    view.dx = spacing;
+    view.dy = spacing;
+  }
+  float& Z(int i, int j) { return z[static_cast<std::size_t>(j) * nx + i]; }
+  float& Water(int i, int j) { return water[static_cast<std::size_t>(j) * nx + i]; }
+  /// Raises the outer ring of cells to `height` (a closed basin).
+  void Wall(float height)
+  {
+    for (int j = 0; j < ny; ++j)
+    {
+      for (int i = 0; i < nx; ++i)
+      {
+        if (i == 0 || j == 0 || i == nx - 1 || j == ny - 1)
+        {
+          Z(i, j) = height;
+          Water(i, j) = 0.0f;
+        }
+      }
+    }
+  }
+  double WaterVolume() const
+  {
+    double v = 0.0;
+    for (float w : water)
+    {
+      v += w;
+    }
+    return v * view.dx * view.dy;
+  }
+};
+
+const double kOne[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
+
+/// Only the eastern neighbour at `h`, the others far above: the seed's 1-D situation.
+hy::WaterFlowGiver OneD(double terrain, double water, double h)
+{
+  const double heights[8] = { h, kHigh, kHigh, kHigh, kHigh, kHigh, kHigh, kHigh };
+  return hy::WaterFlowEvacuation(terrain, water, heights, kOne);
+}
+
+// The seed's three cases of evacuation capacity (table 3.3), 1-D, one lower neighbour.
+TEST(WaterFlow, SeedCasesOneDimension)
+{
+  // All: T = 10, W = 1, neighbour at 8: 8 + 1 <= 10, the whole metre leaves; the giver is left
+  // at its terrain (10), the receiver rises to 9.
+  hy::WaterFlowGiver g = OneD(10.0, 1.0, 8.0f);
+  EXPECT_NEAR(g.out, 1.0, 1e-12);
+  EXPECT_NEAR(g.level, 10.0, 1e-12);
+  // Part: T = 10, W = 1, neighbour at 9.5: 9.5 + 1 > 10, so half the difference of absolute
+  // heights, (11 - 9.5) / 2 = 0.75, leaves; both end at 10.25.
+  g = OneD(10.0, 1.0, 9.5f);
+  EXPECT_NEAR(g.out, 0.75, 1e-12);
+  EXPECT_NEAR(g.level, 10.25, 1e-12);
+  // None: neighbour at 11 or above (absolute height of the giver is 11).
+  g = OneD(10.0, 1.0, 11.0f);
+  EXPECT_EQ(g.out, 0.0);
+  g = OneD(10.0, 1.0, 12.0f);
+  EXPECT_EQ(g.out, 0.0);
+  // The boundary H_k + W = T: both formulas give the whole metre ((11 - 9) / 2 = 1).
+  g = OneD(10.0, 1.0, 9.0f);
+  EXPECT_NEAR(g.out, 1.0, 1e-12);
+  EXPECT_NEAR(g.level, 10.0, 1e-12);
+  // No water: nothing, whatever the neighbours.
+  g = OneD(10.0, 0.0, 0.0);
+  EXPECT_EQ(g.out, 0.0);
+  EXPECT_EQ(g.scale, 0.0);
+}
+
+// Two lower neighbours in 1-D: west at 9, east at 9.5; T = 10, W = 1.2 (H = 11.2).
+// A = (10 - 9) + (10 - 9.5) = 1.5 >= 1.2: the all case; the 1.2 m is split 1 : 0.5, that is
+// 0.8 m west and 0.4 m east, and the giver is left at its terrain, 10.
+TEST(WaterFlow, SplitInProportionToDrop)
+{
+  const double heights[8] = { 9.5, kHigh, kHigh, kHigh, 9.0, kHigh, kHigh, kHigh };
+  const hy::WaterFlowGiver g = hy::WaterFlowEvacuation(10.0, 1.2, heights, kOne);
+  EXPECT_NEAR(g.level, 10.0, 1e-12);
+  EXPECT_NEAR(g.out, 1.2, 1e-12);
+  EXPECT_NEAR(g.scale * (g.level - 9.0), 0.8, 1e-12);
+  EXPECT_NEAR(g.scale * (g.level - 9.5), 0.4, 1e-12);
+  // Part case with two receivers: T = 10, W = 3 (H = 13), neighbours at 9 and 9.5:
+  // A = 1.5 < 3; L = (13 + 9 + 9.5) / 3 = 10.5; out = 1.5 + 1.0 = 2.5 = 13 - 10.5.
+  const hy::WaterFlowGiver p = hy::WaterFlowEvacuation(10.0, 3.0, heights, kOne);
+  EXPECT_NEAR(p.level, 10.5, 1e-12);
+  EXPECT_NEAR(p.out, 2.5, 1e-12);
+  // A neighbour below H but above the level is dropped: T = 10, W = 1 (H = 11), neighbours at
+  // 9.9 and 10.9: with both, L = (11 + 9.9 + 10.9) / 3 = 10.6 < 10.9, so 10.9 gets nothing and
+  // L = (11 + 9.9) / 2 = 10.45 (A = 0.1 < 1: part case).
+  const double h2[8] = { 9.9, kHigh, 10.9, kHigh, kHigh, kHigh, kHigh, kHigh };
+  const hy::WaterFlowGiver q = hy::WaterFlowEvacuation(10.0, 1.0, h2, kOne);
+  EXPECT_NEAR(q.level, 10.45, 1e-12);
+  EXPECT_NEAR(q.out, 0.55, 1e-12);
+}
+
+// The 1-D cases through the grid: a channel T = 5, 3, 1 (walls of 100 north and south) with
+// 1 m of water on its first cell. Each step is the "all" case (drops of 2 m, 2 m, then 2 m to
+// the border, which continues the slope: 2 * 1 - 3 = -1): the metre moves one cell per
+// iteration and leaves after the third, counted as outflow (1 m x 1 m^2).
+TEST(WaterFlow, ChannelMovesOneCellPerIteration)
+{
+  Scene s(3, 3);
+  for (int i = 0; i < 3; ++i)
+  {
+    s.Z(i, 0) = 100.0f;
+    s.Z(i, 2) = 100.0f;
+    s.Z(i, 1) = 5.0f - 2.0f * i;
+  }
+  s.Water(0, 1) = 1.0f;
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  std::vector<float> w(9);
+  for (int step = 0; step < 3; ++step)
+  {
+    const hy::WaterFlowIteration it = sim.Step();
+    EXPECT_DOUBLE_EQ(it.moved, 1.0) << step;
+    sim.GetWaterDepth(w.data());
+    for (int i = 0; i < 3; ++i)
+    {
+      EXPECT_FLOAT_EQ(w[3 + i], (step < 2 && i == step + 1) ? 1.0f : 0.0f) << step << " " << i;
+    }
+    EXPECT_DOUBLE_EQ(it.outflow, step == 2 ? 1.0 : 0.0);
+  }
+  std::vector<double> q(9);
+  sim.GetDischarge(q.data());
+  // Each channel cell passed the metre on once: 1 m^3.
+  EXPECT_DOUBLE_EQ(q[3], 1.0);
+  EXPECT_DOUBLE_EQ(q[4], 1.0);
+  EXPECT_DOUBLE_EQ(q[5], 1.0);
+  EXPECT_DOUBLE_EQ(q[0], 0.0);
+}
+
+/// A random terrain (fixed seed) with random water.
+Scene RandomScene(int nx, int ny, std::uint64_t seed, double spacing = 10.0)
+{
+  Scene s(nx, ny, spacing);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> height(0.0f, 5.0f);
+  std::uniform_real_distribution<float> depth(0.0f, 0.2f);
+  for (float& z : s.z)
+  {
+    z = height(rng);
+  }
+  for (float& w : s.water)
+  {
+    w = depth(rng);
+  }
+  return s;
+}
+
+TEST(WaterFlow, ConservationClosedTerrain)
+{
+  Scene s = RandomScene(40, 30, 1);
+  s.Wall(100.0f);
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  const double initial = sim.InitialVolume();
+  EXPECT_NEAR(initial, s.WaterVolume(), 1e-9 * initial);
+  for (int k = 0; k < 300; ++k)
+  {
+    sim.Step();
+  }
+  EXPECT_GT(sim.TotalMoved(), initial); // water did move
+  EXPECT_EQ(sim.TotalOutflow(), 0.0);
+  EXPECT_NEAR(sim.StoredVolume(), initial, 1e-6 * initial);
+}
+
+TEST(WaterFlow, ConservationOpenTerrain)
+{
+  Scene s = RandomScene(50, 40, 2);
+  // A tilt so that much of the water leaves through the border.
+  for (int j = 0; j < s.ny; ++j)
+  {
+    for (int i = 0; i < s.nx; ++i)
+    {
+      s.Z(i, j) += 0.5f * static_cast<float>(i);
+    }
+  }
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  const double initial = sim.InitialVolume();
+  for (int k = 0; k < 400; ++k)
+  {
+    sim.Step();
+  }
+  EXPECT_GT(sim.TotalOutflow(), 0.1 * initial);
+  EXPECT_NEAR(sim.StoredVolume() + sim.TotalOutflow(), initial, 1e-6 * initial);
+}
+
+TEST(WaterFlow, TiltedPlaneDrainsCompletely)
+{
+  Scene s(30, 20, 10.0);
+  for (int j = 0; j < s.ny; ++j)
+  {
+    for (int i = 0; i < s.nx; ++i)
+    {
+      s.Z(i, j) = 200.0f - 3.0f * static_cast<float>(i) + 0.5f * static_cast<float>(j);
+      s.Water(i, j) = 0.1f;
+    }
+  }
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  hy::WaterFlowStopRule rule;
+  rule.autoStopRatio = 0.0;
+  rule.maximumIterations = 1000;
+  EXPECT_EQ(sim.Run(rule), hy::WaterFlowStopReason::NoMovement);
+  EXPECT_EQ(sim.StoredVolume(), 0.0);
+  EXPECT_NEAR(sim.TotalOutflow(), sim.InitialVolume(), 1e-6 * sim.InitialVolume());
+  // Water needs at least the width of the plane (30 cells) in iterations to leave from the
+  // far cells, one cell per iteration at most.
+  EXPECT_GE(sim.Iterations(), 30);
+}
+
+TEST(WaterFlow, ClosedBowlFillsToOneFlatLevel)
+{
+  // Paraboloid bowl z = 0.01 (x^2 + y^2) (metres, 1 m cells), rim wall; 0.5 m of water on every
+  // inner cell, then let it settle.
+  const int n = 41;
+  Scene s(n, n, 1.0);
+  for (int j = 0; j < n; ++j)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      const float x = static_cast<float>(i - n / 2);
+      const float y = static_cast<float>(j - n / 2);
+      s.Z(i, j) = 0.01f * (x * x + y * y);
+      s.Water(i, j) = 0.5f;
+    }
+  }
+  s.Wall(100.0f);
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  hy::WaterFlowStopRule rule;
+  rule.autoStopRatio = 1e-7;
+  rule.maximumIterations = 20000;
+  sim.Run(rule);
+  std::vector<float> w(s.z.size());
+  sim.GetWaterDepth(w.data());
+  float lo = std::numeric_limits<float>::max();
+  float hi = -lo;
+  for (std::size_t c = 0; c < w.size(); ++c)
+  {
+    if (w[c] > 1e-4f)
+    {
+      lo = std::min(lo, s.z[c] + w[c]);
+      hi = std::max(hi, s.z[c] + w[c]);
+    }
+  }
+  ASSERT_LT(lo, hi + 1.0f);
+  EXPECT_LT(hi - lo, 2e-3f) << "water surface from " << lo << " to " << hi;
+  // Dry cells lie above the level; every cell below it is wet.
+  for (std::size_t c = 0; c < w.size(); ++c)
+  {
+    if (s.z[c] < lo - 2e-3f)
+    {
+      EXPECT_GT(w[c], 0.0f) << c;
+    }
+  }
+  EXPECT_NEAR(sim.StoredVolume(), sim.InitialVolume(), 1e-6 * sim.InitialVolume());
+}
+
+TEST(WaterFlow, SymmetricTerrainGivesSymmetricResult)
+{
+  // Terrain and water symmetric under x -> -x and y -> -y.
+  const int nx = 33;
+  const int ny = 25;
+  Scene s(nx, ny, 5.0);
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const double x = i - nx / 2;
+      const double y = j - ny / 2;
+      s.Z(i, j) = static_cast<float>(10.0 + std::cos(0.3 * x) * std::cos(0.4 * y) + 0.02 * x * x);
+      s.Water(i, j) = static_cast<float>(0.05 + 0.02 * std::cos(0.2 * x * y));
+    }
+  }
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  for (int k = 0; k < 60; ++k)
+  {
+    sim.Step();
+  }
+  std::vector<float> w(s.z.size());
+  sim.GetWaterDepth(w.data());
+  double largest = 0.0;
+  for (float v : w)
+  {
+    largest = std::max(largest, static_cast<double>(v));
+  }
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const float a = w[static_cast<std::size_t>(j) * nx + i];
+      const float b = w[static_cast<std::size_t>(j) * nx + (nx - 1 - i)];
+      const float c = w[static_cast<std::size_t>(ny - 1 - j) * nx + i];
+      EXPECT_NEAR(a, b, 1e-5 * largest) << i << " " << j;
+      EXPECT_NEAR(a, c, 1e-5 * largest) << i << " " << j;
+    }
+  }
+}
+
+// Random neighbourhoods: a receiver is always strictly below the giver's new level, which is at
+// most the giver's absolute height, and after receiving it is still at or below that level.
+TEST(WaterFlow, NeverUphillNoOvershoot)
+{
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 2.0);
+  const double d = std::sqrt(0.5);
+  const double c[8] = { 1.0, d, 1.0, d, 1.0, d, 1.0, d };
+  for (int trial = 0; trial < 20000; ++trial)
+  {
+    const double t = 1.0;
+    const double w = trial % 3 == 0 ? 0.0 : 0.5 * u(rng);
+    double h[8];
+    for (double& v : h)
+    {
+      v = u(rng);
+    }
+    const hy::WaterFlowGiver g = hy::WaterFlowEvacuation(t, w, h, c);
+    ASSERT_LE(g.out, w * (1.0 + 1e-12));
+    ASSERT_LE(g.level, t + w + 1e-12);
+    ASSERT_GE(g.level, t - 1e-12);
+    double sent = 0.0;
+    for (int k = 0; k < 8; ++k)
+    {
+      const double f = g.level > h[k] ? g.scale * c[k] * (g.level - h[k]) : 0.0;
+      if (f > 0.0)
+      {
+        ASSERT_LT(h[k], t + w) << "uphill";
+        ASSERT_LE(h[k] + f, g.level + 1e-12) << "overshoot";
+      }
+      sent += f;
+    }
+    ASSERT_NEAR(sent, g.out, 1e-12);
+    // The giver keeps what it did not give: its new level is T + W - out.
+    if (g.out > 0.0)
+    {
+      ASSERT_NEAR(t + w - g.out, g.level, 1e-12);
+    }
+  }
+}
+
+// On a whole grid: a cell whose water rose had a neighbour that was higher before the step.
+TEST(WaterFlow, GridNeverMovesUphill)
+{
+  Scene s = RandomScene(30, 30, 3, 1.0);
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  std::vector<float> before(s.z.size());
+  std::vector<float> after(s.z.size());
+  for (int step = 0; step < 20; ++step)
+  {
+    sim.GetWaterDepth(before.data());
+    sim.Step();
+    sim.GetWaterDepth(after.data());
+    for (int j = 0; j < s.ny; ++j)
+    {
+      for (int i = 0; i < s.nx; ++i)
+      {
+        const std::size_t c = static_cast<std::size_t>(j) * s.nx + i;
+        ASSERT_GE(after[c], 0.0f);
+        if (after[c] <= before[c] + 1e-6f)
+        {
+          continue;
+        }
+        bool higher = false;
+        for (int dj = -1; dj <= 1; ++dj)
+        {
+          for (int di = -1; di <= 1; ++di)
+          {
+            const int a = i + di;
+            const int b = j + dj;
+            if ((di || dj) && a >= 0 && b >= 0 && a < s.nx && b < s.ny)
+            {
+              const std::size_t n = static_cast<std::size_t>(b) * s.nx + a;
+              higher = higher || (before[n] > 0.0f && s.z[n] + before[n] > s.z[c] + before[c]);
+            }
+          }
+        }
+        ASSERT_TRUE(higher) << "cell " << i << "," << j << " gained water from nowhere higher";
+      }
+    }
+  }
+}
+
+// The seed's rule: stop after the first iteration that moves less than 1/1000 of everything
+// moved so far. Replayed by hand on a second simulation with Step().
+TEST(WaterFlow, AutoStopRule)
+{
+  Scene s = RandomScene(40, 40, 4);
+  s.Wall(100.0f);
+  hy::WaterFlowSimulation a(s.view, s.water.data());
+  hy::WaterFlowStopRule rule;
+  rule.maximumIterations = 5000;
+  ASSERT_EQ(a.Run(rule), hy::WaterFlowStopReason::AutoStop);
+  hy::WaterFlowSimulation b(s.view, s.water.data());
+  double total = 0.0;
+  long long expected = 0;
+  for (long long k = 1; k <= 5000; ++k)
+  {
+    const double moved = b.Step().moved;
+    total += moved;
+    if (moved < 1e-3 * total)
+    {
+      expected = k;
+      break;
+    }
+  }
+  ASSERT_GT(expected, 1);
+  EXPECT_EQ(a.Iterations(), expected);
+  // An iteration limit below it wins.
+  hy::WaterFlowSimulation c(s.view, s.water.data());
+  rule.maximumIterations = expected - 1;
+  EXPECT_EQ(c.Run(rule), hy::WaterFlowStopReason::MaximumIterations);
+  EXPECT_EQ(c.Iterations(), expected - 1);
+}
+
+// Threads run blocks of rows, each with its own halo rows: any blocking gives the same bits.
+TEST(WaterFlow, RowBlockingDoesNotChangeResult)
+{
+  Scene s = RandomScene(37, 29, 5);
+  std::vector<float> reference(s.z.size());
+  std::vector<double> referenceQ(s.z.size());
+  {
+    hy::WaterFlowSimulation sim(s.view, s.water.data());
+    for (int k = 0; k < 50; ++k)
+    {
+      sim.Step();
+    }
+    sim.GetWaterDepth(reference.data());
+    sim.GetDischarge(referenceQ.data());
+  }
+  for (int block : { 1, 2, 5, 11 })
+  {
+    hy::WaterFlowSimulation sim(s.view, s.water.data());
+    sim.SetParallelFor(
+      [block](int begin, int end, const std::function<void(int, int)>& body)
+      {
+        // Blocks in reverse order, to show that order does not matter either.
+        for (int b = ((end - begin - 1) / block) * block + begin; b >= begin; b -= block)
+        {
+          body(b, std::min(end, b + block));
+        }
+      });
+    for (int k = 0; k < 50; ++k)
+    {
+      sim.Step();
+    }
+    std::vector<float> w(s.z.size());
+    std::vector<double> q(s.z.size());
+    sim.GetWaterDepth(w.data());
+    sim.GetDischarge(q.data());
+    EXPECT_EQ(w, reference) << "block " << block;
+    EXPECT_EQ(q, referenceQ) << "block " << block;
+  }
+}
+
+TEST(WaterFlow, NoDataCellsAreOutlets)
+{
+  // A flat 5 x 5 terrain at 10 m with a no-data hole in the middle: the hole's height is its
+  // lowest valid neighbour (10), water of 0.1 m around it flows in (absolute 10.1 > 10) and is
+  // counted as outflow.
+  Scene s(5, 5, 1.0);
+  std::fill(s.z.begin(), s.z.end(), 10.0f);
+  std::fill(s.water.begin(), s.water.end(), 0.1f);
+  s.Z(2, 2) = std::numeric_limits<float>::quiet_NaN();
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  EXPECT_NEAR(sim.InitialVolume(), 24 * 0.1, 1e-6);
+  sim.Step();
+  EXPECT_GT(sim.TotalOutflow(), 0.0);
+  EXPECT_NEAR(sim.StoredVolume() + sim.TotalOutflow(), sim.InitialVolume(), 1e-6);
+  std::vector<float> w(25);
+  sim.GetWaterDepth(w.data());
+  EXPECT_TRUE(std::isnan(w[12]));
+}
+
+TEST(WaterFlow, RejectsBadWater)
+{
+  Scene s(4, 4);
+  s.Water(1, 2) = -0.001f;
+  EXPECT_THROW(hy::WaterFlowSimulation(s.view, s.water.data()), std::invalid_argument);
+  s.Water(1, 2) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(hy::WaterFlowSimulation(s.view, s.water.data()), std::invalid_argument);
+  s.Water(1, 2) = 0.0f;
+  s.view.dx = 0.0;
+  EXPECT_THROW(hy::WaterFlowSimulation(s.view, s.water.data()), std::invalid_argument);
+}
+
+} // namespace
