@@ -34,8 +34,8 @@ struct GiverRow
 /// What the giver in `row` at column slot `s` sends to a receiver at absolute height `h`.
 inline double Sent(const GiverRow& row, std::size_t s, double closeness, double h)
 {
-  const double drop = row.level[s] - h;
-  return drop > 0.0 ? row.scale[s] * closeness * drop : 0.0;
+  // The giver's own expression (WaterFlowEvacuation), branch-free: scale * c * max(0, drop).
+  return row.scale[s] * closeness * std::max(0.0, row.level[s] - h);
 }
 } // namespace
 

@@ -66,6 +66,7 @@
 
 #include "GridView.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -110,8 +111,7 @@ inline WaterFlowGiver WaterFlowEvacuation(double terrain,
   double all = 0.0;
   for (int k = 0; k < kWaterFlowNeighbours; ++k)
   {
-    const double drop = terrain - height[k];
-    all += drop > 0.0 ? closeness[k] * drop : 0.0;
+    all += closeness[k] * std::max(0.0, terrain - height[k]);
   }
   if (all >= water)
   {
@@ -170,8 +170,7 @@ inline WaterFlowGiver WaterFlowEvacuation(double terrain,
   double out = 0.0;
   for (int k = 0; k < kWaterFlowNeighbours; ++k)
   {
-    const double drop = g.level - height[k];
-    out += drop > 0.0 ? closeness[k] * drop : 0.0;
+    out += closeness[k] * std::max(0.0, g.level - height[k]);
   }
   g.out = out;
   return g;
