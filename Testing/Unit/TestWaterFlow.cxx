@@ -28,7 +28,7 @@ struct Scene
   int nx;
   int ny;
   std::vector<float> z;
-  std::vector<float> water;
+  std::vector<double> water;
   std::vector<std::uint8_t> valid;
   GridView<float> view;
 
@@ -36,7 +36,7 @@ struct Scene
     : nx(nx_)
     , ny(ny_)
     , z(static_cast<std::size_t>(nx_) * ny_, 0.0f)
-    , water(z.size(), 0.0f)
+    , water(z.size(), 0.0)
   {
     view.data = z.data();
     view.nx = nx;
@@ -45,7 +45,7 @@ struct Scene
     view.dy = spacing;
   }
   float& Z(int i, int j) { return z[static_cast<std::size_t>(j) * nx + i]; }
-  float& Water(int i, int j) { return water[static_cast<std::size_t>(j) * nx + i]; }
+  double& Water(int i, int j) { return water[static_cast<std::size_t>(j) * nx + i]; }
   /// Raises the outer ring of cells to `height` (a closed basin).
   void Wall(float height)
   {
@@ -56,7 +56,7 @@ struct Scene
         if (i == 0 || j == 0 || i == nx - 1 || j == ny - 1)
         {
           Z(i, j) = height;
-          Water(i, j) = 0.0f;
+          Water(i, j) = 0.0;
         }
       }
     }
@@ -64,7 +64,7 @@ struct Scene
   double WaterVolume() const
   {
     double v = 0.0;
-    for (float w : water)
+    for (double w : water)
     {
       v += w;
     }
@@ -181,7 +181,7 @@ Scene RandomScene(int nx, int ny, std::uint64_t seed, double spacing = 10.0)
   {
     z = height(rng);
   }
-  for (float& w : s.water)
+  for (double& w : s.water)
   {
     w = depth(rng);
   }

@@ -55,7 +55,7 @@ const char* WaterFlowStopReasonName(WaterFlowStopReason reason)
 }
 
 //------------------------------------------------------------------------------
-WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const float* waterMetres)
+WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const double* waterMetres)
   : NX(terrain.nx)
   , NY(terrain.ny)
 {
@@ -341,6 +341,8 @@ WaterFlowIteration WaterFlowSimulation::Step()
 void WaterFlowSimulation::RecordIteration(const WaterFlowIteration& it)
 {
   ++this->IterationCount;
+  this->Moved.push_back(it.moved);
+  this->Outflow.push_back(it.outflow);
   this->MovedTotal += it.moved;
   this->OutflowTotal += it.outflow;
 }
@@ -418,11 +420,53 @@ void WaterFlowSimulation::GetDischarge(double* discharge) const
 }
 
 //------------------------------------------------------------------------------
-void WaterFlowSimulation::SetTotals(long long iterations, double moved, double outflow)
+void WaterFlowSimulation::TruncateHistory(long long iterations)
 {
+  if (iterations < 0 || iterations > this->IterationCount)
+  {
+    throw std::invalid_argument("water flow: cannot go back to iteration " +
+      std::to_string(iterations) + " of " + std::to_string(this->IterationCount));
+  }
+  this->Moved.resize(static_cast<std::size_t>(iterations));
+  this->Outflow.resize(static_cast<std::size_t>(iterations));
   this->IterationCount = iterations;
-  this->MovedTotal = moved;
-  this->OutflowTotal = outflow;
+  this->MovedTotal = 0.0;
+  this->OutflowTotal = 0.0;
+  for (std::size_t k = 0; k < this->Moved.size(); ++k)
+  {
+    this->MovedTotal += this->Moved[k];
+    this->OutflowTotal += this->Outflow[k];
+  }
+}
+
+//------------------------------------------------------------------------------
+bool WaterFlowSimulation::FindStop(const WaterFlowStopRule& rule,
+  long long& iteration,
+  WaterFlowStopReason& reason) const
+{
+  double before = 0.0;
+  for (std::size_t k = 0; k < this->Moved.size(); ++k)
+  {
+    if (static_cast<long long>(k) >= rule.maximumIterations)
+    {
+      break;
+    }
+    const double moved = this->Moved[k];
+    if (moved <= 0.0 || WaterFlowAutoStop(moved, before, rule.autoStopRatio))
+    {
+      iteration = static_cast<long long>(k) + 1;
+      reason = moved <= 0.0 ? WaterFlowStopReason::NoMovement : WaterFlowStopReason::AutoStop;
+      return true;
+    }
+    before += moved;
+  }
+  if (static_cast<long long>(this->Moved.size()) >= rule.maximumIterations)
+  {
+    iteration = rule.maximumIterations;
+    reason = WaterFlowStopReason::MaximumIterations;
+    return true;
+  }
+  return false;
 }
 
 } // namespace hydrology

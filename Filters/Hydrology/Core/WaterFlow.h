@@ -231,7 +231,7 @@ public:
    * @throws std::invalid_argument on a negative or non-finite depth on a valid cell, a
    *         non-finite or non-positive spacing, or an empty grid
    */
-  WaterFlowSimulation(const GridView<float>& terrain, const float* waterMetres);
+  WaterFlowSimulation(const GridView<float>& terrain, const double* waterMetres);
 
   void SetParallelFor(ParallelFor parallelFor) { this->Parallel = std::move(parallelFor); }
 
@@ -275,8 +275,26 @@ public:
   const std::vector<double>& CellArea() const { return this->Area; }
   ///@}
 
-  /// Restores totals saved with the padded state (checkpoints).
-  void SetTotals(long long iterations, double moved, double outflow);
+  ///@{
+  /// Volume moved and outflow of every iteration so far (m^3), in order.
+  const std::vector<double>& MovedHistory() const { return this->Moved; }
+  const std::vector<double>& OutflowHistory() const { return this->Outflow; }
+  ///@}
+
+  /**
+   * Forgets the iterations after `iterations` (histories and totals), after the caller put the
+   * padded water and discharge of that iteration back (checkpoints).
+   * @pre 0 <= iterations <= Iterations()
+   */
+  void TruncateHistory(long long iterations);
+
+  /**
+   * The iteration after which a run under `rule` from iteration 0 stopped, and why, read from
+   * the histories; false when the histories end before any rule fired.
+   */
+  bool FindStop(const WaterFlowStopRule& rule,
+    long long& iteration,
+    WaterFlowStopReason& reason) const;
 
 private:
   void RowBlock(int begin, int end);
@@ -294,6 +312,8 @@ private:
   std::vector<double> Area;
   std::vector<double> RowMoved;
   std::vector<double> RowOutflow;
+  std::vector<double> Moved;
+  std::vector<double> Outflow;
   ParallelFor Parallel;
   long long IterationCount = 0;
   double MovedTotal = 0.0;

@@ -1,0 +1,447 @@
+#include "vtkTerroirWaterFlow.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+#include "vtkTerroirComputeContext.h"
+#include "vtkTerroirTerrainInput.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "WaterFlow.h"
+#ifdef TERROIR_WATERFLOW_GPU
+#include "vtkTerroirWaterFlowGPU.h"
+#endif
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <new>
+#include <sstream>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirWaterFlow);
+
+namespace hy = terroir::hydrology;
+
+/// The cached simulation and its checkpoints.
+struct vtkTerroirWaterFlow::Cache
+{
+  std::unique_ptr<hy::WaterFlowSimulation> Sim;
+  vtkMTimeType InputTime = 0;
+  vtkMTimeType FilterTime = 0;
+  vtkImageData* Input = nullptr;
+  struct Checkpoint
+  {
+    std::vector<double> Water;
+    std::vector<double> Discharge;
+  };
+  std::map<long long, Checkpoint> Checkpoints;
+};
+
+namespace
+{
+std::string Num(double v)
+{
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+vtkSmartPointer<vtkDoubleArray> Scalar(const char* name, double value, const char* units)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->InsertNextValue(value);
+  if (units)
+  {
+    a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
+  }
+  return a;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTerroirWaterFlow::vtkTerroirWaterFlow()
+  : State(new Cache)
+{
+  this->SetInputArrayToProcess(1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "StandingWater");
+}
+
+//------------------------------------------------------------------------------
+vtkTerroirWaterFlow::~vtkTerroirWaterFlow() = default;
+
+//------------------------------------------------------------------------------
+void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "WaterSource: " << this->WaterSource << "\n";
+  os << indent << "WaterDepth: " << this->WaterDepth << " mm\n";
+  os << indent << "Month: " << this->Month << "\n";
+  os << indent << "AutoStopRatio: " << this->AutoStopRatio << "\n";
+  os << indent << "MaximumIterations: " << this->MaximumIterations << "\n";
+  os << indent << "MaximumSimulatedTime: " << this->MaximumSimulatedTime << " s\n";
+  os << indent << "IterationDuration: " << this->IterationDuration << " s\n";
+  os << indent << "RiverThreshold: " << this->RiverThreshold << " m3\n";
+  os << indent << "TimeStepStride: " << this->TimeStepStride << "\n";
+  os << indent << "CheckpointInterval: " << this->CheckpointInterval << "\n";
+  os << indent << "CheckpointMemory: " << this->CheckpointMemory << " MiB\n";
+}
+
+//------------------------------------------------------------------------------
+double vtkTerroirWaterFlow::EstimateMemory(double nx, double ny)
+{
+  // Padded state: terrain 4, cell flag 1, water 8 + 8 (ping-pong), discharge 8; input water 4;
+  // outputs: WaterHeight 4, Discharge 8, River 1. Checkpoints are bounded separately.
+  const double padded = (nx + 2.0) * (ny + 2.0);
+  return padded * 29.0 + nx * ny * 17.0;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirWaterFlow::CheckParameters()
+{
+  if (!(std::isfinite(this->WaterDepth) && this->WaterDepth >= 0.0))
+  {
+    return "WaterDepth " + Num(this->WaterDepth) + " mm must be a finite number >= 0";
+  }
+  if (this->Month < 1 || this->Month > 12)
+  {
+    return "Month " + std::to_string(this->Month) + " must be 1 (January) to 12 (December)";
+  }
+  if (!(this->AutoStopRatio >= 0.0 && this->AutoStopRatio < 1.0))
+  {
+    return "AutoStopRatio " + Num(this->AutoStopRatio) + " must be in [0, 1)";
+  }
+  if (this->MaximumIterations < 0)
+  {
+    return "MaximumIterations " + std::to_string(this->MaximumIterations) + " must be >= 0";
+  }
+  if (!(std::isfinite(this->MaximumSimulatedTime) && this->MaximumSimulatedTime >= 0.0))
+  {
+    return "MaximumSimulatedTime " + Num(this->MaximumSimulatedTime) +
+      " s must be a finite number >= 0";
+  }
+  if (!(std::isfinite(this->IterationDuration) && this->IterationDuration > 0.0))
+  {
+    return "IterationDuration " + Num(this->IterationDuration) + " s must be a finite number > 0";
+  }
+  if (!(this->RiverThreshold >= 0.0) || std::isnan(this->RiverThreshold))
+  {
+    return "RiverThreshold " + Num(this->RiverThreshold) + " m3 must be >= 0";
+  }
+  if (this->TimeStepStride < 1 || this->CheckpointInterval < 1)
+  {
+    return "TimeStepStride and CheckpointInterval must be >= 1";
+  }
+  if (!(std::isfinite(this->CheckpointMemory) && this->CheckpointMemory >= 0.0))
+  {
+    return "CheckpointMemory " + Num(this->CheckpointMemory) + " MiB must be >= 0";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirWaterFlow::RequestInformation(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestInformation(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const vtkIdType last = std::max<vtkIdType>(this->MaximumIterations, 0);
+  const vtkIdType stride = std::max<vtkIdType>(this->TimeStepStride, 1);
+  std::vector<double> steps;
+  for (vtkIdType t = 0; t < last; t += stride)
+  {
+    steps.push_back(static_cast<double>(t));
+  }
+  steps.push_back(static_cast<double>(last));
+  outInfo->Set(
+    vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps.data(), static_cast<int>(steps.size()));
+  const double range[2] = { 0.0, static_cast<double>(last) };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+  const int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
+  }
+  this->LastComputedIterations = 0;
+  Cache& cache = *this->State;
+
+  // A new input or new parameters start from scratch.
+  if (!cache.Sim || cache.Input != input || cache.InputTime != input->GetMTime() ||
+    cache.FilterTime != this->GetMTime())
+  {
+    // Initial water, metres, every check before the simulation exists.
+    std::vector<double> water(n, 0.0);
+    vtkDataArray* standing = nullptr;
+    if (this->WaterSource != Constant)
+    {
+      standing = this->GetInputArrayToProcess(1, input);
+      if (!standing || standing->GetNumberOfComponents() != 12 ||
+        standing->GetNumberOfTuples() != static_cast<vtkIdType>(n))
+      {
+        vtkErrorMacro(<< this->SourcePrefix(input)
+                      << "the StandingWater sources need a point array `StandingWater` with 12 "
+                         "components (mm, from vtkTerroirSoilHumidity)");
+        return 0;
+      }
+    }
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      const bool valid = (!v.valid || v.valid[c]) && std::isfinite(v.data[c]);
+      if (!valid)
+      {
+        continue;
+      }
+      double mm = this->WaterDepth;
+      if (this->WaterSource == StandingWaterMonth)
+      {
+        mm = standing->GetComponent(static_cast<vtkIdType>(c), this->Month - 1);
+      }
+      else if (this->WaterSource == StandingWaterAnnual)
+      {
+        mm = 0.0;
+        for (int m = 0; m < 12; ++m)
+        {
+          mm += standing->GetComponent(static_cast<vtkIdType>(c), m);
+        }
+      }
+      if (!(std::isfinite(mm) && mm >= 0.0))
+      {
+        vtkErrorMacro(<< this->SourcePrefix(input) << "water " << Num(mm) << " mm at cell ("
+                      << c % v.nx << ", " << c / v.nx
+                      << ") is negative or not a number: water depths must be >= 0");
+        return 0;
+      }
+      water[c] = mm / 1000.0;
+    }
+    try
+    {
+      cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
+    }
+    catch (const std::invalid_argument& e)
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << e.what());
+      return 0;
+    }
+    cache.Checkpoints.clear();
+    cache.Input = input;
+    cache.InputTime = input->GetMTime();
+    cache.FilterTime = this->GetMTime();
+  }
+  hy::WaterFlowSimulation& sim = *cache.Sim;
+  sim.SetParallelFor([](int begin, int end, const std::function<void(int, int)>& body)
+    { vtkSMPTools::For(begin, end, 16, [&body](int b, int e) { body(b, e); }); });
+
+  // What to compute: a requested time step, or a run under the stop rules.
+  vtkInformation* outInfo = this->GetOutputInformation(0);
+  const bool timed = outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  hy::WaterFlowStopRule rule;
+  rule.autoStopRatio = this->AutoStopRatio;
+  rule.maximumIterations = this->MaximumIterations;
+  bool bySimulatedTime = false;
+  if (this->MaximumSimulatedTime > 0.0)
+  {
+    const double byTime = std::floor(this->MaximumSimulatedTime / this->IterationDuration);
+    if (byTime < static_cast<double>(rule.maximumIterations))
+    {
+      rule.maximumIterations = static_cast<long long>(byTime);
+      bySimulatedTime = true;
+    }
+  }
+  long long target = rule.maximumIterations;
+  bool applyRules = true;
+  std::string reasonName;
+  double requested = 0.0;
+  if (timed)
+  {
+    requested = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    const double r = std::round(std::isfinite(requested) ? requested : 0.0);
+    target = static_cast<long long>(
+      std::min(std::max(r, 0.0), static_cast<double>(this->MaximumIterations)));
+    applyRules = false;
+    reasonName = "RequestedTime";
+  }
+  else
+  {
+    long long stop = 0;
+    hy::WaterFlowStopReason reason;
+    if (sim.FindStop(rule, stop, reason))
+    {
+      target = stop; // known from the cached history
+      applyRules = false;
+      reasonName = hy::WaterFlowStopReasonName(reason);
+    }
+  }
+
+  // Go back to the nearest checkpoint when the cache is past the target.
+  if (sim.Iterations() > target)
+  {
+    auto it = cache.Checkpoints.upper_bound(target);
+    long long from = 0;
+    if (it != cache.Checkpoints.begin())
+    {
+      --it;
+      from = it->first;
+      sim.PaddedWater() = it->second.Water;
+      sim.PaddedDischarge() = it->second.Discharge;
+    }
+    else
+    {
+      // Iteration 0: the initial state, rebuilt from the input.
+      cache.Sim.reset();
+      return this->RequestTerrainData(input, terrain, output);
+    }
+    sim.TruncateHistory(from);
+  }
+
+  // Advance, pausing at checkpoint iterations.
+  const double bytesPerCheckpoint = 16.0 * static_cast<double>(sim.PaddedWater().size());
+  const std::size_t maxCheckpoints = static_cast<std::size_t>(
+    std::floor(this->CheckpointMemory * 1048576.0 / std::max(bytesPerCheckpoint, 1.0)));
+  const long long first = sim.Iterations();
+  bool stopped = false;
+  hy::WaterFlowStopReason stopReason = hy::WaterFlowStopReason::MaximumIterations;
+  bool gpu = backend == vtkTerroirComputeContext::GPU;
+  (void)gpu;
+  while (!stopped && sim.Iterations() < target)
+  {
+    const long long interval = this->CheckpointInterval;
+    const long long next = std::min(target, (sim.Iterations() / interval + 1) * interval);
+#ifdef TERROIR_WATERFLOW_GPU
+    if (gpu)
+    {
+      hy::WaterFlowGPUResult result;
+      const int ran = this->RunGPUPath(
+        [&] { result = hy::RunWaterFlowGPU(sim, next, applyRules, rule.autoStopRatio); });
+      if (ran < 0)
+      {
+        return 0;
+      }
+      if (ran == vtkTerroirComputeContext::CPU)
+      {
+        gpu = false; // fell back; the state in sim is unchanged
+        continue;
+      }
+      stopped = result.stopped;
+      stopReason = result.reason;
+    }
+    else
+#endif
+    {
+      while (sim.Iterations() < next)
+      {
+        const double before = sim.TotalMoved();
+        const hy::WaterFlowIteration it = sim.Step();
+        if (it.moved <= 0.0)
+        {
+          stopped = true;
+          stopReason = hy::WaterFlowStopReason::NoMovement;
+          break;
+        }
+        if (applyRules && hy::WaterFlowAutoStop(it.moved, before, rule.autoStopRatio))
+        {
+          stopped = true;
+          stopReason = hy::WaterFlowStopReason::AutoStop;
+          break;
+        }
+      }
+    }
+    this->UpdateProgress(0.05 +
+      0.9 * static_cast<double>(sim.Iterations()) / static_cast<double>(std::max(target, 1LL)));
+    if (sim.Iterations() % interval == 0 && cache.Checkpoints.size() < maxCheckpoints &&
+      !cache.Checkpoints.count(sim.Iterations()))
+    {
+      cache.Checkpoints[sim.Iterations()] = { sim.PaddedWater(), sim.PaddedDischarge() };
+    }
+  }
+  this->LastComputedIterations = static_cast<vtkIdType>(sim.Iterations() - first);
+  if (reasonName.empty() || stopped)
+  {
+    if (stopped)
+    {
+      reasonName = hy::WaterFlowStopReasonName(stopReason);
+    }
+    else if (timed)
+    {
+      reasonName = "RequestedTime";
+    }
+    else
+    {
+      reasonName = bySimulatedTime ? "SimulatedTime" : "MaximumIterations";
+    }
+  }
+  else if (reasonName == "MaximumIterations" && bySimulatedTime)
+  {
+    reasonName = "SimulatedTime";
+  }
+
+  // Outputs.
+  vtkSmartPointer<vtkFloatArray> height = vtkSmartPointer<vtkFloatArray>::Take(
+    terroir::NewOutputArray(WaterHeightName(), 1, static_cast<long long>(n), "m"));
+  sim.GetWaterDepth(height->GetPointer(0));
+  auto discharge = vtkSmartPointer<vtkDoubleArray>::New();
+  discharge->SetName(DischargeName());
+  discharge->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  discharge->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m3");
+  sim.GetDischarge(discharge->GetPointer(0));
+  auto river = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  river->SetName(RiverName());
+  river->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  const double* q = discharge->GetPointer(0);
+  unsigned char* rv = river->GetPointer(0);
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    rv[c] = q[c] >= this->RiverThreshold ? 1 : 0; // NaN (no data) is never a river
+  }
+  output->GetPointData()->AddArray(height);
+  output->GetPointData()->AddArray(discharge);
+  output->GetPointData()->AddArray(river);
+  vtkFieldData* fd = output->GetFieldData();
+  auto iterations = vtkSmartPointer<vtkIdTypeArray>::New();
+  iterations->SetName(IterationsName());
+  iterations->InsertNextValue(static_cast<vtkIdType>(sim.Iterations()));
+  fd->AddArray(iterations);
+  auto reason = vtkSmartPointer<vtkStringArray>::New();
+  reason->SetName(StopReasonName());
+  reason->InsertNextValue(reasonName);
+  fd->AddArray(reason);
+  fd->AddArray(Scalar("WaterFlowSimulatedTime",
+    static_cast<double>(sim.Iterations()) * this->IterationDuration,
+    "s"));
+  fd->AddArray(Scalar("WaterFlowInitialVolume", sim.InitialVolume(), "m3"));
+  fd->AddArray(Scalar("WaterFlowStoredVolume", sim.StoredVolume(), "m3"));
+  fd->AddArray(Scalar("WaterFlowOutflowVolume", sim.TotalOutflow(), "m3"));
+  fd->AddArray(Scalar("WaterFlowMovedVolume", sim.TotalMoved(), "m3"));
+  if (timed)
+  {
+    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), requested);
+  }
+  return 1;
+}

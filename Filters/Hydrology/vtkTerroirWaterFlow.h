@@ -1,0 +1,181 @@
+/**
+ * @class   vtkTerroirWaterFlow
+ * @brief   Lets the rain that the soil did not absorb run over the terrain: the seed's
+ *          hydrostatic water flow, which forms rivers and lakes.
+ *
+ * Input: a Terroir terrain (2-D vtkImageData, point array `Elevation` in metres, optional
+ * `vtkValidPointMask`, spacing or per-row spacing in metres) and, for the StandingWater sources,
+ * a point array `StandingWater` (12 components, mm, from vtkTerroirSoilHumidity; input array
+ * to process 1). Output: the input's arrays plus, as point data,
+ * - `WaterHeight` (float32, m): water depth on each cell when the run stopped (NaN on no data);
+ * - `Discharge` (float64, m^3): all the water that left each cell during the run (NaN on no
+ *   data): large along the paths water takes, so rivers stand out;
+ * - `River` (unsigned char): 1 where Discharge >= RiverThreshold;
+ * and as field data `WaterFlowIterations` (iterations run), `WaterFlowStopReason` ("AutoStop",
+ * "NoMovement", "MaximumIterations", "SimulatedTime" or "RequestedTime"), `WaterFlowSimulatedTime`
+ * (s), and the volumes (m^3) `WaterFlowInitialVolume`, `WaterFlowStoredVolume`,
+ * `WaterFlowOutflowVolume` (left through the border or into no-data cells) and
+ * `WaterFlowMovedVolume` (sum over iterations of the water that moved).
+ *
+ * The model (terroir::hydrology::WaterFlowSimulation, WaterFlow.h): each iteration every cell
+ * hands water to its 8 neighbours according to its evacuation capacity (the seed's cases all /
+ * part / none): only to neighbours whose absolute height (terrain + water) is lower, never
+ * lifting a receiver above the giver's new level, split in proportion to the drop weighted by
+ * closeness (diagonals by distance); every iteration reads only the previous state; volume is
+ * conserved apart from what leaves through the seed's one-cell border (heights continue the
+ * slope) or into no-data cells, which count as outflow.
+ *
+ * Parameters (defaults):
+ * - WaterSource: Constant (0, default; WaterDepth mm on every cell, default 100),
+ *   StandingWaterMonth (1; component Month (1..12, default 1) of `StandingWater`),
+ *   StandingWaterAnnual (2; the sum of the 12 months).
+ * - Stopping: the seed's rule stops after the first iteration that moved less than
+ *   AutoStopRatio (default 0.001; 0 disables it) of all the water moved so far; also when
+ *   nothing moved, after MaximumIterations (default 10000), or after MaximumSimulatedTime
+ *   seconds (default 0: no limit) at IterationDuration seconds per iteration (default 10 s:
+ *   water travels at most one cell per iteration, 1 m/s on 10 m cells).
+ * - RiverThreshold: m^3, default 10000 (the 100 mm of 1000 cells of 10 m).
+ * - VTK time: the output announces TIME_STEPS 0, TimeStepStride, 2 TimeStepStride, ... up to
+ *   MaximumIterations (stride default 10); a request for time t returns the state after
+ *   round(t) iterations (the stop rules then do not apply). The state is cached: a later time
+ *   continues from the cached one, an earlier time restarts from the nearest checkpoint (one
+ *   every CheckpointInterval iterations, default 100, while they fit in CheckpointMemory MiB,
+ *   default 256). Changing a parameter or the input discards the cache.
+ *
+ * Backends: CPU (rows in parallel with vtkSMPTools) and GPU (Shaders/WaterFlow.comp, a gather
+ * with ping-pong buffers in double precision; the stop test reads back every 16 iterations and
+ * replays a block from its snapshot so that both stop after the same iteration).
+ *
+ * Errors (one line, empty output): negative, NaN or infinite water on a cell with data,
+ * missing or not 12-component `StandingWater` for the StandingWater sources, parameters out of
+ * range.
+ *
+ * @par Correctness
+ * Testing/Unit/TestWaterFlow.cxx (the model: the seed's 1-D cases, conservation, draining, one
+ * flat level in a bowl, symmetry, no uphill flow, the stop rule), Testing/Pipeline/
+ * TestTerroirWaterFlow.cxx (arrays, units, sources, stop reasons, time steps against fresh
+ * runs, errors), Testing/GPU/TestWaterFlowGPU.cxx, Testing/Pipeline/TestDeterminism.cxx.
+ *
+ * @par Reference
+ * Long, J. (2016), the seed system's thesis, section 3.3 (hydrostatic water flow, table 3.3,
+ * equations 3.8-3.12, the 1-D form generalised in WaterFlow.h).
+ *
+ * @sa vtkTerroirSoilHumidity vtkTerroirFlowAccumulation
+ */
+#ifndef vtkTerroirWaterFlow_h
+#define vtkTerroirWaterFlow_h
+
+#include "vtkTerroirFiltersHydrologyModule.h" // For export macro
+#include "vtkTerroirImageAlgorithm.h"
+
+#include <memory> // For std::unique_ptr
+
+class VTKTERROIRFILTERSHYDROLOGY_EXPORT vtkTerroirWaterFlow : public vtkTerroirImageAlgorithm
+{
+public:
+  static vtkTerroirWaterFlow* New();
+  vtkTypeMacro(vtkTerroirWaterFlow, vtkTerroirImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  static const char* WaterHeightName() { return "WaterHeight"; }
+  static const char* DischargeName() { return "Discharge"; }
+  static const char* RiverName() { return "River"; }
+  static const char* IterationsName() { return "WaterFlowIterations"; }
+  static const char* StopReasonName() { return "WaterFlowStopReason"; }
+
+  enum WaterSourceType
+  {
+    Constant = 0,
+    StandingWaterMonth = 1,
+    StandingWaterAnnual = 2
+  };
+
+  ///@{
+  /// Where the initial water comes from (see the class comment). Default Constant.
+  vtkSetClampMacro(WaterSource, int, Constant, StandingWaterAnnual);
+  vtkGetMacro(WaterSource, int);
+  void SetWaterSourceToConstant() { this->SetWaterSource(Constant); }
+  void SetWaterSourceToStandingWaterMonth() { this->SetWaterSource(StandingWaterMonth); }
+  void SetWaterSourceToStandingWaterAnnual() { this->SetWaterSource(StandingWaterAnnual); }
+  ///@}
+
+  /// Constant source: depth of water on every cell, mm (>= 0, finite). Default 100.
+  vtkSetMacro(WaterDepth, double);
+  vtkGetMacro(WaterDepth, double);
+
+  /// StandingWaterMonth source: the month, 1 (January) to 12. Default 1.
+  vtkSetMacro(Month, int);
+  vtkGetMacro(Month, int);
+
+  /// The seed's stop rule (fraction of the water moved so far); 0 disables. Default 0.001.
+  vtkSetMacro(AutoStopRatio, double);
+  vtkGetMacro(AutoStopRatio, double);
+
+  /// Iteration limit (>= 0); also the last announced time step. Default 10000.
+  vtkSetMacro(MaximumIterations, vtkIdType);
+  vtkGetMacro(MaximumIterations, vtkIdType);
+
+  /// Simulated-time limit, seconds (0: none). Default 0.
+  vtkSetMacro(MaximumSimulatedTime, double);
+  vtkGetMacro(MaximumSimulatedTime, double);
+
+  /// Simulated seconds per iteration (> 0). Default 10.
+  vtkSetMacro(IterationDuration, double);
+  vtkGetMacro(IterationDuration, double);
+
+  /// Discharge (m^3) from which a cell is a river. Default 10000.
+  vtkSetMacro(RiverThreshold, double);
+  vtkGetMacro(RiverThreshold, double);
+
+  /// Iterations between announced time steps (>= 1). Default 10.
+  vtkSetMacro(TimeStepStride, vtkIdType);
+  vtkGetMacro(TimeStepStride, vtkIdType);
+
+  /// Iterations between cached checkpoints (>= 1). Default 100.
+  vtkSetMacro(CheckpointInterval, vtkIdType);
+  vtkGetMacro(CheckpointInterval, vtkIdType);
+
+  /// Memory for checkpoints, MiB (>= 0). Default 256.
+  vtkSetMacro(CheckpointMemory, double);
+  vtkGetMacro(CheckpointMemory, double);
+
+  /// Iterations computed (not restored from the cache) by the last update; for tests.
+  vtkGetMacro(LastComputedIterations, vtkIdType);
+
+protected:
+  vtkTerroirWaterFlow();
+  ~vtkTerroirWaterFlow() override;
+
+  int GetHaloWidth() override { return -1; }
+  bool HasGPUPath() override { return false; }
+  double EstimateMemory(double nx, double ny) override;
+  std::string CheckParameters() override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+#ifndef __VTK_WRAP__
+  int RequestTerrainData(vtkImageData* input,
+    const terroir::TerrainInput& terrain,
+    vtkImageData* output) override;
+#endif
+
+  int WaterSource = Constant;
+  double WaterDepth = 100.0;
+  int Month = 1;
+  double AutoStopRatio = 1e-3;
+  vtkIdType MaximumIterations = 10000;
+  double MaximumSimulatedTime = 0.0;
+  double IterationDuration = 10.0;
+  double RiverThreshold = 10000.0;
+  vtkIdType TimeStepStride = 10;
+  vtkIdType CheckpointInterval = 100;
+  double CheckpointMemory = 256.0;
+  vtkIdType LastComputedIterations = 0;
+
+private:
+  vtkTerroirWaterFlow(const vtkTerroirWaterFlow&) = delete;
+  void operator=(const vtkTerroirWaterFlow&) = delete;
+
+  struct Cache;
+  std::unique_ptr<Cache> State;
+};
+
+#endif

@@ -1,0 +1,353 @@
+// Pipeline tests of vtkTerroirWaterFlow: arrays, units, field data and defaults; the filter
+// equals the core (WaterFlowSimulation) run by hand; the three water sources; VTK time steps
+// equal fresh runs of that many iterations and reuse the cache (forward) or a checkpoint
+// (backward); bad inputs; conservation on the bundled Sagehen DEM.
+#include "TerroirFilterTestUtilities.h"
+
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirWaterFlow.h"
+
+#include "WaterFlow.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using terroir_test::MakeTerrain;
+namespace hy = terroir::hydrology;
+
+/// A valley: z = 0.2 |x - 15| + 0.1 y (metres) on 31 x 21 cells of 10 m, with a dimple.
+vtkSmartPointer<vtkImageData> Valley()
+{
+  return MakeTerrain(31,
+    21,
+    10.0,
+    10.0,
+    [](int i, int j)
+    { return 100.0 + 2.0 * std::abs(i - 15) + 1.0 * j - (i == 15 && j == 10 ? 3.0 : 0.0); });
+}
+
+vtkSmartPointer<vtkImageData> RunFlow(vtkTerroirWaterFlow* f, vtkImageData* in)
+{
+  f->SetInputData(in);
+  f->Update();
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->DeepCopy(f->GetOutput());
+  return out;
+}
+
+double Field(vtkImageData* out, const char* name)
+{
+  vtkDataArray* a = vtkDataArray::SafeDownCast(out->GetFieldData()->GetAbstractArray(name));
+  return a ? a->GetComponent(0, 0) : std::nan("");
+}
+
+std::string Reason(vtkImageData* out)
+{
+  auto* a = vtkStringArray::SafeDownCast(
+    out->GetFieldData()->GetAbstractArray(vtkTerroirWaterFlow::StopReasonName()));
+  return a && a->GetNumberOfValues() == 1 ? a->GetValue(0) : std::string("?");
+}
+
+std::vector<double> Values(vtkImageData* out, const char* name)
+{
+  vtkDataArray* a = out->GetPointData()->GetArray(name);
+  std::vector<double> v;
+  if (a)
+  {
+    for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
+    {
+      v.push_back(a->GetComponent(k, 0));
+    }
+  }
+  return v;
+}
+
+TEST(TerroirWaterFlow, ArraysUnitsDefaults)
+{
+  vtkNew<vtkTerroirWaterFlow> f;
+  EXPECT_EQ(f->GetWaterSource(), vtkTerroirWaterFlow::Constant);
+  EXPECT_EQ(f->GetWaterDepth(), 100.0);
+  EXPECT_EQ(f->GetAutoStopRatio(), 1e-3);
+  EXPECT_EQ(f->GetMaximumIterations(), 10000);
+  EXPECT_EQ(f->GetRiverThreshold(), 10000.0);
+  EXPECT_EQ(f->GetIterationDuration(), 10.0);
+  const vtkMTimeType t0 = f->GetMTime();
+  f->SetWaterDepth(50.0);
+  EXPECT_GT(f->GetMTime(), t0);
+  f->SetWaterDepth(100.0);
+  f->SetBackendToCPU();
+  auto out = RunFlow(f, Valley());
+  vtkFloatArray* h = vtkFloatArray::SafeDownCast(
+    out->GetPointData()->GetArray(vtkTerroirWaterFlow::WaterHeightName()));
+  vtkDoubleArray* q = vtkDoubleArray::SafeDownCast(
+    out->GetPointData()->GetArray(vtkTerroirWaterFlow::DischargeName()));
+  vtkDataArray* r = out->GetPointData()->GetArray(vtkTerroirWaterFlow::RiverName());
+  ASSERT_TRUE(h && q && r);
+  EXPECT_STREQ(h->GetInformation()->Get(vtkDataArray::UNITS_LABEL()), "m");
+  EXPECT_STREQ(q->GetInformation()->Get(vtkDataArray::UNITS_LABEL()), "m3");
+  EXPECT_EQ(r->GetDataType(), VTK_UNSIGNED_CHAR);
+  EXPECT_TRUE(out->GetPointData()->GetArray("Elevation")); // input arrays kept
+  // 0.1 m on 651 cells of 100 m^2.
+  EXPECT_NEAR(Field(out, "WaterFlowInitialVolume"), 0.1 * 651 * 100, 1e-9);
+  EXPECT_NEAR(Field(out, "WaterFlowStoredVolume") + Field(out, "WaterFlowOutflowVolume"),
+    Field(out, "WaterFlowInitialVolume"),
+    1e-6 * Field(out, "WaterFlowInitialVolume"));
+  EXPECT_EQ(Reason(out), "AutoStop");
+  const double iterations = Field(out, vtkTerroirWaterFlow::IterationsName());
+  EXPECT_GT(iterations, 1);
+  EXPECT_DOUBLE_EQ(Field(out, "WaterFlowSimulatedTime"), 10.0 * iterations);
+  // River = Discharge >= threshold, and the valley's floor (i = 15) carries the most water.
+  for (vtkIdType k = 0; k < q->GetNumberOfTuples(); ++k)
+  {
+    EXPECT_EQ(r->GetComponent(k, 0), q->GetValue(k) >= 10000.0 ? 1.0 : 0.0);
+  }
+  EXPECT_GT(q->GetValue(10 * 31 + 15), q->GetValue(10 * 31 + 10));
+}
+
+// The filter is the core: same water and discharge as WaterFlowSimulation run by hand.
+TEST(TerroirWaterFlow, EqualsCore)
+{
+  auto in = Valley();
+  vtkNew<vtkTerroirWaterFlow> f;
+  f->SetBackendToCPU();
+  f->SetAutoStopRatio(0.0);
+  f->SetMaximumIterations(37);
+  auto out = RunFlow(f, in);
+  EXPECT_EQ(Reason(out), "MaximumIterations");
+  std::vector<float> z(31 * 21);
+  vtkDataArray* e = in->GetPointData()->GetArray("Elevation");
+  for (vtkIdType k = 0; k < e->GetNumberOfTuples(); ++k)
+  {
+    z[k] = static_cast<float>(e->GetComponent(k, 0));
+  }
+  terroir::GridView<float> v;
+  v.data = z.data();
+  v.nx = 31;
+  v.ny = 21;
+  v.dx = v.dy = 10.0;
+  std::vector<double> w(z.size(), 0.1);
+  hy::WaterFlowSimulation sim(v, w.data());
+  for (int k = 0; k < 37; ++k)
+  {
+    sim.Step();
+  }
+  std::vector<float> depth(z.size());
+  std::vector<double> discharge(z.size());
+  sim.GetWaterDepth(depth.data());
+  sim.GetDischarge(discharge.data());
+  const auto h = Values(out, "WaterHeight");
+  const auto q = Values(out, "Discharge");
+  for (std::size_t c = 0; c < z.size(); ++c)
+  {
+    ASSERT_EQ(static_cast<float>(h[c]), depth[c]) << c;
+    ASSERT_EQ(q[c], discharge[c]) << c;
+  }
+}
+
+TEST(TerroirWaterFlow, StandingWaterSources)
+{
+  auto in = Valley();
+  const vtkIdType n = in->GetNumberOfPoints();
+  vtkNew<vtkFloatArray> standing;
+  standing->SetName("StandingWater");
+  standing->SetNumberOfComponents(12);
+  standing->SetNumberOfTuples(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    for (int m = 0; m < 12; ++m)
+    {
+      standing->SetComponent(k, m, m + 1.0 + (k % 3)); // mm
+    }
+  }
+  in->GetPointData()->AddArray(standing);
+  // Month 4 (April): 4 + (k % 3) mm; annual: 78 + 12 (k % 3) mm.
+  double april = 0.0;
+  double annual = 0.0;
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    april += (4.0 + k % 3) / 1000.0 * 100.0;
+    annual += (78.0 + 12.0 * (k % 3)) / 1000.0 * 100.0;
+  }
+  vtkNew<vtkTerroirWaterFlow> f;
+  f->SetBackendToCPU();
+  f->SetMaximumIterations(1);
+  f->SetWaterSourceToStandingWaterMonth();
+  f->SetMonth(4);
+  EXPECT_NEAR(Field(RunFlow(f, in), "WaterFlowInitialVolume"), april, 1e-6 * april);
+  f->SetWaterSourceToStandingWaterAnnual();
+  EXPECT_NEAR(Field(RunFlow(f, in), "WaterFlowInitialVolume"), annual, 1e-6 * annual);
+}
+
+TEST(TerroirWaterFlow, TimeStepsContinueFromCache)
+{
+  auto in = Valley();
+  vtkNew<vtkTerroirWaterFlow> f;
+  f->SetBackendToCPU();
+  f->SetMaximumIterations(60);
+  f->SetCheckpointInterval(10);
+  f->SetInputData(in);
+  f->UpdateInformation();
+  vtkInformation* info = f->GetOutputInformation(0);
+  ASSERT_TRUE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
+  EXPECT_EQ(info->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 7); // 0, 10, ..., 60
+  EXPECT_EQ(info->Get(vtkStreamingDemandDrivenPipeline::TIME_STEPS())[6], 60.0);
+
+  auto fresh = [&](int iterations)
+  {
+    vtkNew<vtkTerroirWaterFlow> g;
+    g->SetBackendToCPU();
+    g->SetAutoStopRatio(0.0);
+    g->SetMaximumIterations(iterations);
+    return Values(RunFlow(g, in), "WaterHeight");
+  };
+  f->UpdateTimeStep(30.0);
+  EXPECT_EQ(f->GetLastComputedIterations(), 30);
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->DeepCopy(f->GetOutput());
+  EXPECT_EQ(Reason(out), "RequestedTime");
+  EXPECT_EQ(Field(out, vtkTerroirWaterFlow::IterationsName()), 30.0);
+  EXPECT_EQ(Values(out, "WaterHeight"), fresh(30));
+  EXPECT_DOUBLE_EQ(out->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()), 30.0);
+  // Forward: 20 more iterations from the cache, not 50 from zero.
+  f->UpdateTimeStep(50.0);
+  EXPECT_EQ(f->GetLastComputedIterations(), 20);
+  out->DeepCopy(f->GetOutput());
+  EXPECT_EQ(Values(out, "WaterHeight"), fresh(50));
+  // Backward to 25: restart from the checkpoint at 20 (5 iterations).
+  f->UpdateTimeStep(25.0);
+  EXPECT_EQ(f->GetLastComputedIterations(), 5);
+  out->DeepCopy(f->GetOutput());
+  EXPECT_EQ(Values(out, "WaterHeight"), fresh(25));
+  // Without a time request the stop rules apply; a later request for the stop's iteration
+  // is then served from the cache.
+  vtkNew<vtkTerroirWaterFlow> plain;
+  plain->SetBackendToCPU();
+  auto ruled = RunFlow(plain, in);
+  const double stop = Field(ruled, vtkTerroirWaterFlow::IterationsName());
+  EXPECT_EQ(Reason(ruled), "AutoStop");
+  plain->UpdateTimeStep(stop);
+  EXPECT_EQ(plain->GetLastComputedIterations(), 0);
+  EXPECT_EQ(Values(plain->GetOutput(), "WaterHeight"), Values(ruled, "WaterHeight"));
+  plain->UpdateTimeStep(stop + 3.0);
+  EXPECT_EQ(plain->GetLastComputedIterations(), 3);
+}
+
+TEST(TerroirWaterFlow, SimulatedTimeLimit)
+{
+  vtkNew<vtkTerroirWaterFlow> f;
+  f->SetBackendToCPU();
+  f->SetAutoStopRatio(0.0);
+  f->SetIterationDuration(30.0);
+  f->SetMaximumSimulatedTime(600.0); // 20 iterations
+  auto out = RunFlow(f, Valley());
+  EXPECT_EQ(Reason(out), "SimulatedTime");
+  EXPECT_EQ(Field(out, vtkTerroirWaterFlow::IterationsName()), 20.0);
+  EXPECT_EQ(Field(out, "WaterFlowSimulatedTime"), 600.0);
+}
+
+TEST(TerroirWaterFlow, BadInputsAreOneErrorAndAnEmptyOutput)
+{
+  auto in = Valley();
+  vtkTerroirGeoreference::SetSourceFile(in, "dem.tif");
+  auto negative = Valley();
+  vtkTerroirGeoreference::SetSourceFile(negative, "dem.tif");
+  vtkNew<vtkFloatArray> standing;
+  standing->SetName("StandingWater");
+  standing->SetNumberOfComponents(12);
+  standing->SetNumberOfTuples(negative->GetNumberOfPoints());
+  standing->Fill(1.0);
+  standing->SetComponent(33, 0, -2.0); // cell (2, 1), January
+  negative->GetPointData()->AddArray(standing);
+  struct Case
+  {
+    vtkImageData* input;
+    std::function<void(vtkTerroirWaterFlow*)> set;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+    { in,
+      [](vtkTerroirWaterFlow* f) { f->SetWaterDepth(-5.0); },
+      "dem.tif: WaterDepth -5 mm must be a finite number >= 0" },
+    { in,
+      [](vtkTerroirWaterFlow* f) { f->SetWaterDepth(std::nan("")); },
+      "dem.tif: WaterDepth nan mm must be a finite number >= 0" },
+    { in,
+      [](vtkTerroirWaterFlow* f) { f->SetMonth(13); },
+      "dem.tif: Month 13 must be 1 (January) to 12 (December)" },
+    { in,
+      [](vtkTerroirWaterFlow* f) { f->SetIterationDuration(0.0); },
+      "dem.tif: IterationDuration 0 s must be a finite number > 0" },
+    { in,
+      [](vtkTerroirWaterFlow* f) { f->SetWaterSourceToStandingWaterAnnual(); },
+      "dem.tif: the StandingWater sources need a point array `StandingWater` with 12 components" },
+    { negative,
+      [](vtkTerroirWaterFlow* f) { f->SetWaterSourceToStandingWaterMonth(); },
+      "dem.tif: water -2 mm at cell (2, 1) is negative or not a number" },
+  };
+  for (const Case& c : cases)
+  {
+    vtkNew<vtkTerroirWaterFlow> f;
+    f->SetBackendToCPU();
+    vtkNew<terroir_test::ErrorObserver> errors;
+    f->AddObserver(vtkCommand::ErrorEvent, errors);
+    vtkNew<terroir_test::ErrorObserver> pipeline;
+    f->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline);
+    c.set(f);
+    auto out = RunFlow(f, c.input);
+    EXPECT_EQ(errors->ErrorCount, 1) << c.message << ": " << errors->Errors;
+    EXPECT_NE(errors->Errors.find(c.message), std::string::npos) << errors->Errors;
+    EXPECT_EQ(out->GetNumberOfPoints(), 0) << c.message;
+  }
+}
+
+// The bundled DEM with 100 mm everywhere, run to the seed's stop: volume is conserved, the
+// rivers are where the most water passed, and the time is printed for the filter's page.
+TEST(TerroirWaterFlow, SagehenConservation)
+{
+  vtkSmartPointer<vtkImageData> dem =
+    terroir_test::ReadDEM(terroir_test::DataFile("sagehen_creek_ca/sagehen_dem_utm11n_10m.tif"));
+  ASSERT_TRUE(dem);
+  vtkNew<vtkTerroirWaterFlow> f;
+  f->SetBackendToCPU();
+  const auto t0 = std::chrono::steady_clock::now();
+  auto out = RunFlow(f, dem);
+  const double seconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double initial = Field(out, "WaterFlowInitialVolume");
+  EXPECT_NEAR(initial, 0.1 * 786 * 720 * 100.0, 1e-6 * initial);
+  EXPECT_NEAR(Field(out, "WaterFlowStoredVolume") + Field(out, "WaterFlowOutflowVolume"),
+    initial,
+    1e-6 * initial);
+  EXPECT_EQ(Reason(out), "AutoStop");
+  const auto river = Values(out, "River");
+  double rivers = 0.0;
+  for (double r : river)
+  {
+    rivers += r;
+  }
+  EXPECT_GT(rivers, 100.0);
+  EXPECT_LT(rivers, 0.2 * river.size());
+  std::cout << "[ timing ] Sagehen 786 x 720, 100 mm, CPU: "
+            << Field(out, vtkTerroirWaterFlow::IterationsName()) << " iterations in " << seconds
+            << " s, " << rivers << " river cells\n";
+}
+
+} // namespace
