@@ -43,6 +43,7 @@ const PresetInfo Presets[] = {
   { "Incidence", "SunIncidence", "", "Sun incidence (cosine)", true, { 0.0, 1.0 } },
   { "Insolation", "Insolation", "Wh/m\xC2\xB2/day", "Insolation", false, { 0, 0 } },
   { "WaterBodies", "WaterDepth", "m", "Lake depth", false, { 0, 0 } },
+  { "RiverComparison", "RiverComparison", "", "Rivers", true, { 0.0, 3.0 } },
 };
 constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
 
@@ -60,6 +61,24 @@ const double ClusterPalette[12][3] = {
   { 0.090, 0.745, 0.812 }, // cyan
   { 0.000, 0.000, 0.502 }, // navy
   { 0.000, 0.000, 0.000 }, // black
+};
+
+// RiverComparison classes 1..3 (terroir::hydrology::RiverComparisonCategories), colours of the
+// Okabe-Ito palette (Okabe & Ito 2008, "Color Universal Design"), told apart with every common
+// colour-vision deficiency and from grey relief: blue and vermillion differ in hue and
+// lightness for deuteranopes and protanopes, and black matches by luminance alone. The names
+// fit the 400 x 400 legend column (about 10 characters): "map only" is a mapped river with no
+// simulated one within the tolerance, "model only" a simulated river with no mapped one.
+struct RiverClass
+{
+  int Value;
+  const char* Name;
+  double Color[3];
+};
+const RiverClass RiverClasses[3] = {
+  { 1, "map only", { 0.000, 0.447, 0.698 } },   // Okabe-Ito blue (0, 114, 178)
+  { 2, "model only", { 0.835, 0.369, 0.000 } }, // Okabe-Ito vermillion (213, 94, 0)
+  { 3, "both", { 0.000, 0.000, 0.000 } },       // black
 };
 
 const PresetInfo* Find(const char* name)
@@ -176,12 +195,23 @@ bool vtkTerroirColorPresets::GetDefaultRange(const char* preset, double range[2]
 
 const char* vtkTerroirColorPresets::GetMaskArrayName(const char* preset)
 {
-  return preset && std::strcmp(preset, "WaterBodies") == 0 ? "WaterBody" : nullptr;
+  if (preset && std::strcmp(preset, "WaterBodies") == 0)
+  {
+    return "WaterBody";
+  }
+  // Category 0 (no river, or outside the scored area) shows the bare relief.
+  if (preset && std::strcmp(preset, "RiverComparison") == 0)
+  {
+    return "RiverComparison";
+  }
+  return nullptr;
 }
 
 bool vtkTerroirColorPresets::IsCategorical(const char* preset)
 {
-  return preset && (std::strcmp(preset, "Clusters") == 0 || std::strcmp(preset, "Sunlit") == 0);
+  return preset &&
+    (std::strcmp(preset, "Clusters") == 0 || std::strcmp(preset, "Sunlit") == 0 ||
+      std::strcmp(preset, "RiverComparison") == 0);
 }
 
 void vtkTerroirColorPresets::GetNanColor(double rgba[4])
@@ -227,6 +257,22 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     lut->SetTableValue(1, 1.0, 1.0, 1.0, 1.0);
     lut->SetAnnotation(vtkVariant(0), "shadow");
     lut->SetAnnotation(vtkVariant(1), "lit");
+    lut->SetIndexedLookup(1);
+    lut->BuildSpecialColors();
+    return true;
+  }
+  if (name == "RiverComparison")
+  {
+    // Three fixed classes whatever the range; 0 is not a class (the NaN colour here, and left
+    // uncoloured by the overlay view through GetMaskArrayName).
+    lut->SetNumberOfTableValues(3);
+    lut->SetTableRange(1.0, 3.0);
+    for (int k = 0; k < 3; ++k)
+    {
+      const RiverClass& c = RiverClasses[k];
+      lut->SetTableValue(k, c.Color[0], c.Color[1], c.Color[2], 1.0);
+      lut->SetAnnotation(vtkVariant(c.Value), c.Name);
+    }
     lut->SetIndexedLookup(1);
     lut->BuildSpecialColors();
     return true;

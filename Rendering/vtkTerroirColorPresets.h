@@ -25,6 +25,13 @@
  *   bin opaque (a hydro-flattened lake has depth 0 and must still show); cells whose mask
  *   array `WaterBody` is 0 (dry) are left transparent by the overlay view; data range of the
  *   wet cells.
+ * - `RiverComparison`: `RiverComparison` (unsigned char classes of
+ *   terroir::hydrology::RiverComparisonCategories, `terroir validate`); categorical, Okabe-Ito
+ *   colours safe for colour-blind readers: 1 "map only" (mapped river with no simulated river
+ *   within the tolerance) blue (0, 114, 178), 2 "model only" (simulated river with no mapped
+ *   river within the tolerance) vermillion (213, 94, 0), 3 "both" black; class 0 (no river,
+ *   or outside the scored area) is left transparent by the overlay view (the mask array is
+ *   `RiverComparison` itself); 0 – 3.
  *
  * Continuous presets are 256-entry vtkLookupTable objects sampled from a
  * vtkColorTransferFunction (RGB interpolation, diverging space for Temperature); values
@@ -32,13 +39,15 @@
  * `Clusters` is an indexed (categorical) table with one annotated value per cluster id
  * `min..max` ("Cluster i"), colours from a fixed palette (Tableau 10 plus two), so cluster 0 is
  * always the same blue. `Sunlit` is an indexed table of two annotated values, 0 "shadow" and
- * 1 "lit", whatever the range asked for. Everything is deterministic (no random colours).
+ * 1 "lit", whatever the range asked for, and `RiverComparison` one of three annotated values
+ * 1, 2, 3. Everything is deterministic (no random colours).
  *
  * All methods are static. Preset names are case-sensitive.
  *
  * @par Correctness
  * TerroirColorPresets.* in Testing/Rendering/TestColorPresets.cxx (end colours, mid colours,
- * NaN colour, water transparency, categorical order, shadow/lit classes).
+ * NaN colour, water transparency, categorical order, shadow/lit classes, river comparison
+ * classes).
  */
 #ifndef vtkTerroirColorPresets_h
 #define vtkTerroirColorPresets_h
@@ -60,7 +69,7 @@ public:
 
   ///@{
   /// The presets, in a fixed order: Elevation, Slope, Illumination, Temperature, Humidity,
-  /// Water, Clusters, Sunlit, Incidence, Insolation, WaterBodies.
+  /// Water, Clusters, Sunlit, Incidence, Insolation, WaterBodies, RiverComparison.
   static int GetNumberOfPresets();
   static const char* GetPresetName(int index);
   static bool HasPreset(const char* preset);
@@ -68,7 +77,7 @@ public:
 
   ///@{
   /// Metadata of a preset (nullptr for an unknown preset). Units are UTF-8 ("°", "°C",
-  /// "Wh/m²/day") and empty for Clusters, Sunlit and Incidence.
+  /// "Wh/m²/day") and empty for Clusters, Sunlit, Incidence and RiverComparison.
   static const char* GetDefaultArrayName(const char* preset);
   static const char* GetUnits(const char* preset);
   static const char* GetTitle(const char* preset);
@@ -82,21 +91,22 @@ public:
   /// to Humidity.
   static const char* GetPresetForArray(const char* arrayName);
 
-  /// True when the preset has a fixed default range (Slope: 0–60; Sunlit, Incidence: 0–1);
-  /// false when the data range should be used.
+  /// True when the preset has a fixed default range (Slope: 0–60; Sunlit, Incidence: 0–1;
+  /// RiverComparison: 0–3); false when the data range should be used.
   static bool GetDefaultRange(const char* preset, double range[2]);
 
   /// The point array whose zero cells a preset leaves uncoloured (transparent over the bare
-  /// terrain), or nullptr: `WaterBody` for WaterBodies (dry cells), none for the others.
+  /// terrain), or nullptr: `WaterBody` for WaterBodies (dry cells), `RiverComparison` for
+  /// RiverComparison (class 0: no river), none for the others.
   static const char* GetMaskArrayName(const char* preset);
 
-  /// True for categorical presets (Clusters, Sunlit).
+  /// True for categorical presets (Clusters, Sunlit, RiverComparison).
   static bool IsCategorical(const char* preset);
 
   /// Fills `lut` with the preset over [minValue, maxValue] (for Clusters: ids minValue..maxValue,
-  /// rounded; for Sunlit always the classes 0 and 1). Returns false (leaving `lut` unchanged)
-  /// for an unknown preset, a null table or a range that is not finite or has maxValue <
-  /// minValue. An empty range (min == max) is widened by 0.5 on each side.
+  /// rounded; for Sunlit always the classes 0 and 1; for RiverComparison always 1, 2, 3). Returns
+  /// false (leaving `lut` unchanged) for an unknown preset, a null table or a range that is not
+  /// finite or has maxValue < minValue. An empty range (min == max) is widened by 0.5 on each side.
   static bool ConfigureLookupTable(vtkLookupTable* lut,
     const char* preset,
     double minValue,

@@ -3,6 +3,7 @@
 #include "vtkLookupTable.h"
 #include "vtkSmartPointer.h"
 #include "vtkTerroirColorPresets.h"
+#include "vtkVariant.h"
 
 #include <gtest/gtest.h>
 
@@ -162,6 +163,52 @@ TEST(TerroirColorPresets, SunlitIsBlackInShadowWhiteWhereLit)
   EXPECT_EQ(vtkTerroirColorPresets::GetLegendTitle("Sunlit"), "Direct sun");
 }
 
+TEST(TerroirColorPresets, RiverComparisonHasThreeColourBlindSafeClasses)
+{
+  // Classes 1 map only, 2 model only (simulated), 3 both (RiverComparisonCategories), whatever the
+  // range asked for; 0 is no class and is left uncoloured through the mask array.
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("RiverComparison"), "RiverComparison");
+  EXPECT_TRUE(vtkTerroirColorPresets::IsCategorical("RiverComparison"));
+  EXPECT_STREQ(vtkTerroirColorPresets::GetMaskArrayName("RiverComparison"), "RiverComparison");
+  EXPECT_STREQ(vtkTerroirColorPresets::GetUnits("RiverComparison"), "");
+  EXPECT_EQ(vtkTerroirColorPresets::GetLegendTitle("RiverComparison"), "Rivers");
+  double range[2];
+  ASSERT_TRUE(vtkTerroirColorPresets::GetDefaultRange("RiverComparison", range));
+  EXPECT_EQ(range[0], 0.0);
+  EXPECT_EQ(range[1], 3.0);
+  for (const auto& lut : { vtkSmartPointer<vtkLookupTable>::Take(
+                             vtkTerroirColorPresets::CreateLookupTable("RiverComparison")),
+         Make("RiverComparison", 0.0, 0.0),
+         Make("RiverComparison", 2.0, 9.0) })
+  {
+    ASSERT_NE(lut.Get(), nullptr);
+    EXPECT_EQ(lut->GetIndexedLookup(), 1);
+    ASSERT_EQ(lut->GetNumberOfAnnotatedValues(), 3);
+    EXPECT_EQ(lut->GetAnnotatedValue(0).ToInt(), 1);
+    EXPECT_EQ(std::string(lut->GetAnnotation(0)), "map only");
+    EXPECT_EQ(std::string(lut->GetAnnotation(1)), "model only");
+    EXPECT_EQ(std::string(lut->GetAnnotation(2)), "both");
+    // Okabe-Ito blue (0, 114, 178), vermillion (213, 94, 0), and black; all opaque.
+    ExpectRGBA(lut, 1.0, 0, 114, 178, 255, 1);
+    ExpectRGBA(lut, 2.0, 213, 94, 0, 255, 1);
+    ExpectRGBA(lut, 3.0, 0, 0, 0, 255);
+    // The unsigned-char array's values arrive as doubles; 0 and others are no class (NaN grey).
+    ExpectRGBA(lut, static_cast<double>(static_cast<unsigned char>(2)), 213, 94, 0, 255, 1);
+    ExpectRGBA(lut, 0.0, 128, 128, 128, 255, 1);
+    ExpectRGBA(lut, 4.0, 128, 128, 128, 255, 1);
+  }
+  // Distinct in lightness too (Rec. 709 luma, 0..255): black 0 < blue 94 < vermillion 113,
+  // so the three classes stay apart in grey scale, not only in hue.
+  auto lut = Make("RiverComparison", 0.0, 3.0);
+  auto luma = [&lut](double v)
+  {
+    const unsigned char* c = lut->MapValue(v);
+    return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+  };
+  EXPECT_LT(luma(3.0) + 50.0, luma(1.0));
+  EXPECT_LT(luma(1.0) + 10.0, luma(2.0));
+}
+
 TEST(TerroirColorPresets, IncidenceIsBlackToWhiteOverZeroToOne)
 {
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("SunIncidence"), "Incidence");
@@ -210,13 +257,14 @@ TEST(TerroirColorPresets, NaNMapsToTheNanColor)
 
 TEST(TerroirColorPresets, MetadataAndBadInput)
 {
-  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 11);
+  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 12);
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(0), "Elevation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(6), "Clusters");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(7), "Sunlit");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(9), "Insolation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(10), "WaterBodies");
-  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(11), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(11), "RiverComparison");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(12), nullptr);
   EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("WaterBodies"), "WaterDepth");
   EXPECT_STREQ(vtkTerroirColorPresets::GetMaskArrayName("WaterBodies"), "WaterBody");
   EXPECT_EQ(vtkTerroirColorPresets::GetMaskArrayName("Water"), nullptr);

@@ -7,9 +7,11 @@
 // through vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature, and separately
 // through vtkTerroirSolarIllumination (CPU backend, so the analysis numbers are the reference
 // ones; GPU agreement is tested in Testing/GPU).
+#include "RiverValidation.h"
 #include "TerroirRenderingTestHelpers.h"
 #include "TerroirSyntheticTerrain.h"
 
+#include "vtkExtractVOI.h"
 #include "vtkImageData.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
@@ -23,11 +25,15 @@
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <iostream>
 #include <string>
+#include <vector>
 
 using terroir::testing::CompareWithBaseline;
 using terroir::testing::MakeTerrain;
@@ -383,5 +389,118 @@ TEST(TerroirOverlayImages, LegendLakesMap)
   EXPECT_STREQ(view->GetEffectivePreset(), "WaterBodies");
   view->ShowLegendOn();
   view->SetTitle("Lakes (FillDepressions)");
+  CompareWithBaseline(view);
+}
+
+namespace
+{
+// A 0/1 mask of the bundled data (Byte GeoTIFF on the DEM grid) as bytes, row j = 0 south.
+std::vector<std::uint8_t> ReadSagehenMask(const char* name, int nx, int ny)
+{
+  vtkNew<vtkTerroirDEMReader> reader;
+  const std::string file = std::string(TERROIR_DATA_DIR) + "/sagehen_creek_ca/" + name;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  std::vector<std::uint8_t> mask;
+  vtkDataArray* values = image->GetPointData()->GetArray("Elevation");
+  if (dims[0] != nx || dims[1] != ny || !values)
+  {
+    return mask;
+  }
+  mask.resize(static_cast<std::size_t>(nx) * ny);
+  for (std::size_t k = 0; k < mask.size(); ++k)
+  {
+    mask[k] = values->GetComponent(static_cast<vtkIdType>(k), 0) != 0.0 ? 1 : 0;
+  }
+  return mask;
+}
+}
+
+// terroir validate's overlay (terroir::hydrology::RiverComparisonCategories) on the bundled DEM,
+// map view with its legend. Reference: the shipped NHD stream mask (6668 cells). Simulated: a
+// stand-in that needs no water flow, the reference moved 4 cells (40 m) east and kept inside
+// the watershed mask, which is also the scored area. Within 30 m, reaches running east-west
+// overlap their shifted copy and 45-degree reaches lie 28 m from it (black, "both"); reaches
+// running north-south lie 40 m from it: blue ("map only") beside vermillion ("model only").
+// The picture shows the north-eastern tributaries (cells 470..710 x 330..570).
+TEST(TerroirOverlayImages, LegendRiverComparisonMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirDEMReader> reader;
+  const std::string file =
+    std::string(TERROIR_DATA_DIR) + "/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif";
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkNew<vtkImageData> terrain;
+  terrain->ShallowCopy(reader->GetOutput());
+  int dims[3];
+  terrain->GetDimensions(dims);
+  double spacing[3];
+  terrain->GetSpacing(spacing);
+  const int nx = dims[0];
+  const int ny = dims[1];
+  const std::vector<std::uint8_t> reference =
+    ReadSagehenMask("sagehen_nhd_streams_mask_utm11n_10m.tif", nx, ny);
+  const std::vector<std::uint8_t> watershed =
+    ReadSagehenMask("sagehen_watershed_mask_utm11n_10m.tif", nx, ny);
+  ASSERT_FALSE(reference.empty());
+  ASSERT_FALSE(watershed.empty());
+
+  const int shift = 4; // cells east
+  std::vector<std::uint8_t> simulated(reference.size(), 0);
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = shift; i < nx; ++i)
+    {
+      const std::size_t k = static_cast<std::size_t>(j) * nx + i;
+      simulated[k] = (reference[k - shift] && watershed[k]) ? 1 : 0;
+    }
+  }
+  terroir::GridView<std::uint8_t> grid;
+  grid.data = reference.data();
+  grid.nx = nx;
+  grid.ny = ny;
+  grid.dx = spacing[0];
+  grid.dy = spacing[1];
+  const double tolerance = 30.0;
+  vtkNew<vtkUnsignedCharArray> comparison;
+  comparison->SetName("RiverComparison");
+  comparison->SetNumberOfTuples(static_cast<vtkIdType>(reference.size()));
+  terroir::hydrology::RiverComparisonCategories(
+    grid, simulated.data(), watershed.data(), tolerance, comparison->GetPointer(0));
+  terrain->GetPointData()->AddArray(comparison);
+
+  const terroir::hydrology::RiverScores scores =
+    terroir::hydrology::ScoreRivers(grid, simulated.data(), watershed.data(), tolerance);
+  std::cout << "[ measured ] reference shifted " << shift << " cells east, within " << tolerance
+            << " m: precision " << scores.precision << ", recall " << scores.recall << ", F1 "
+            << scores.f1 << " (" << scores.simulatedCells << " simulated, " << scores.referenceCells
+            << " reference cells)\n";
+  // The picture shows every class.
+  std::size_t perClass[4] = { 0, 0, 0, 0 };
+  for (std::size_t k = 0; k < reference.size(); ++k)
+  {
+    ++perClass[comparison->GetValue(static_cast<vtkIdType>(k)) & 3];
+  }
+  EXPECT_GT(perClass[1], 0u);
+  EXPECT_GT(perClass[2], 0u);
+  EXPECT_GT(perClass[3], 0u);
+
+  // The north-east tributaries at about 1.3 pixels per cell: on the whole DEM (2.6 cells per
+  // pixel) one-cell-wide rivers are too thin to tell the classes apart.
+  vtkNew<vtkExtractVOI> crop;
+  crop->SetInputData(terrain);
+  crop->SetVOI(470, 710, 330, 570, 0, 0);
+  crop->Update();
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(crop->GetOutput());
+  view->SetArrayName("RiverComparison");
+  view->SetModeToMap();
+  EXPECT_STREQ(view->GetEffectivePreset(), "RiverComparison");
+  view->ShowLegendOn();
+  view->SetTitle("Rivers: NHD vs NHD 40 m east");
   CompareWithBaseline(view);
 }
