@@ -13,7 +13,7 @@ target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 
 add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h TerroirOverlayPlugin.h
-  TerroirWaterCommands.cxx TerroirWaterCommands.h)
+  TerroirWaterCommands.cxx TerroirWaterCommands.h TerroirFlowCommands.cxx TerroirFlowCommands.h)
 target_compile_definitions(terroir PRIVATE
   "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\""
   "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
@@ -22,7 +22,7 @@ set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::F
   Terroir::FiltersHydrology
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc VTK::IOXML)
 target_link_libraries(terroir PRIVATE TerroirCommandLine ${_terroir_app_modules}
-  TerroirTerrainCore TerroirIOCore nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})
+  TerroirTerrainCore TerroirIOCore TerroirHydrologyCore nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})
 vtk_module_autoinit(TARGETS terroir MODULES ${_terroir_app_modules})
 install(TARGETS terroir RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 

@@ -666,6 +666,39 @@ void CheckFloodFill(FloodFillSettings& s,
   }
 }
 
+void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
+{
+  app->add_option("--water", s.WaterMm, "Water on every cell, mm")
+    ->check(FiniteIn(0.0, 1e6))
+    ->capture_default_str();
+  app->add_option("--month", s.Month, "Use the StandingWater of month M (1-12) instead")
+    ->check(CLI::Range(1, 12));
+  app->add_flag("--annual", s.Annual, "Use the year's StandingWater instead");
+  app->add_option("--max-iterations", s.MaximumIterations, "Iteration limit")
+    ->check(CLI::Range(0LL, 100000000LL))
+    ->capture_default_str();
+  app->add_option("--auto-stop", s.AutoStop, "Seed's stop ratio (0: off)")
+    ->check(FiniteIn(0.0, 0.999))
+    ->capture_default_str();
+  app->add_option("--time", s.Time, "Simulated time limit, s (0: none)")
+    ->check(FiniteIn(0.0, 1e12));
+  app->add_option("--iteration-duration", s.IterationDuration, "Simulated seconds per iteration")
+    ->check(FiniteIn(1e-6, 1e9))
+    ->capture_default_str();
+  app->add_option("--river-threshold", s.RiverThreshold, "Discharge of a river cell, m3")
+    ->check(FiniteIn(0.0, 1e18));
+}
+
+void CheckWaterFlow(const WaterFlowSettings& s, const CLI::App& app)
+{
+  const int sources = (app.get_option("--water")->count() > 0 ? 1 : 0) + (s.Month > 0 ? 1 : 0) +
+    (s.Annual ? 1 : 0);
+  if (sources > 1)
+  {
+    throw std::invalid_argument("--water, --month and --annual exclude each other");
+  }
+}
+
 std::string OneLine(std::string text)
 {
   std::replace(text.begin(), text.end(), '\n', ' ');
@@ -687,7 +720,8 @@ const std::vector<std::string>& BenchStageNames()
     "infiltration",
     "humidity",
     "floodfill",
-    "depressions" };
+    "depressions",
+    "waterflow" };
   return names;
 }
 
@@ -840,6 +874,54 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     ->check(EndsWith(rasterOut));
   addCommon(flood);
 
+  // waterflow
+  CLI::App* flow = app.add_subcommand(
+    "waterflow", "Rivers and lakes: the hydrostatic water-flow simulation (Long 2016)");
+  flow->add_option("IN", line.Input, "Input DEM")->required();
+  flow->add_option("OUT", line.Output, "Output .tif (WaterHeight, m) or .vti (all arrays)")
+    ->required()
+    ->check(EndsWith(rasterOut));
+  AddWaterFlowOptions(flow, line.WaterFlow);
+  flow->add_option("--discharge", line.WaterFlow.DischargeOutput, "Also write Discharge (m3)")
+    ->check(EndsWith(rasterOut));
+  flow->add_option("--river", line.WaterFlow.RiverOutput, "Also write the River mask")
+    ->check(EndsWith(rasterOut));
+  addCommon(flow);
+
+  // flowacc
+  CLI::App* flowacc = app.add_subcommand(
+    "flowacc", "D8 flow accumulation after priority-flood filling (the classic baseline)");
+  flowacc->add_option("IN", line.Input, "Input DEM")->required();
+  flowacc
+    ->add_option(
+      "OUT", line.Output, "Output .tif (ContributingArea, m2) or .vti (all arrays)")
+    ->required()
+    ->check(EndsWith(rasterOut));
+  flowacc
+    ->add_option("--river-threshold", line.FlowRiverThreshold, "Contributing area of a river, m2")
+    ->check(FiniteIn(0.0, 1e18))
+    ->capture_default_str();
+  addCommon(flowacc);
+
+  // validate
+  CLI::App* validate = app.add_subcommand("validate",
+    "Score simulated rivers against mapped ones (precision, recall, F1 at 30 and 60 m)");
+  validate->add_option("DEM", line.Input, "Input DEM (default: the bundled Sagehen DEM)");
+  validate->add_option("--reference",
+    line.Validate.Reference,
+    "Reference river lines, any OGR format (default with the bundled DEM: its NHD flowlines)");
+  validate->add_option("--mask",
+    line.Validate.Mask,
+    "Area to score: a raster on the DEM grid (non-zero inside) or polygons (default with the "
+    "bundled DEM: its watershed)");
+  validate
+    ->add_option("--peer", line.Validate.Peers, "NAME=RASTER: also score a peer's accumulation")
+    ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  validate->add_option("--json", line.Validate.Json, "Also write the scores as JSON here");
+  validate->add_option("--png", line.Validate.Png, "Also write the overlay picture here");
+  AddWaterFlowOptions(validate, line.WaterFlow);
+  addCommon(validate);
+
   // bench
   CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
   std::string backends = "cpu,gpu";
@@ -890,7 +972,8 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   {
     // CLI11 wants a mutable argv; it does not modify the strings.
     app.parse(argc, const_cast<char**>(argv));
-    for (CLI::App* sub : { run, slope, temp, illum, infil, humid, flood, bench, info, fractal })
+    for (CLI::App* sub :
+      { run, slope, temp, illum, infil, humid, flood, flow, flowacc, validate, bench, info, fractal })
     {
       if (*sub)
       {
@@ -924,6 +1007,30 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
       if (line.FloodFill.IdsOutput == line.Output)
       {
         throw std::invalid_argument("--ids: '" + line.Output + "' is also OUT");
+      }
+    }
+    if (*flow)
+    {
+      CheckWaterFlow(line.WaterFlow, *flow);
+      for (const std::string* extra :
+        { &line.WaterFlow.DischargeOutput, &line.WaterFlow.RiverOutput })
+      {
+        if (!extra->empty() && *extra == line.Output)
+        {
+          throw std::invalid_argument("'" + *extra + "' is both OUT and an extra output");
+        }
+      }
+    }
+    if (*validate)
+    {
+      CheckWaterFlow(line.WaterFlow, *validate);
+      for (const std::string& peer : line.Validate.Peers)
+      {
+        const std::size_t eq = peer.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == peer.size())
+        {
+          throw std::invalid_argument("--peer: '" + peer + "' is not NAME=RASTER");
+        }
       }
     }
     if (*run)

@@ -105,11 +105,37 @@ struct FloodFillSettings
   std::string IdsOutput;                                   ///< --ids FILE: WaterBody ids
 };
 
+/// Options of `waterflow` and `validate` (the simulation).
+struct WaterFlowSettings
+{
+  double WaterMm = 100.0;           ///< --water MM on every cell
+  int Month = 0;                    ///< --month M: StandingWater of month M (soil-water chain)
+  bool Annual = false;              ///< --annual: the year's StandingWater
+  long long MaximumIterations = 10000; ///< --max-iterations
+  double AutoStop = 1e-3;           ///< --auto-stop RATIO (0: off)
+  double Time = 0.0;                ///< --time SECONDS (0: no limit)
+  double IterationDuration = 10.0;  ///< --iteration-duration SECONDS
+  double RiverThreshold = std::numeric_limits<double>::quiet_NaN(); ///< --river-threshold M3
+  std::string DischargeOutput;      ///< --discharge FILE (waterflow)
+  std::string RiverOutput;          ///< --river FILE (waterflow)
+};
+
+/// Options of `validate`.
+struct ValidateSettings
+{
+  std::string Reference;          ///< --reference: river lines (any OGR format)
+  std::string Mask;               ///< --mask: area (raster on the DEM grid, or polygons)
+  std::vector<std::string> Peers; ///< --peer NAME=RASTER: accumulation rasters of peer tools
+  std::string Json;               ///< --json FILE
+  std::string Png;                ///< --png FILE (overlay)
+};
+
 /// Everything the command line says.
 struct CommandLine
 {
   std::string Command; ///< run, slope, temperature, illumination, infiltration, humidity,
-                       ///< floodfill, bench, info or fractal
+                       ///< floodfill, waterflow, flowacc, validate, bench, info or
+                       ///< fractal
   bool Verbose = false;
   std::string Backend = "auto"; ///< auto, cpu or gpu
   bool Overwrite = false;
@@ -130,6 +156,10 @@ struct CommandLine
   SoilWaterSettings SoilWater; ///< infiltration, humidity (run: the climate)
 
   FloodFillSettings FloodFill; ///< floodfill
+
+  WaterFlowSettings WaterFlow; ///< waterflow, validate
+  ValidateSettings Validate;   ///< validate
+  double FlowRiverThreshold = 1e5; ///< flowacc --river-threshold, m2
 
   int BenchSize = 2048;
   int BenchRepeat = 3;

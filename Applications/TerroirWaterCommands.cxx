@@ -27,8 +27,6 @@ namespace terroir
 {
 namespace app
 {
-namespace
-{
 /// A raster read onto the terrain's grid: a new image with the terrain's structure and the
 /// raster's values as its only (scalar) point array. The raster must have the terrain's size
 /// and, when both are georeferenced, the same geotransform.
@@ -104,7 +102,6 @@ vtkSmartPointer<vtkImageData> RasterizePolygons(const std::string& path,
   return out;
 }
 
-} // namespace
 
 void ApplyInfiltration(const SoilWaterSettings& s,
   vtkTerroirInfiltration* filter,

@@ -10,6 +10,8 @@
 
 #include <string>
 
+#include "vtkSmartPointer.h" // For vtkSmartPointer
+
 class vtkImageData;
 class vtkTerroirFloodFill;
 class vtkTerroirInfiltration;
@@ -37,6 +39,21 @@ void ApplyFloodFill(const FloodFillSettings& s, vtkTerroirFloodFill* filter);
 /// Prints one line per water body of a vtkTerroirFloodFill output (id, level, cells, area,
 /// volume, deepest point), at most `limit` of them, largest first.
 void PrintWaterBodies(vtkImageData* result, int limit);
+
+/// A raster read onto the terrain's grid: a new image with the terrain's structure whose only
+/// (scalar) point array, named `arrayName`, holds the raster's values. Throws Failure naming
+/// the file when its size or geotransform differ from the DEM's.
+vtkSmartPointer<vtkImageData> ReadGridOperand(const std::string& path,
+  vtkImageData* terrain,
+  bool allowNetwork,
+  const char* arrayName);
+
+/// Polygons (or lines) burnt onto the terrain's grid: a new image whose scalars are the burnt
+/// values (1 on covered cells and 0 elsewhere, or the attribute `field` and NaN elsewhere).
+vtkSmartPointer<vtkImageData> RasterizePolygons(const std::string& path,
+  const std::string& field,
+  vtkImageData* terrain,
+  bool allowNetwork);
 
 int CommandInfiltration(const CommandLine& c);
 int CommandHumidity(const CommandLine& c);

@@ -7,6 +7,9 @@
 //   terroir infiltration IN OUT         infiltration rates (fill, slope rule, paint, soil types)
 //   terroir humidity IN OUT             monthly soil humidity, weighted, standing water
 //   terroir floodfill IN OUT            lakes from seeds, or every closed depression
+//   terroir waterflow IN OUT            the hydrostatic water-flow simulation (rivers, lakes)
+//   terroir flowacc IN OUT              D8 flow accumulation after priority-flood filling
+//   terroir validate [DEM]              simulated rivers scored against mapped ones
 //   terroir bench [--size N]            time per stage and backend, per million cells
 //   terroir info IN                     grid and georeference of a DEM
 //   terroir fractal OUT --size N        a seeded synthetic DEM (GeoTIFF or .vti)
@@ -16,6 +19,7 @@
 // under a temporary name and renamed, and existing files are kept unless --overwrite.
 #include "TerroirApp.h"
 #include "TerroirCommandLine.h"
+#include "TerroirFlowCommands.h"
 #include "TerroirOverlayPlugin.h"
 #include "TerroirSafeOutput.h"
 #include "TerroirWaterCommands.h"
@@ -1330,6 +1334,27 @@ int main(int argc, char** argv)
     if (c.Command == "floodfill")
     {
       return terroir::app::CommandFloodFill(c);
+    }
+    if (c.Command == "waterflow")
+    {
+      return terroir::app::CommandWaterFlow(c);
+    }
+    if (c.Command == "flowacc")
+    {
+      return terroir::app::CommandFlowAccumulation(c);
+    }
+    if (c.Command == "validate")
+    {
+      return terroir::app::CommandValidate(c,
+        [&c](vtkImageData* image, const std::string& array, const std::string& preset,
+          const std::string& title, const std::string& path)
+        {
+          if (!HaveDisplay())
+          {
+            throw Failure(path + ": PNG overlays need an X display: run under 'xvfb-run -a'");
+          }
+          WriteOverlay(image, array, 0, preset, title, path, c.Overwrite);
+        });
     }
     if (c.Command == "bench")
     {

@@ -1,0 +1,439 @@
+#include "TerroirFlowCommands.h"
+
+#include "TerroirApp.h"
+#include "TerroirWaterCommands.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "vtkTerroirFlowAccumulation.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirInfiltration.h"
+#include "vtkTerroirSoilHumidity.h"
+#include "vtkTerroirVectorRasterizer.h"
+#include "vtkTerroirWaterFlow.h"
+
+#include "RiverValidation.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <vector>
+
+namespace terroir
+{
+namespace app
+{
+namespace
+{
+namespace hy = terroir::hydrology;
+
+/// Runs the simulation on `terrain` with the options of `s` (the soil-water chain first for
+/// --month and --annual); returns the filter's output.
+vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
+  vtkImageData* terrain,
+  const std::string& backend,
+  double& seconds)
+{
+  vtkSmartPointer<vtkImageData> input = terrain;
+  if (s.Month > 0 || s.Annual)
+  {
+    // StandingWater of the default soil recipe and climate (vtkTerroirInfiltration and
+    // vtkTerroirSoilHumidity defaults), as `terroir humidity` computes it.
+    vtkNew<vtkTerroirInfiltration> infiltration;
+    infiltration->SetInputData(terrain);
+    UpdateOrThrow(infiltration, "infiltration");
+    vtkNew<vtkTerroirSoilHumidity> humidity;
+    humidity->SetBackend(ParseBackend(backend));
+    humidity->SetInputConnection(infiltration->GetOutputPort());
+    UpdateOrThrow(humidity, "soil humidity");
+    input = vtkSmartPointer<vtkImageData>::New();
+    input->ShallowCopy(humidity->GetOutput());
+  }
+  vtkNew<vtkTerroirWaterFlow> flow;
+  flow->SetBackend(ParseBackend(backend));
+  flow->SetWaterDepth(s.WaterMm);
+  if (s.Month > 0)
+  {
+    flow->SetWaterSourceToStandingWaterMonth();
+    flow->SetMonth(s.Month);
+  }
+  else if (s.Annual)
+  {
+    flow->SetWaterSourceToStandingWaterAnnual();
+  }
+  flow->SetMaximumIterations(static_cast<vtkIdType>(s.MaximumIterations));
+  flow->SetAutoStopRatio(s.AutoStop);
+  flow->SetMaximumSimulatedTime(s.Time);
+  flow->SetIterationDuration(s.IterationDuration);
+  if (std::isfinite(s.RiverThreshold))
+  {
+    flow->SetRiverThreshold(s.RiverThreshold);
+  }
+  flow->SetInputData(input);
+  WatchProgress(flow, "waterflow");
+  const double t0 = Now();
+  UpdateOrThrow(flow, "water flow");
+  seconds = Now() - t0;
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->ShallowCopy(flow->GetOutput());
+  return out;
+}
+
+double FieldNumber(vtkImageData* image, const char* name)
+{
+  vtkDataArray* a = vtkDataArray::SafeDownCast(image->GetFieldData()->GetAbstractArray(name));
+  return a && a->GetNumberOfTuples() > 0 ? a->GetComponent(0, 0) : std::nan("");
+}
+
+std::string FieldText(vtkImageData* image, const char* name)
+{
+  auto* a = vtkStringArray::SafeDownCast(image->GetFieldData()->GetAbstractArray(name));
+  return a && a->GetNumberOfValues() > 0 ? a->GetValue(0) : std::string();
+}
+
+std::string Fixed(double v, int digits)
+{
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+/// One line on what the simulation did.
+void PrintWaterFlow(vtkImageData* out, double seconds)
+{
+  const double initial = FieldNumber(out, "WaterFlowInitialVolume");
+  const double outflow = FieldNumber(out, "WaterFlowOutflowVolume");
+  std::cout << "terroir waterflow (" << Fixed(seconds, 3) << " s): "
+            << static_cast<long long>(FieldNumber(out, vtkTerroirWaterFlow::IterationsName()))
+            << " iterations (" << FieldText(out, vtkTerroirWaterFlow::StopReasonName())
+            << "), water " << Fixed(initial, 0) << " m3, left the terrain "
+            << Fixed(outflow, 0) << " m3 ("
+            << Fixed(initial > 0.0 ? 100.0 * outflow / initial : 0.0, 1) << " %)\n";
+}
+
+/// A point array as doubles (NaN stays NaN), absolute values when `absolute`.
+std::vector<double> AsDoubles(vtkDataArray* a, bool absolute)
+{
+  std::vector<double> v(static_cast<std::size_t>(a->GetNumberOfTuples()));
+  for (std::size_t k = 0; k < v.size(); ++k)
+  {
+    const double x = a->GetComponent(static_cast<vtkIdType>(k), 0);
+    v[k] = absolute ? std::fabs(x) : x;
+  }
+  return v;
+}
+
+/// The scores of one method.
+struct MethodScores
+{
+  std::string name;
+  std::string measure; ///< what the threshold applies to
+  double threshold = 0.0;
+  bool lengthMatched = true;
+  hy::RiverScores at30;
+  hy::RiverScores at60;
+};
+
+MethodScores Score(const std::string& name,
+  const std::string& measure,
+  const std::vector<double>& values,
+  double userThreshold,
+  const GridView<std::uint8_t>& reference,
+  const std::vector<std::uint8_t>& area,
+  std::vector<std::uint8_t>& simulated)
+{
+  MethodScores m;
+  m.name = name;
+  m.measure = measure;
+  GridView<double> view;
+  view.data = values.data();
+  view.nx = reference.nx;
+  view.ny = reference.ny;
+  view.dx = reference.dx;
+  view.dy = reference.dy;
+  view.rowDx = reference.rowDx;
+  view.rowDy = reference.rowDy;
+  if (std::isfinite(userThreshold))
+  {
+    m.threshold = userThreshold;
+    m.lengthMatched = false;
+  }
+  else
+  {
+    m.threshold = hy::LengthMatchingThreshold(view, reference.data, area.data());
+  }
+  simulated.assign(values.size(), 0);
+  for (std::size_t k = 0; k < values.size(); ++k)
+  {
+    simulated[k] = area[k] && values[k] >= m.threshold ? 1 : 0;
+  }
+  m.at30 = hy::ScoreRivers(reference, simulated.data(), area.data(), 30.0);
+  m.at60 = hy::ScoreRivers(reference, simulated.data(), area.data(), 60.0);
+  return m;
+}
+
+nlohmann::json ScoresJson(const hy::RiverScores& s)
+{
+  return { { "tolerance_m", s.toleranceMetres }, { "precision", s.precision },
+    { "recall", s.recall }, { "f1", s.f1 }, { "simulated_cells", s.simulatedCells },
+    { "reference_cells", s.referenceCells }, { "simulated_hits", s.simulatedHits },
+    { "reference_hits", s.referenceHits } };
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+int CommandWaterFlow(const CommandLine& c)
+{
+  const WaterFlowSettings& s = c.WaterFlow;
+  std::vector<std::string> outs = { c.Output };
+  for (const std::string* extra : { &s.DischargeOutput, &s.RiverOutput })
+  {
+    if (!extra->empty())
+    {
+      outs.push_back(*extra);
+    }
+  }
+  CheckWritable(outs, c.Overwrite);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  double seconds = 0.0;
+  vtkSmartPointer<vtkImageData> out = SimulateWaterFlow(s, terrain, c.Backend, seconds);
+  WriteStageResult(out, vtkTerroirWaterFlow::WaterHeightName(), c.Output, c.Overwrite);
+  if (!s.DischargeOutput.empty())
+  {
+    WriteStageResult(out, vtkTerroirWaterFlow::DischargeName(), s.DischargeOutput, c.Overwrite);
+  }
+  if (!s.RiverOutput.empty())
+  {
+    WriteStageResult(out, vtkTerroirWaterFlow::RiverName(), s.RiverOutput, c.Overwrite);
+  }
+  PrintWaterFlow(out, seconds);
+  return 0;
+}
+
+//------------------------------------------------------------------------------
+int CommandFlowAccumulation(const CommandLine& c)
+{
+  CheckWritable({ c.Output }, c.Overwrite);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  vtkNew<vtkTerroirFlowAccumulation> d8;
+  d8->SetRiverThreshold(c.FlowRiverThreshold);
+  d8->SetInputData(terrain);
+  WatchProgress(d8, "flowacc");
+  const double t0 = Now();
+  UpdateOrThrow(d8, "flow accumulation");
+  const double seconds = Now() - t0;
+  vtkImageData* out = d8->GetOutput();
+  WriteStageResult(out, "ContributingArea", c.Output, c.Overwrite);
+  vtkDataArray* river = out->GetPointData()->GetArray("River");
+  long long rivers = 0;
+  for (vtkIdType k = 0; river && k < river->GetNumberOfTuples(); ++k)
+  {
+    rivers += river->GetComponent(k, 0) > 0.0 ? 1 : 0;
+  }
+  std::cout << "terroir flowacc (" << Fixed(seconds, 3) << " s): " << rivers
+            << " river cells (contributing area >= " << c.FlowRiverThreshold << " m2)\n";
+  return 0;
+}
+
+//------------------------------------------------------------------------------
+int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOverlay)
+{
+  const ValidateSettings& v = c.Validate;
+  const bool bundled = c.Input.empty();
+  const std::string dem = bundled ? DefaultDEM() : c.Input;
+  const std::string dataDir = dem.substr(0, dem.find_last_of('/') + 1);
+  const std::string reference =
+    !v.Reference.empty() ? v.Reference : (bundled ? dataDir + "sagehen_nhd_flowlines_utm11n.geojson" : "");
+  const std::string maskPath =
+    !v.Mask.empty() ? v.Mask : (bundled ? dataDir + "sagehen_watershed_utm11n.geojson" : "");
+  if (reference.empty())
+  {
+    throw Failure("validate: --reference LINES is needed for a DEM other than the bundled one");
+  }
+  std::vector<std::string> outs;
+  for (const std::string* p : { &v.Json, &v.Png })
+  {
+    if (!p->empty())
+    {
+      outs.push_back(*p);
+    }
+  }
+  CheckWritable(outs, c.Overwrite);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(dem, c.AllowNetwork);
+  const std::size_t n = static_cast<std::size_t>(terrain->GetNumberOfPoints());
+
+  // Reference lines on the DEM grid (GDAL's rasterisation: the cells of each segment's path).
+  vtkSmartPointer<vtkImageData> refImage =
+    RasterizePolygons(reference, "", terrain, c.AllowNetwork);
+  std::vector<std::uint8_t> ref(n, 0);
+  {
+    vtkDataArray* a = refImage->GetPointData()->GetScalars();
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      ref[k] = a->GetComponent(static_cast<vtkIdType>(k), 0) > 0.0 ? 1 : 0;
+    }
+  }
+
+  // The area: everything, a raster on the grid, or polygons.
+  std::vector<std::uint8_t> area(n, 1);
+  if (!maskPath.empty())
+  {
+    const bool raster = HasExtension(maskPath, ".tif") || HasExtension(maskPath, ".tiff") ||
+      HasExtension(maskPath, ".img") || HasExtension(maskPath, ".vti");
+    vtkSmartPointer<vtkImageData> m = raster
+      ? ReadGridOperand(maskPath, terrain, c.AllowNetwork, "Area")
+      : RasterizePolygons(maskPath, "", terrain, c.AllowNetwork);
+    vtkDataArray* a = m->GetPointData()->GetScalars();
+    std::size_t inside = 0;
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      const double x = a->GetComponent(static_cast<vtkIdType>(k), 0);
+      area[k] = std::isfinite(x) && x != 0.0 ? 1 : 0;
+      inside += area[k];
+    }
+    if (inside == 0)
+    {
+      throw Failure(maskPath + ": the area mask does not overlap the DEM " + dem);
+    }
+  }
+  // Heights must exist inside the area.
+  vtkDataArray* z = terrain->GetPointData()->GetArray(vtkTerroirGeoreference::ElevationName());
+  vtkDataArray* validMask = terrain->GetPointData()->GetArray("vtkValidPointMask");
+  std::size_t holes = 0;
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const bool valid = std::isfinite(z->GetComponent(static_cast<vtkIdType>(k), 0)) &&
+      (!validMask || validMask->GetComponent(static_cast<vtkIdType>(k), 0) != 0.0);
+    holes += area[k] && !valid ? 1 : 0;
+  }
+  if (holes > 0)
+  {
+    throw Failure(dem + ": " + std::to_string(holes) +
+      " cells inside the area have no height (NaN or no data); fill them or pass a --mask "
+      "that leaves them out");
+  }
+
+  // The grid as the scores see it.
+  GridView<std::uint8_t> refView;
+  refView.data = ref.data();
+  int dims[3];
+  terrain->GetDimensions(dims);
+  double spacing[3];
+  terrain->GetSpacing(spacing);
+  refView.nx = dims[0];
+  refView.ny = dims[1];
+  refView.dx = std::fabs(spacing[0]);
+  refView.dy = std::fabs(spacing[1]);
+  std::vector<double> rowDx, rowDy;
+  if (vtkDoubleArray* rows = vtkTerroirGeoreference::GetRowSpacing(terrain))
+  {
+    if (rows->GetNumberOfTuples() == dims[1] && rows->GetNumberOfComponents() == 2)
+    {
+      for (int j = 0; j < dims[1]; ++j)
+      {
+        rowDx.push_back(std::fabs(rows->GetComponent(j, 0)));
+        rowDy.push_back(std::fabs(rows->GetComponent(j, 1)));
+      }
+      refView.rowDx = rowDx.data();
+      refView.rowDy = rowDy.data();
+    }
+  }
+
+  // The simulation, the D8 baseline, the peers.
+  double seconds = 0.0;
+  vtkSmartPointer<vtkImageData> flow = SimulateWaterFlow(c.WaterFlow, terrain, c.Backend, seconds);
+  PrintWaterFlow(flow, seconds);
+  std::vector<MethodScores> methods;
+  std::vector<std::uint8_t> simulated;
+  std::vector<std::uint8_t> flowRivers;
+  methods.push_back(Score("terroir waterflow", "Discharge (m3)",
+    AsDoubles(flow->GetPointData()->GetArray(vtkTerroirWaterFlow::DischargeName()), false),
+    c.WaterFlow.RiverThreshold, refView, area, flowRivers));
+  vtkNew<vtkTerroirFlowAccumulation> d8;
+  d8->SetInputData(terrain);
+  UpdateOrThrow(d8, "flow accumulation");
+  methods.push_back(Score("D8 (priority-flood + D8)", "FlowAccumulation (cells)",
+    AsDoubles(d8->GetOutput()->GetPointData()->GetArray("FlowAccumulation"), false),
+    std::nan(""), refView, area, simulated));
+  for (const std::string& peer : v.Peers)
+  {
+    const std::size_t eq = peer.find('=');
+    const std::string name = peer.substr(0, eq);
+    const std::string path = peer.substr(eq + 1);
+    vtkSmartPointer<vtkImageData> acc = ReadGridOperand(path, terrain, c.AllowNetwork, "Peer");
+    // r.watershed marks cells with off-map contributions by a negative accumulation.
+    methods.push_back(Score(name, "accumulation |value| of " + path,
+      AsDoubles(acc->GetPointData()->GetScalars(), true), std::nan(""), refView, area,
+      simulated));
+  }
+
+  // Text.
+  std::size_t refCells = 0;
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    refCells += ref[k] && area[k] ? 1 : 0;
+  }
+  std::cout << "terroir validate: " << dem << "\n  reference " << reference << ": " << refCells
+            << " river cells inside the area" << (maskPath.empty() ? "" : " (" + maskPath + ")")
+            << "\n";
+  std::cout << "  method                     threshold      P@30   R@30  F1@30   P@60   R@60  F1@60\n";
+  for (const MethodScores& m : methods)
+  {
+    std::ostringstream th;
+    th << std::setprecision(4) << m.threshold << (m.lengthMatched ? "*" : "");
+    std::cout << "  " << std::left << std::setw(26) << m.name.substr(0, 26) << std::right
+              << std::setw(10) << th.str() << "  " << std::setw(6) << Fixed(m.at30.precision, 3)
+              << " " << std::setw(6) << Fixed(m.at30.recall, 3) << " " << std::setw(6)
+              << Fixed(m.at30.f1, 3) << " " << std::setw(6) << Fixed(m.at60.precision, 3) << " "
+              << std::setw(6) << Fixed(m.at60.recall, 3) << " " << std::setw(6)
+              << Fixed(m.at60.f1, 3) << "\n";
+  }
+  std::cout << "  (* threshold chosen so that the river cells equal the reference's in number)\n";
+
+  if (!v.Json.empty())
+  {
+    nlohmann::json j;
+    j["dem"] = dem;
+    j["reference"] = reference;
+    j["mask"] = maskPath;
+    j["reference_cells"] = refCells;
+    j["water_flow"] = { { "iterations", FieldNumber(flow, vtkTerroirWaterFlow::IterationsName()) },
+      { "stop_reason", FieldText(flow, vtkTerroirWaterFlow::StopReasonName()) },
+      { "seconds", seconds } };
+    for (const MethodScores& m : methods)
+    {
+      j["methods"].push_back({ { "name", m.name }, { "measure", m.measure },
+        { "threshold", m.threshold }, { "length_matched", m.lengthMatched },
+        { "scores", { ScoresJson(m.at30), ScoresJson(m.at60) } } });
+    }
+    WriteTextFile(v.Json, j.dump(2) + "\n", c.Overwrite);
+  }
+  if (!v.Png.empty())
+  {
+    std::vector<std::uint8_t> category(n, 0);
+    hy::RiverComparisonCategories(refView, flowRivers.data(), area.data(), 60.0, category.data());
+    auto picture = vtkSmartPointer<vtkImageData>::New();
+    picture->ShallowCopy(terrain);
+    vtkNew<vtkUnsignedCharArray> cat;
+    cat->SetName("RiverComparison");
+    cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    std::copy(category.begin(), category.end(), cat->GetPointer(0));
+    picture->GetPointData()->AddArray(cat);
+    writeOverlay(picture, "RiverComparison", "RiverComparison", "Rivers within 60 m", v.Png);
+  }
+  return 0;
+}
+
+} // namespace app
+} // namespace terroir
