@@ -14,6 +14,7 @@
 #include "vtkSMPTools.h"
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirFloodFill.h"
+#include "vtkTerroirFlowAccumulation.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirInfiltration.h"
@@ -165,6 +166,16 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
           }
         }
         return all;
+      } },
+    { "vtkTerroirFlowAccumulation",
+      []
+      {
+        // With a weight (the elevation itself, as a stand-in for a depth in mm).
+        vtkNew<vtkTerroirFlowAccumulation> f;
+        f->SetWeightArrayName("Elevation");
+        f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
       } },
     { "vtkTerroirTemperature",
       []

@@ -1,0 +1,210 @@
+#include "vtkTerroirFlowAccumulation.h"
+
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSignedCharArray.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirTerrainInput.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "FlowAccumulation.h"
+#include "PriorityFlood.h"
+
+#include <cmath>
+#include <cstdint>
+#include <new>
+#include <sstream>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirFlowAccumulation);
+
+namespace
+{
+/// A number as people write it: up to 10 significant digits, no trailing zeros.
+std::string Num(double v)
+{
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+/// A new array of `n` tuples named `name` with UNITS_LABEL `units` (none when null).
+template<typename ArrayT>
+vtkSmartPointer<ArrayT> NewArray(const char* name, std::size_t n, const char* units)
+{
+  auto a = vtkSmartPointer<ArrayT>::New();
+  a->SetName(name);
+  if (!a->Allocate(static_cast<vtkIdType>(n)))
+  {
+    throw std::bad_alloc();
+  }
+  a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  if (units)
+  {
+    a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
+  }
+  return a;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkTerroirFlowAccumulation::vtkTerroirFlowAccumulation() = default;
+
+//------------------------------------------------------------------------------
+vtkTerroirFlowAccumulation::~vtkTerroirFlowAccumulation()
+{
+  this->SetWeightArrayName(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirFlowAccumulation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "RiverThreshold: " << this->RiverThreshold << " m2\n";
+  os << indent << "WeightArrayName: " << (this->WeightArrayName ? this->WeightArrayName : "(none)")
+     << "\n";
+  os << indent << "WeightComponent: " << this->WeightComponent << "\n";
+}
+
+//------------------------------------------------------------------------------
+double vtkTerroirFlowAccumulation::EstimateMemory(double nx, double ny)
+{
+  // Outputs: FilledElevation 4 B, FlowDirection 1 B, FlowAccumulation 8 B, ContributingArea
+  // 8 B, River 1 B per cell; with a weight, WeightedAccumulation 8 B and the weights as float
+  // (4 B). Working memory at its peak, during Priority-Flood (which writes FilledElevation in
+  // place): visited flags 1 B, the priority queue 8 B per queued cell (up to twice that while
+  // growing) and the pit FIFO 4 B. The flats' breadth-first search (4 B distances + 4 B queue)
+  // and the accumulation's in-degrees (1 B) need less.
+  const bool weighted = this->WeightArrayName && *this->WeightArrayName;
+  const double perCell = 4.0 + 1.0 + 8.0 + 8.0 + 1.0 + (weighted ? 12.0 : 0.0) + 1.0 + 16.0 + 4.0;
+  return nx * ny * perCell;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTerroirFlowAccumulation::CheckParameters()
+{
+  if (!(this->RiverThreshold >= 0.0) || !std::isfinite(this->RiverThreshold))
+  {
+    return "RiverThreshold " + Num(this->RiverThreshold) + " m2 must be a finite number >= 0";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirFlowAccumulation::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  namespace hy = terroir::hydrology;
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+  if (this->SelectBackend(this->HasGPUPath()) < 0)
+  {
+    return 0; // a GPU request: this filter has no GPU path
+  }
+
+  // The weight array, checked before anything is allocated.
+  vtkDataArray* weightArray = nullptr;
+  const bool weighted = this->WeightArrayName && *this->WeightArrayName;
+  if (weighted)
+  {
+    vtkAbstractArray* a = input->GetPointData()->GetAbstractArray(this->WeightArrayName);
+    if (!a)
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << "WeightArrayName '" << this->WeightArrayName
+                    << "' names no point array of the input");
+      return 0;
+    }
+    weightArray = vtkDataArray::SafeDownCast(a);
+    if (!weightArray)
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << "weight array '" << this->WeightArrayName
+                    << "' is not numeric (" << a->GetClassName() << ")");
+      return 0;
+    }
+    if (this->WeightComponent >= weightArray->GetNumberOfComponents())
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << "WeightComponent " << this->WeightComponent
+                    << " is out of range: weight array '" << this->WeightArrayName << "' has "
+                    << weightArray->GetNumberOfComponents() << " component(s)");
+      return 0;
+    }
+    if (weightArray->GetNumberOfTuples() != static_cast<vtkIdType>(n))
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << "weight array '" << this->WeightArrayName
+                    << "' has " << weightArray->GetNumberOfTuples() << " tuples, the terrain " << n
+                    << " cells");
+      return 0;
+    }
+  }
+
+  // 1. Depression filling, straight into the output array.
+  auto filled = NewArray<vtkFloatArray>(FilledElevationName(), n, "m");
+  vtkDebugMacro(<< "Priority-Flood: " << hy::kPriorityFloodBarnes2014Citation);
+  hy::PriorityFloodBarnes2014(
+    v, filled->GetPointer(0), [this](double f) { this->UpdateProgress(0.05 + 0.45 * f); });
+
+  // 2. D8 directions, flats routed breadth-first.
+  auto direction = NewArray<vtkSignedCharArray>(FlowDirectionName(), n, nullptr);
+  vtkDebugMacro(<< "D8: " << hy::kD8OCallaghanMark1984Citation
+                << "; flats: " << hy::kFlatsBarnes2014Citation);
+  const hy::D8Summary summary = hy::D8FlowDirections(v,
+    filled->GetPointer(0),
+    direction->GetPointer(0),
+    [this](double f) { this->UpdateProgress(0.5 + 0.2 * f); });
+  vtkDebugMacro(<< summary.outlets << " outlets, " << summary.flatCells << " flat cells, "
+                << summary.sinks << " sinks");
+  const std::int8_t* dir = direction->GetPointer(0);
+
+  // 3. Accumulations: cells, area, and the weighted volume.
+  auto cells = NewArray<vtkDoubleArray>(FlowAccumulationName(), n, "cells");
+  hy::AccumulationOptions options;
+  options.progress = [this](double f) { this->UpdateProgress(0.7 + 0.08 * f); };
+  hy::D8FlowAccumulation(v, dir, nullptr, cells->GetPointer(0), options);
+
+  auto area = NewArray<vtkDoubleArray>(ContributingAreaName(), n, "m2");
+  options.timesCellArea = true;
+  options.progress = [this](double f) { this->UpdateProgress(0.78 + 0.08 * f); };
+  hy::D8FlowAccumulation(v, dir, nullptr, area->GetPointer(0), options);
+
+  vtkSmartPointer<vtkDoubleArray> volume;
+  if (weighted)
+  {
+    std::vector<float> weight(n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      weight[k] = static_cast<float>(
+        weightArray->GetComponent(static_cast<vtkIdType>(k), this->WeightComponent));
+    }
+    volume = NewArray<vtkDoubleArray>(WeightedAccumulationName(), n, "m3");
+    options.scale = 1e-3; // mm -> m
+    options.progress = [this](double f) { this->UpdateProgress(0.86 + 0.08 * f); };
+    hy::D8FlowAccumulation(v, dir, weight.data(), volume->GetPointer(0), options);
+  }
+
+  auto river = NewArray<vtkUnsignedCharArray>(RiverName(), n, nullptr);
+  const double* a = area->GetPointer(0);
+  unsigned char* r = river->GetPointer(0);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    r[k] = a[k] >= this->RiverThreshold ? 1 : 0; // NaN (no data) compares false
+  }
+
+  vtkPointData* pd = output->GetPointData();
+  pd->AddArray(filled);
+  pd->AddArray(direction);
+  pd->AddArray(cells);
+  pd->AddArray(area);
+  pd->AddArray(river);
+  if (volume)
+  {
+    pd->AddArray(volume);
+  }
+  return 1;
+}
