@@ -230,7 +230,7 @@ flat_agree = ((ours_dir == grass_dir) & flat).sum() / max(1, flat.sum())
 print("  (flat cells, not asserted: agree %.2f %%)" % (100.0 * flat_agree))
 check(fraction >= AGREE_MIN, "direction agreement %.4f < %.2f" % (fraction, AGREE_MIN))
 
-# ---- (2) accumulation along the main stem ----------------------------------------------------------
+# ---- (2) accumulation along the main stem ----------------------------------------------
 with open(os.path.join(folder, "sagehen_outlet_utm11n.geojson")) as fh:
     ox, oy = json.load(fh)["features"][0]["geometry"]["coordinates"][:2]
 ox0, oy0, _ = out.GetOrigin()
