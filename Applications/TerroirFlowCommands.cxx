@@ -164,6 +164,18 @@ MethodScores Score(const std::string& name,
   view.dy = reference.dy;
   view.rowDx = reference.rowDx;
   view.rowDy = reference.rowDy;
+  // Only channel cells (crests of the measure) can be rivers.
+  std::vector<double> crest(values);
+  {
+    std::vector<std::uint8_t> channel(values.size());
+    GridView<double> all = view;
+    hy::ChannelCells(all, channel.data());
+    for (std::size_t k = 0; k < values.size(); ++k)
+    {
+      crest[k] = channel[k] ? values[k] : std::nan("");
+    }
+    view.data = crest.data();
+  }
   if (std::isfinite(userThreshold))
   {
     m.threshold = userThreshold;
@@ -176,7 +188,7 @@ MethodScores Score(const std::string& name,
   simulated.assign(values.size(), 0);
   for (std::size_t k = 0; k < values.size(); ++k)
   {
-    simulated[k] = area[k] && values[k] >= m.threshold ? 1 : 0;
+    simulated[k] = area[k] && crest[k] >= m.threshold ? 1 : 0;
   }
   m.at30 = hy::ScoreRivers(reference, simulated.data(), area.data(), 30.0);
   m.at60 = hy::ScoreRivers(reference, simulated.data(), area.data(), 60.0);

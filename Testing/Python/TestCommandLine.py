@@ -260,7 +260,7 @@ class TerroirCommandLine(unittest.TestCase):
         stages = [x["stage"] for x in bench["results"]]
         self.assertEqual(stages, ["slope", "temperature", "horizon", "instant", "instant-raymarch",
                                   "monthly", "infiltration", "humidity", "humidity-all",
-                                  "floodfill", "depressions"])
+                                  "floodfill", "depressions", "waterflow"])
         self.assertTrue(all(x["seconds"] > 0 for x in bench["results"]))
         self.assertTrue(all(x["mcells"] == 64 * 64 / 1e6 for x in bench["results"]))
         rows = {x["stage"]: x for x in bench["results"]}

@@ -448,5 +448,36 @@ void RiverComparisonCategories(const GridView<std::uint8_t>& reference,
   }
 }
 
+//------------------------------------------------------------------------------
+void ChannelCells(const GridView<double>& value, std::uint8_t* channel)
+{
+  const int nx = value.nx;
+  const int ny = value.ny;
+  const double low = -std::numeric_limits<double>::infinity();
+  auto at = [&](int i, int j) -> double
+  {
+    if (i < 0 || j < 0 || i >= nx || j >= ny)
+    {
+      return low;
+    }
+    const double v = value.data[static_cast<std::size_t>(j) * nx + i];
+    return std::isfinite(v) ? v : low;
+  };
+  static const int axis[4][2] = { { 1, 0 }, { 0, 1 }, { 1, 1 }, { 1, -1 } };
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const double v = value.data[static_cast<std::size_t>(j) * nx + i];
+      bool crest = false;
+      for (int a = 0; a < 4 && std::isfinite(v) && !crest; ++a)
+      {
+        crest = v >= at(i + axis[a][0], j + axis[a][1]) && v >= at(i - axis[a][0], j - axis[a][1]);
+      }
+      channel[static_cast<std::size_t>(j) * nx + i] = crest ? 1 : 0;
+    }
+  }
+}
+
 } // namespace hydrology
 } // namespace terroir

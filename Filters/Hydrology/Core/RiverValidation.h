@@ -188,6 +188,23 @@ void RiverComparisonCategories(const GridView<std::uint8_t>& reference,
   double toleranceMetres,
   std::uint8_t* category);
 
+/**
+ * @brief Channel cells of a flow measure (discharge, accumulation): the cells where the
+ *        measure is a local maximum across at least one of the four axes through the cell.
+ *
+ * Rivers are lines, but a simulation that spreads water over a valley floor gives bands several
+ * cells wide; a river is the crest of such a band. Cell c is a channel cell when, for one of
+ * the axes E-W, N-S, NE-SW or NW-SE, value(c) >= value of both neighbours on that axis
+ * (a neighbour outside the grid or non-finite counts as lower). On a D8 accumulation a channel
+ * cell carries far more than its side neighbours, so D8 channels are kept whole. Non-finite
+ * values are never channel cells.
+ *
+ * @param[in] value  nx*ny values (spacing is not used)
+ * @param[out] channel nx*ny bytes, 1 = channel cell
+ * @correctness Testing/Unit/TestWaterFlow.cxx, ChannelCells
+ */
+void ChannelCells(const GridView<double>& value, std::uint8_t* channel);
+
 } // namespace hydrology
 } // namespace terroir
 
