@@ -1,0 +1,311 @@
+// WaterFlow.comp: one iteration of the hydrostatic water flow in two passes (a gather), plus the
+// snapshot copies the stop test needs; mirrors terroir::hydrology::WaterFlowSimulation::RowBlock
+// and WaterFlowEvacuation (Filters/Hydrology/Core/WaterFlow.{h,cxx}): the same double
+// operations in the same order (`precise`: no fused multiply-add), on the same padded
+// (nx + 2) x (ny + 2) arrays, row 0 = the southern border row.
+// Double precision, the one exception to the float32 rule of Documentation/Shaders.md: water
+// depths are kept in double by the core, and the GPU path must stop after the same iteration.
+//
+// uPass 0  givers: for every padded cell, (level, scale, out) of WaterFlowEvacuation from its
+//          terrain, water and its 8 neighbours' heights T + W (order E, NE, N, NW, W, SW, S, SE);
+//          zeros on the border rows and columns and on dry cells (outlets are always dry).
+// uPass 1  gather: for every padded cell, in = sum over the 8 neighbours of
+//          scale * c * max(0, level - H) (neighbours outside the padded array give nothing;
+//          volume from rows r +- 1 becomes depth through the area ratio); on cells (interior row,
+//          isCell) waterOut = max(0, W - out + in) and discharge += out; on outlets waterOut = 0.
+//          Each work group reduces out * area (moved) and in * area of its outlets (outflow), in
+//          a fixed tree order, into partials[2 * (uSlot * uGroups + group) + {0, 1}] (m^3).
+// uPass 2  snapshot: snapWater = waterIn, snapDischarge = discharge.
+// uPass 3  restore: waterOut = snapWater, discharge = snapDischarge.
+//
+// Bindings (std430; N = (nx + 2) * (ny + 2) padded cells, index r * uStride + column):
+//   0  readonly  float  terrain[N]          T, metres (border and no-data heights included)
+//   1  readonly  uint   isCell[(N+3)/4]     byte k of word w = 1 when padded cell 4w+k is a
+//                                           valid cell, 0 on outlets (border, no data)
+//   2  readonly  double rowData[8*(ny+2)]   per padded row r: closeness E/W (row r), N (r to
+//                                           r+1), NE/NW (r to r+1), S (r to r-1, 0 on row 0),
+//                                           SE/SW (r to r-1, 0 on row 0), area ratio from the
+//                                           north A[r+1]/A[r] (0 on the last row), from the
+//                                           south A[r-1]/A[r] (0 on row 0), cell area A[r] (m^2)
+//   3  readonly  double waterIn[N]          W, metres (passes 0, 1, 2)
+//   4  writeonly double waterOut[N]         W', metres (passes 1, 3)
+//   5            double giverLevel[N]       L, metres (written by pass 0, read by pass 1)
+//   6            double giverScale[N]       s (pass 0 -> pass 1)
+//   7            double giverOut[N]         water the cell gives, metres (pass 0 -> pass 1)
+//   8            double discharge[N]        accumulated out, metres of depth
+//   9  writeonly double partials[]          2 per work group and iteration slot (pass 1)
+//  10            double snapWater[N]        passes 2 (write) and 3 (read)
+//  11            double snapDischarge[N]    passes 2 (write) and 3 (read)
+// Uniforms: int uPass; uint uStride (nx + 2), uint uRows (ny + 2), uint uCount (N),
+// uint uGroups (work groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration).
+// Work group LOCAL_X (define, a power of two, 256 by default); dispatch ceil(N / LOCAL_X)
+// groups, as gx x gy when that exceeds GL_MAX_COMPUTE_WORK_GROUP_COUNT[0] (group index
+// gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x).
+
+#ifndef LOCAL_X
+#define LOCAL_X 256
+#endif
+
+layout(local_size_x = LOCAL_X, local_size_y = 1, local_size_z = 1) in;
+
+layout(std430, binding = 0) readonly buffer TerrainBuffer { float terrain[]; };
+layout(std430, binding = 1) readonly buffer IsCellBuffer { uint isCell[]; };
+layout(std430, binding = 2) readonly buffer RowBuffer { double rowData[]; };
+layout(std430, binding = 3) readonly buffer WaterInBuffer { double waterIn[]; };
+layout(std430, binding = 4) writeonly buffer WaterOutBuffer { double waterOut[]; };
+layout(std430, binding = 5) buffer LevelBuffer { double giverLevel[]; };
+layout(std430, binding = 6) buffer ScaleBuffer { double giverScale[]; };
+layout(std430, binding = 7) buffer OutBuffer { double giverOut[]; };
+layout(std430, binding = 8) buffer DischargeBuffer { double discharge[]; };
+layout(std430, binding = 9) writeonly buffer PartialsBuffer { double partials[]; };
+layout(std430, binding = 10) buffer SnapWaterBuffer { double snapWater[]; };
+layout(std430, binding = 11) buffer SnapDischargeBuffer { double snapDischarge[]; };
+
+uniform int uPass;
+uniform uint uStride;
+uniform uint uRows;
+uniform uint uCount;
+uniform uint uGroups;
+uniform uint uSlot;
+
+shared double sMoved[LOCAL_X];
+shared double sOutflow[LOCAL_X];
+
+// Row data slots.
+const uint kEW = 0u;
+const uint kN = 1u;
+const uint kNE = 2u;
+const uint kS = 3u;
+const uint kSE = 4u;
+const uint kFromNorth = 5u;
+const uint kFromSouth = 6u;
+const uint kArea = 7u;
+
+double Row(uint r, uint slot)
+{
+  return rowData[8u * r + slot];
+}
+
+// Height T + W of padded cell c (in double, as the core).
+double Height(uint c)
+{
+  precise double h = double(terrain[c]) + waterIn[c];
+  return h;
+}
+
+// Pass 0: WaterFlowEvacuation for padded cell c at column i, row r.
+void Givers(uint c, uint i, uint r)
+{
+  double level = 0.0LF;
+  double scale = 0.0LF;
+  double out_ = 0.0LF;
+  double water = waterIn[c];
+  bool inner = r >= 1u && r + 1u < uRows && i >= 1u && i + 1u < uStride;
+  if (inner && water > 0.0LF)
+  {
+    double t = double(terrain[c]);
+    precise double h = t + water;
+    level = h;
+    // Neighbours E, NE, N, NW, W, SW, S, SE and their closeness.
+    uint nb[8] = uint[8](c + 1u, c + uStride + 1u, c + uStride, c + uStride - 1u, c - 1u,
+      c - uStride - 1u, c - uStride, c - uStride + 1u);
+    double cEW = Row(r, kEW);
+    double cNE = Row(r, kNE);
+    double cN = Row(r, kN);
+    double cSE = Row(r, kSE);
+    double cS = Row(r, kS);
+    double close[8] = double[8](cEW, cNE, cN, cNE, cEW, cSE, cS, cSE);
+    double height[8];
+    for (int k = 0; k < 8; ++k)
+    {
+      height[k] = Height(nb[k]);
+    }
+    precise double all = 0.0LF;
+    for (int k = 0; k < 8; ++k)
+    {
+      precise double drop = max(0.0LF, t - height[k]);
+      all = all + close[k] * drop;
+    }
+    bool moves = true;
+    if (all >= water)
+    {
+      level = t;
+      scale = water / all;
+    }
+    else
+    {
+      // Part: L = (H_i + sum_R c_k H_k) / (1 + sum_R c_k) over the receivers R = {H_k < L}.
+      precise double num = h;
+      precise double den = 1.0LF;
+      uint receivers = 0u;
+      for (int k = 0; k < 8; ++k)
+      {
+        if (height[k] < h)
+        {
+          num = num + close[k] * height[k];
+          den = den + close[k];
+          receivers |= 1u << uint(k);
+        }
+      }
+      if (receivers == 0u)
+      {
+        moves = false;
+      }
+      else
+      {
+        double lv = num / den;
+        for (bool changed = true; changed;)
+        {
+          changed = false;
+          for (int k = 0; k < 8; ++k)
+          {
+            if (((receivers >> uint(k)) & 1u) != 0u && height[k] >= lv)
+            {
+              num = num - close[k] * height[k];
+              den = den - close[k];
+              receivers &= ~(1u << uint(k));
+              changed = true;
+            }
+          }
+          if (changed)
+          {
+            lv = num / den;
+          }
+        }
+        level = lv;
+        scale = 1.0LF;
+      }
+    }
+    if (moves)
+    {
+      if (scale < 1.0LF)
+      {
+        out_ = water;
+      }
+      else
+      {
+        precise double sum = 0.0LF;
+        for (int k = 0; k < 8; ++k)
+        {
+          precise double drop = max(0.0LF, level - height[k]);
+          sum = sum + close[k] * drop;
+        }
+        out_ = sum;
+      }
+    }
+  }
+  giverLevel[c] = level;
+  giverScale[c] = scale;
+  giverOut[c] = out_;
+}
+
+// What giver n sends to a receiver at height h through closeness cl: scale * c * max(0, L - h).
+double Sent(uint n, double cl, double h)
+{
+  precise double drop = max(0.0LF, giverLevel[n] - h);
+  precise double s = giverScale[n] * cl * drop;
+  return s;
+}
+
+// Pass 1: gather of padded cell c at column i, row r; returns (moved, outflow) volumes.
+dvec2 Gather(uint c, uint i, uint r)
+{
+  double h = Height(c);
+  bool west = i >= 1u;
+  bool east = i + 1u < uStride;
+  precise double inRow = (west ? Sent(c - 1u, Row(r, kEW), h) : 0.0LF) +
+    (east ? Sent(c + 1u, Row(r, kEW), h) : 0.0LF);
+  precise double inNorth = 0.0LF;
+  if (r + 1u < uRows)
+  {
+    uint n = c + uStride;
+    double cN = Row(r, kN);
+    double cNE = Row(r, kNE);
+    inNorth = (west ? Sent(n - 1u, cNE, h) : 0.0LF) + Sent(n, cN, h);
+    inNorth = inNorth + (east ? Sent(n + 1u, cNE, h) : 0.0LF);
+  }
+  precise double inSouth = 0.0LF;
+  if (r >= 1u)
+  {
+    uint s = c - uStride;
+    double cS = Row(r, kS);
+    double cSE = Row(r, kSE);
+    inSouth = (west ? Sent(s - 1u, cSE, h) : 0.0LF) + Sent(s, cS, h);
+    inSouth = inSouth + (east ? Sent(s + 1u, cSE, h) : 0.0LF);
+  }
+  precise double inflow =
+    inRow + Row(r, kFromNorth) * inNorth + Row(r, kFromSouth) * inSouth;
+  bool interior = r >= 1u && r + 1u < uRows;
+  bool cell = ((isCell[c >> 2u] >> (8u * (c & 3u))) & 0xffu) != 0u;
+  double area = Row(r, kArea);
+  if (interior && cell)
+  {
+    double out_ = giverOut[c];
+    precise double w = waterIn[c] - out_ + inflow;
+    waterOut[c] = max(0.0LF, w);
+    precise double d = discharge[c] + out_;
+    discharge[c] = d;
+    precise double moved = out_ * area;
+    return dvec2(moved, 0.0LF);
+  }
+  waterOut[c] = 0.0LF;
+  precise double outflow = inflow * area;
+  return dvec2(0.0LF, outflow);
+}
+
+void main()
+{
+  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  uint lid = gl_LocalInvocationID.x;
+  uint c = group * uint(LOCAL_X) + lid;
+  bool live = c < uCount;
+  uint r = live ? c / uStride : 0u;
+  uint i = live ? c - r * uStride : 0u;
+  if (uPass == 0)
+  {
+    if (live)
+    {
+      Givers(c, i, r);
+    }
+  }
+  else if (uPass == 1)
+  {
+    // Every invocation reaches the barriers, live (c < N) or not.
+    dvec2 v = live ? Gather(c, i, r) : dvec2(0.0LF);
+    sMoved[lid] = v.x;
+    sOutflow[lid] = v.y;
+    memoryBarrierShared();
+    barrier();
+    for (uint half_ = uint(LOCAL_X) / 2u; half_ > 0u; half_ >>= 1u)
+    {
+      if (lid < half_)
+      {
+        precise double m = sMoved[lid] + sMoved[lid + half_];
+        precise double o = sOutflow[lid] + sOutflow[lid + half_];
+        sMoved[lid] = m;
+        sOutflow[lid] = o;
+      }
+      memoryBarrierShared();
+      barrier();
+    }
+    if (lid == 0u && group < uGroups)
+    {
+      uint p = 2u * (uSlot * uGroups + group);
+      partials[p] = sMoved[0];
+      partials[p + 1u] = sOutflow[0];
+    }
+  }
+  else if (uPass == 2)
+  {
+    if (live)
+    {
+      snapWater[c] = waterIn[c];
+      snapDischarge[c] = discharge[c];
+    }
+  }
+  else if (live)
+  {
+    waterOut[c] = snapWater[c];
+    discharge[c] = snapDischarge[c];
+  }
+}
