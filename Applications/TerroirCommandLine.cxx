@@ -691,8 +691,8 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
 
 void CheckWaterFlow(const WaterFlowSettings& s, const CLI::App& app)
 {
-  const int sources = (app.get_option("--water")->count() > 0 ? 1 : 0) + (s.Month > 0 ? 1 : 0) +
-    (s.Annual ? 1 : 0);
+  const int sources =
+    (app.get_option("--water")->count() > 0 ? 1 : 0) + (s.Month > 0 ? 1 : 0) + (s.Annual ? 1 : 0);
   if (sources > 1)
   {
     throw std::invalid_argument("--water, --month and --annual exclude each other");
@@ -892,9 +892,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   CLI::App* flowacc = app.add_subcommand(
     "flowacc", "D8 flow accumulation after priority-flood filling (the classic baseline)");
   flowacc->add_option("IN", line.Input, "Input DEM")->required();
-  flowacc
-    ->add_option(
-      "OUT", line.Output, "Output .tif (ContributingArea, m2) or .vti (all arrays)")
+  flowacc->add_option("OUT", line.Output, "Output .tif (ContributingArea, m2) or .vti (all arrays)")
     ->required()
     ->check(EndsWith(rasterOut));
   flowacc
@@ -972,8 +970,19 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   {
     // CLI11 wants a mutable argv; it does not modify the strings.
     app.parse(argc, const_cast<char**>(argv));
-    for (CLI::App* sub :
-      { run, slope, temp, illum, infil, humid, flood, flow, flowacc, validate, bench, info, fractal })
+    for (CLI::App* sub : { run,
+           slope,
+           temp,
+           illum,
+           infil,
+           humid,
+           flood,
+           flow,
+           flowacc,
+           validate,
+           bench,
+           info,
+           fractal })
     {
       if (*sub)
       {

@@ -108,16 +108,16 @@ struct FloodFillSettings
 /// Options of `waterflow` and `validate` (the simulation).
 struct WaterFlowSettings
 {
-  double WaterMm = 100.0;           ///< --water MM on every cell
-  int Month = 0;                    ///< --month M: StandingWater of month M (soil-water chain)
-  bool Annual = false;              ///< --annual: the year's StandingWater
+  double WaterMm = 100.0;              ///< --water MM on every cell
+  int Month = 0;                       ///< --month M: StandingWater of month M (soil-water chain)
+  bool Annual = false;                 ///< --annual: the year's StandingWater
   long long MaximumIterations = 10000; ///< --max-iterations
-  double AutoStop = 1e-3;           ///< --auto-stop RATIO (0: off)
-  double Time = 0.0;                ///< --time SECONDS (0: no limit)
-  double IterationDuration = 10.0;  ///< --iteration-duration SECONDS
+  double AutoStop = 1e-3;              ///< --auto-stop RATIO (0: off)
+  double Time = 0.0;                   ///< --time SECONDS (0: no limit)
+  double IterationDuration = 10.0;     ///< --iteration-duration SECONDS
   double RiverThreshold = std::numeric_limits<double>::quiet_NaN(); ///< --river-threshold M3
-  std::string DischargeOutput;      ///< --discharge FILE (waterflow)
-  std::string RiverOutput;          ///< --river FILE (waterflow)
+  std::string DischargeOutput; ///< --discharge FILE (waterflow)
+  std::string RiverOutput;     ///< --river FILE (waterflow)
 };
 
 /// Options of `validate`.
@@ -157,8 +157,8 @@ struct CommandLine
 
   FloodFillSettings FloodFill; ///< floodfill
 
-  WaterFlowSettings WaterFlow; ///< waterflow, validate
-  ValidateSettings Validate;   ///< validate
+  WaterFlowSettings WaterFlow;     ///< waterflow, validate
+  ValidateSettings Validate;       ///< validate
   double FlowRiverThreshold = 1e5; ///< flowacc --river-threshold, m2
 
   int BenchSize = 2048;

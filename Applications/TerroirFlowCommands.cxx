@@ -117,9 +117,8 @@ void PrintWaterFlow(vtkImageData* out, double seconds)
   std::cout << "terroir waterflow (" << Fixed(seconds, 3) << " s): "
             << static_cast<long long>(FieldNumber(out, vtkTerroirWaterFlow::IterationsName()))
             << " iterations (" << FieldText(out, vtkTerroirWaterFlow::StopReasonName())
-            << "), water " << Fixed(initial, 0) << " m3, left the terrain "
-            << Fixed(outflow, 0) << " m3 ("
-            << Fixed(initial > 0.0 ? 100.0 * outflow / initial : 0.0, 1) << " %)\n";
+            << "), water " << Fixed(initial, 0) << " m3, left the terrain " << Fixed(outflow, 0)
+            << " m3 (" << Fixed(initial > 0.0 ? 100.0 * outflow / initial : 0.0, 1) << " %)\n";
 }
 
 /// A point array as doubles (NaN stays NaN), absolute values when `absolute`.
@@ -197,9 +196,13 @@ MethodScores Score(const std::string& name,
 
 nlohmann::json ScoresJson(const hy::RiverScores& s)
 {
-  return { { "tolerance_m", s.toleranceMetres }, { "precision", s.precision },
-    { "recall", s.recall }, { "f1", s.f1 }, { "simulated_cells", s.simulatedCells },
-    { "reference_cells", s.referenceCells }, { "simulated_hits", s.simulatedHits },
+  return { { "tolerance_m", s.toleranceMetres },
+    { "precision", s.precision },
+    { "recall", s.recall },
+    { "f1", s.f1 },
+    { "simulated_cells", s.simulatedCells },
+    { "reference_cells", s.referenceCells },
+    { "simulated_hits", s.simulatedHits },
     { "reference_hits", s.referenceHits } };
 }
 } // namespace
@@ -265,8 +268,9 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   const bool bundled = c.Input.empty();
   const std::string dem = bundled ? DefaultDEM() : c.Input;
   const std::string dataDir = dem.substr(0, dem.find_last_of('/') + 1);
-  const std::string reference =
-    !v.Reference.empty() ? v.Reference : (bundled ? dataDir + "sagehen_nhd_flowlines_utm11n.geojson" : "");
+  const std::string reference = !v.Reference.empty()
+    ? v.Reference
+    : (bundled ? dataDir + "sagehen_nhd_flowlines_utm11n.geojson" : "");
   const std::string maskPath =
     !v.Mask.empty() ? v.Mask : (bundled ? dataDir + "sagehen_watershed_utm11n.geojson" : "");
   if (reference.empty())
@@ -305,7 +309,7 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
       HasExtension(maskPath, ".img") || HasExtension(maskPath, ".vti");
     vtkSmartPointer<vtkImageData> m = raster
       ? ReadGridOperand(maskPath, terrain, c.AllowNetwork, "Area")
-      : RasterizePolygons(maskPath, "", terrain, c.AllowNetwork);
+      : RasterizePolygons(maskPath, "", terrain, c.AllowNetwork, true);
     vtkDataArray* a = m->GetPointData()->GetScalars();
     std::size_t inside = 0;
     for (std::size_t k = 0; k < n; ++k)
@@ -331,9 +335,8 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   }
   if (holes > 0)
   {
-    throw Failure(dem + ": " + std::to_string(holes) +
-      " cells inside the area have no height (NaN or no data); fill them or pass a --mask "
-      "that leaves them out");
+    throw Failure(dem + ": no height (NaN or no data) on " + std::to_string(holes) +
+      " cell(s) inside the area; fill them or pass a --mask that leaves them out");
   }
 
   // The grid as the scores see it.
@@ -369,15 +372,23 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   std::vector<MethodScores> methods;
   std::vector<std::uint8_t> simulated;
   std::vector<std::uint8_t> flowRivers;
-  methods.push_back(Score("terroir waterflow", "Discharge (m3)",
+  methods.push_back(Score("terroir waterflow",
+    "Discharge (m3)",
     AsDoubles(flow->GetPointData()->GetArray(vtkTerroirWaterFlow::DischargeName()), false),
-    c.WaterFlow.RiverThreshold, refView, area, flowRivers));
+    c.WaterFlow.RiverThreshold,
+    refView,
+    area,
+    flowRivers));
   vtkNew<vtkTerroirFlowAccumulation> d8;
   d8->SetInputData(terrain);
   UpdateOrThrow(d8, "flow accumulation");
-  methods.push_back(Score("D8 (priority-flood + D8)", "FlowAccumulation (cells)",
+  methods.push_back(Score("D8 (priority-flood + D8)",
+    "FlowAccumulation (cells)",
     AsDoubles(d8->GetOutput()->GetPointData()->GetArray("FlowAccumulation"), false),
-    std::nan(""), refView, area, simulated));
+    std::nan(""),
+    refView,
+    area,
+    simulated));
   for (const std::string& peer : v.Peers)
   {
     const std::size_t eq = peer.find('=');
@@ -385,8 +396,12 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
     const std::string path = peer.substr(eq + 1);
     vtkSmartPointer<vtkImageData> acc = ReadGridOperand(path, terrain, c.AllowNetwork, "Peer");
     // r.watershed marks cells with off-map contributions by a negative accumulation.
-    methods.push_back(Score(name, "accumulation |value| of " + path,
-      AsDoubles(acc->GetPointData()->GetScalars(), true), std::nan(""), refView, area,
+    methods.push_back(Score(name,
+      "accumulation |value| of " + path,
+      AsDoubles(acc->GetPointData()->GetScalars(), true),
+      std::nan(""),
+      refView,
+      area,
       simulated));
   }
 
@@ -399,7 +414,8 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   std::cout << "terroir validate: " << dem << "\n  reference " << reference << ": " << refCells
             << " river cells inside the area" << (maskPath.empty() ? "" : " (" + maskPath + ")")
             << "\n";
-  std::cout << "  method                     threshold      P@30   R@30  F1@30   P@60   R@60  F1@60\n";
+  std::cout
+    << "  method                     threshold      P@30   R@30  F1@30   P@60   R@60  F1@60\n";
   for (const MethodScores& m : methods)
   {
     std::ostringstream th;
@@ -425,8 +441,10 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
       { "seconds", seconds } };
     for (const MethodScores& m : methods)
     {
-      j["methods"].push_back({ { "name", m.name }, { "measure", m.measure },
-        { "threshold", m.threshold }, { "length_matched", m.lengthMatched },
+      j["methods"].push_back({ { "name", m.name },
+        { "measure", m.measure },
+        { "threshold", m.threshold },
+        { "length_matched", m.lengthMatched },
         { "scores", { ScoresJson(m.at30), ScoresJson(m.at60) } } });
     }
     WriteTextFile(v.Json, j.dump(2) + "\n", c.Overwrite);

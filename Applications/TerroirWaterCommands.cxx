@@ -2,6 +2,8 @@
 
 #include "TerroirApp.h"
 
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -79,9 +81,15 @@ vtkSmartPointer<vtkImageData> ReadGridOperand(const std::string& path,
 vtkSmartPointer<vtkImageData> RasterizePolygons(const std::string& path,
   const std::string& field,
   vtkImageData* terrain,
-  bool allowNetwork)
+  bool allowNetwork,
+  bool quiet)
 {
   vtkNew<vtkTerroirVectorRasterizer> rasterizer;
+  vtkNew<vtkCallbackCommand> swallow; // an observed warning is not printed
+  if (quiet)
+  {
+    rasterizer->AddObserver(vtkCommand::WarningEvent, swallow);
+  }
   rasterizer->SetInputData(terrain);
   rasterizer->SetAllowNetworkPaths(allowNetwork);
   rasterizer->SetFileName(path.c_str());
@@ -101,7 +109,6 @@ vtkSmartPointer<vtkImageData> RasterizePolygons(const std::string& path,
   out->GetPointData()->SetScalars(burnt);
   return out;
 }
-
 
 void ApplyInfiltration(const SoilWaterSettings& s,
   vtkTerroirInfiltration* filter,

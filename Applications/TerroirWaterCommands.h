@@ -50,10 +50,12 @@ vtkSmartPointer<vtkImageData> ReadGridOperand(const std::string& path,
 
 /// Polygons (or lines) burnt onto the terrain's grid: a new image whose scalars are the burnt
 /// values (1 on covered cells and 0 elsewhere, or the attribute `field` and NaN elsewhere).
+/// `quiet` drops the rasterizer's warnings (the caller reports an empty result itself).
 vtkSmartPointer<vtkImageData> RasterizePolygons(const std::string& path,
   const std::string& field,
   vtkImageData* terrain,
-  bool allowNetwork);
+  bool allowNetwork,
+  bool quiet = false);
 
 int CommandInfiltration(const CommandLine& c);
 int CommandHumidity(const CommandLine& c);

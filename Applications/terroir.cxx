@@ -37,7 +37,6 @@
 
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirFloodFill.h"
-#include "vtkTerroirWaterFlow.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirInfiltration.h"
@@ -45,6 +44,7 @@
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
+#include "vtkTerroirWaterFlow.h"
 
 #include "ClimateTable.h"
 #include "GridView.h"
@@ -1164,13 +1164,15 @@ int CommandBench(int size,
               f->SetBackend(b);
               f->SetInputData(terrain);
               const double t = timedUpdate(f, stage);
-              vtkDataArray* it = f->GetOutput()->GetFieldData()->GetArray(
-                vtkTerroirWaterFlow::IterationsName());
+              vtkDataArray* it =
+                f->GetOutput()->GetFieldData()->GetArray(vtkTerroirWaterFlow::IterationsName());
               iterations = it ? static_cast<long long>(it->GetComponent(0, 0)) : 0;
               return t;
             });
           const double cells = static_cast<double>(size) * size;
-          report(stage, bname, best,
+          report(stage,
+            bname,
+            best,
             json{ { "iterations", iterations },
               { "ms_per_iteration", iterations > 0 ? 1e3 * best / iterations : 0.0 },
               { "mcells_iterations_per_s",
@@ -1371,8 +1373,11 @@ int main(int argc, char** argv)
     if (c.Command == "validate")
     {
       return terroir::app::CommandValidate(c,
-        [&c](vtkImageData* image, const std::string& array, const std::string& preset,
-          const std::string& title, const std::string& path)
+        [&c](vtkImageData* image,
+          const std::string& array,
+          const std::string& preset,
+          const std::string& title,
+          const std::string& path)
         {
           if (!HaveDisplay())
           {

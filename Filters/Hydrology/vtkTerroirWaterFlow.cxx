@@ -19,9 +19,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "WaterFlow.h"
-#ifdef TERROIR_WATERFLOW_GPU
 #include "vtkTerroirWaterFlowGPU.h"
-#endif
 
 #include <algorithm>
 #include <cmath>
@@ -329,12 +327,10 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   bool stopped = false;
   hy::WaterFlowStopReason stopReason = hy::WaterFlowStopReason::MaximumIterations;
   bool gpu = backend == vtkTerroirComputeContext::GPU;
-  (void)gpu;
   while (!stopped && sim.Iterations() < target)
   {
     const long long interval = this->CheckpointInterval;
     const long long next = std::min(target, (sim.Iterations() / interval + 1) * interval);
-#ifdef TERROIR_WATERFLOW_GPU
     if (gpu)
     {
       hy::WaterFlowGPUResult result;
@@ -353,7 +349,6 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       stopReason = result.reason;
     }
     else
-#endif
     {
       while (sim.Iterations() < next)
       {

@@ -12,6 +12,7 @@
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
+#include "vtkTerroirWaterFlow.h"
 
 #include <gtest/gtest.h>
 
@@ -57,6 +58,14 @@ const std::map<std::string, GPUCase>& Cases()
         { { "SoilHumidity", 1e-4 },
           { "WeightedSoilHumidity", 1e-4 },
           { "StandingWater", 1e-4 } } } },
+    { "vtkTerroirWaterFlow",
+      { []
+        {
+          auto f = vtkSmartPointer<vtkTerroirWaterFlow>::New();
+          f->SetMaximumIterations(40);
+          return f;
+        },
+        { { "WaterHeight", 1e-9 }, { "Discharge", 1e-9 } } } },
   };
   return cases;
 }

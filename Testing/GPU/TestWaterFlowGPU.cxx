@@ -46,7 +46,7 @@ struct Scene
   int nx;
   int ny;
   std::vector<float> z;
-  std::vector<float> water;
+  std::vector<double> water;
   std::vector<std::uint8_t> valid;
   std::vector<double> rowDx;
   terroir::GridView<float> view;

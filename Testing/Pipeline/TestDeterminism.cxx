@@ -25,6 +25,7 @@
 #include "vtkTerroirTerragenReader.h"
 #include "vtkTerroirTerragenWriter.h"
 #include "vtkTerroirVectorRasterizer.h"
+#include "vtkTerroirWaterFlow.h"
 
 #include <gtest/gtest.h>
 
@@ -173,6 +174,17 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         // With a weight (the elevation itself, as a stand-in for a depth in mm).
         vtkNew<vtkTerroirFlowAccumulation> f;
         f->SetWeightArrayName("Elevation");
+        f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirWaterFlow",
+      []
+      {
+        // 60 iterations of 100 mm on the terrain with no-data holes.
+        vtkNew<vtkTerroirWaterFlow> f;
+        f->SetBackendToCPU();
+        f->SetMaximumIterations(60);
         f->SetInputData(TerrainWithHoles());
         f->Update();
         return OutputBytes(f->GetOutput());

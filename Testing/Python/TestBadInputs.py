@@ -117,6 +117,23 @@ def make_nan_only(d):
     geotiff(os.path.join(d, "nan.tif"), np.full((20, 30), np.nan, dtype=np.float32))
 
 
+def make_river_case(d):
+    # A 30 x 20 DEM (UTM 11N, 10 m) with a no-data hole, a line across it, and a polygon 100 km
+    # away, for `terroir validate`.
+    z = np.fromfunction(lambda j, i: 2000.0 + i + j, (20, 30)).astype(np.float32)
+    z[10, 15] = np.nan
+    geotiff(os.path.join(d, "hole.tif"), z)
+    crs = '"crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32611"}}'
+    write(os.path.join(d, "line.geojson"),
+          '{"type": "FeatureCollection", ' + crs + ', "features": [{"type": "Feature", '
+          '"properties": {}, "geometry": {"type": "LineString", '
+          '"coordinates": [[734005, 4375905], [734295, 4375905]]}}]}')
+    write(os.path.join(d, "far.geojson"),
+          '{"type": "FeatureCollection", ' + crs + ', "features": [{"type": "Feature", '
+          '"properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[834000, 4376000], '
+          '[835000, 4376000], [835000, 4377000], [834000, 4376000]]]}}]}')
+
+
 def make_nodata_everywhere(d):
     ascii_grid(os.path.join(d, "nodata.asc"), ["-9999 -9999 -9999", "-9999 -9999 -9999"])
 

@@ -523,3 +523,41 @@ TEST(WaterFlow, RejectsBadWater)
 }
 
 } // namespace
+
+#include "RiverValidation.h"
+
+namespace
+{
+// A band whose middle column carries the most across it (1 3 5 3 1), growing northwards by
+// 10 per row: only column 2 is a crest (E-W); N-S and the diagonals always rise northwards, and
+// axes that leave the grid or meet the no-data cell do not count.
+TEST(WaterFlow, ChannelCells)
+{
+  const int nx = 5;
+  const int ny = 4;
+  std::vector<double> v(nx * ny);
+  const double across[5] = { 1, 3, 5, 3, 1 };
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      v[j * nx + i] = across[i] + 10.0 * j;
+    }
+  }
+  v[1 * nx + 0] = std::nan(""); // no data is never a channel
+  GridView<double> g;
+  g.data = v.data();
+  g.nx = nx;
+  g.ny = ny;
+  std::vector<std::uint8_t> channel(v.size());
+  hy::ChannelCells(g, channel.data());
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const bool expected = i == 2;
+      EXPECT_EQ(channel[j * nx + i], expected ? 1 : 0) << i << "," << j;
+    }
+  }
+}
+} // namespace

@@ -453,15 +453,11 @@ void ChannelCells(const GridView<double>& value, std::uint8_t* channel)
 {
   const int nx = value.nx;
   const int ny = value.ny;
-  const double low = -std::numeric_limits<double>::infinity();
+  const double none = std::numeric_limits<double>::quiet_NaN();
   auto at = [&](int i, int j) -> double
   {
-    if (i < 0 || j < 0 || i >= nx || j >= ny)
-    {
-      return low;
-    }
-    const double v = value.data[static_cast<std::size_t>(j) * nx + i];
-    return std::isfinite(v) ? v : low;
+    return i < 0 || j < 0 || i >= nx || j >= ny ? none
+                                                : value.data[static_cast<std::size_t>(j) * nx + i];
   };
   static const int axis[4][2] = { { 1, 0 }, { 0, 1 }, { 1, 1 }, { 1, -1 } };
   for (int j = 0; j < ny; ++j)
@@ -472,6 +468,7 @@ void ChannelCells(const GridView<double>& value, std::uint8_t* channel)
       bool crest = false;
       for (int a = 0; a < 4 && std::isfinite(v) && !crest; ++a)
       {
+        // An axis counts only when both of its neighbours hold values (NaN compares false).
         crest = v >= at(i + axis[a][0], j + axis[a][1]) && v >= at(i - axis[a][0], j - axis[a][1]);
       }
       channel[static_cast<std::size_t>(j) * nx + i] = crest ? 1 : 0;

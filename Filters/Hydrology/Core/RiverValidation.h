@@ -194,8 +194,9 @@ void RiverComparisonCategories(const GridView<std::uint8_t>& reference,
  *
  * Rivers are lines, but a simulation that spreads water over a valley floor gives bands several
  * cells wide; a river is the crest of such a band. Cell c is a channel cell when, for one of
- * the axes E-W, N-S, NE-SW or NW-SE, value(c) >= value of both neighbours on that axis
- * (a neighbour outside the grid or non-finite counts as lower). On a D8 accumulation a channel
+ * the axes E-W, N-S, NE-SW or NW-SE, value(c) >= value of both neighbours on that axis; an
+ * axis with a neighbour outside the grid or without a value (NaN) does not count, so the grid's
+ * edge does not make crests. On a D8 accumulation a channel
  * cell carries far more than its side neighbours, so D8 channels are kept whole. Non-finite
  * values are never channel cells.
  *
