@@ -323,7 +323,7 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
       throw Failure(maskPath + ": the area mask does not overlap the DEM " + dem);
     }
   }
-  // Heights must exist inside the area.
+  // Heights must exist inside a given area; without one, the area is where the DEM has data.
   vtkDataArray* z = terrain->GetPointData()->GetArray(vtkTerroirGeoreference::ElevationName());
   vtkDataArray* validMask = terrain->GetPointData()->GetArray("vtkValidPointMask");
   std::size_t holes = 0;
@@ -331,6 +331,10 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   {
     const bool valid = std::isfinite(z->GetComponent(static_cast<vtkIdType>(k), 0)) &&
       (!validMask || validMask->GetComponent(static_cast<vtkIdType>(k), 0) != 0.0);
+    if (maskPath.empty())
+    {
+      area[k] = valid ? 1 : 0;
+    }
     holes += area[k] && !valid ? 1 : 0;
   }
   if (holes > 0)

@@ -128,6 +128,10 @@ def make_river_case(d):
           '{"type": "FeatureCollection", ' + crs + ', "features": [{"type": "Feature", '
           '"properties": {}, "geometry": {"type": "LineString", '
           '"coordinates": [[734005, 4375905], [734295, 4375905]]}}]}')
+    write(os.path.join(d, "cover.geojson"),
+          '{"type": "FeatureCollection", ' + crs + ', "features": [{"type": "Feature", '
+          '"properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[734000, 4376000], '
+          '[734300, 4376000], [734300, 4375800], [734000, 4375800], [734000, 4376000]]]}}]}')
     write(os.path.join(d, "far.geojson"),
           '{"type": "FeatureCollection", ' + crs + ', "features": [{"type": "Feature", '
           '"properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[834000, 4376000], '
