@@ -48,7 +48,6 @@ Conventions
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -80,6 +79,8 @@ if grass is None:
     sys.exit(1)
 
 from osgeo import gdal  # noqa: E402  (after the grass check: its message comes first)
+
+import TerroirGrass  # noqa: E402 (beside this script)
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 import terroir  # noqa: E402
@@ -148,19 +149,7 @@ def write_grass_script(path):
 
 script = os.path.join(work, "grass_flowacc.sh")
 write_grass_script(script)
-home = os.path.join(work, "home")
-os.makedirs(home)
-env = {k: v for k, v in os.environ.items() if not (k.startswith("GRASS") or k.startswith("GIS"))}
-env.update(HOME=home, TMPDIR=work, LC_ALL="C", GRASS_VERBOSE="0")
-t0 = time.time()
-try:
-    proc = subprocess.run([grass, "--tmp-location", dem, "--exec", "bash", script], env=env,
-                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                          timeout=600)
-    grass_log, grass_rc = proc.stdout, proc.returncode
-except subprocess.TimeoutExpired as e:
-    grass_log, grass_rc = str(e.output), "timeout"
-t_grass = time.time() - t0
+grass_log, grass_rc, t_grass = TerroirGrass.run_session(grass, dem, script, work)
 check(grass_rc == 0, "GRASS session failed (exit %s)" % grass_rc)
 if grass_rc != 0:
     print(grass_log[-4000:])
@@ -172,17 +161,10 @@ ref_gt = gdal.Open(dem).GetGeoTransform()
 
 def read_grass(name):
     """A GRASS export as a float64 array in VTK order (row 0 = south); NaN for nodata."""
-    ds = gdal.Open(os.path.join(work, name))
-    check(ds.RasterXSize == nx and ds.RasterYSize == ny,
-          "%s size %dx%d" % (name, ds.RasterXSize, ds.RasterYSize))
-    check(np.allclose(ds.GetGeoTransform(), ref_gt),
-          "%s geotransform %s != DEM %s" % (name, ds.GetGeoTransform(), ref_gt))
-    band = ds.GetRasterBand(1)
-    a = band.ReadAsArray().astype(np.float64)
-    nodata = band.GetNoDataValue()
-    if nodata is not None:
-        a[a == nodata] = np.nan
-    return a[::-1].copy()  # GDAL rows are north-up; VTK's are south-up
+    a, problems = TerroirGrass.read_export(os.path.join(work, name), nx, ny, ref_gt)
+    for problem in problems:
+        check(False, problem)
+    return a
 
 
 grass_drain = read_grass("drain.tif")

@@ -48,7 +48,8 @@
  *
  * Cost: O(n) per iteration, rows in parallel through the ParallelFor callback (each block of
  * rows computes its givers' (L, s) for its rows plus one halo row on each side, in a ring of
- * three row buffers, then gathers: 20 bytes of memory traffic per cell and iteration).
+ * three row buffers, then gathers: 36 bytes of memory traffic per cell and iteration: terrain
+ * 4, water 8 + 8, discharge 8 + 8).
  *
  * @par Correctness
  * Testing/Unit/TestWaterFlow.cxx: the seed's three 1-D cases on worked examples; conservation on
