@@ -13,13 +13,14 @@ target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 
 add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h TerroirOverlayPlugin.h
-  TerroirWaterCommands.cxx TerroirWaterCommands.h TerroirFlowCommands.cxx TerroirFlowCommands.h)
+  TerroirWaterCommands.cxx TerroirWaterCommands.h TerroirFlowCommands.cxx TerroirFlowCommands.h
+  TerroirClusterCommands.cxx TerroirClusterCommands.h)
 target_compile_definitions(terroir PRIVATE
   "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\""
   "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
 target_compile_options(terroir PRIVATE -Wall -Wextra)
 set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersTerrain
-  Terroir::FiltersHydrology
+  Terroir::FiltersHydrology Terroir::FiltersClustering
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc VTK::IOXML)
 target_link_libraries(terroir PRIVATE TerroirCommandLine ${_terroir_app_modules}
   TerroirTerrainCore TerroirIOCore TerroirHydrologyCore nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})

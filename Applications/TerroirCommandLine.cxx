@@ -699,6 +699,51 @@ void CheckWaterFlow(const WaterFlowSettings& s, const CLI::App& app)
   }
 }
 
+/// Fills s.FeatureNames/FeatureWeights from "NAME[:WEIGHT],..." (empty text: none, the
+/// defaults); throws std::invalid_argument naming --features and the bad item.
+void ParseFeatures(const std::string& text, KMeansSettings& s)
+{
+  if (text.empty())
+  {
+    return;
+  }
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+  {
+    const std::size_t colon = item.rfind(':');
+    const std::string name = item.substr(0, colon);
+    double weight = 1.0;
+    if (colon != std::string::npos)
+    {
+      const std::vector<double> w = ParseNumberList(item.substr(colon + 1), "--features");
+      if (w.size() != 1 || w[0] < 0.0)
+      {
+        throw std::invalid_argument(
+          "--features: '" + item + "' needs one weight >= 0 after the colon");
+      }
+      weight = w[0];
+    }
+    if (name.empty())
+    {
+      throw std::invalid_argument("--features: '" + item + "' has no array name");
+    }
+    for (const std::string& seen : s.FeatureNames)
+    {
+      if (seen == name)
+      {
+        throw std::invalid_argument("--features: '" + name + "' is given twice");
+      }
+    }
+    s.FeatureNames.push_back(name);
+    s.FeatureWeights.push_back(weight);
+  }
+  if (s.FeatureNames.empty())
+  {
+    throw std::invalid_argument("--features: no array named");
+  }
+}
+
 std::string OneLine(std::string text)
 {
   std::replace(text.begin(), text.end(), '\n', ' ');
@@ -721,7 +766,8 @@ const std::vector<std::string>& BenchStageNames()
     "humidity",
     "floodfill",
     "depressions",
-    "waterflow" };
+    "waterflow",
+    "kmeans" };
   return names;
 }
 
@@ -786,6 +832,9 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   SoilWaterText runSoilText;
   AddClimateOptions(run, runSoilText);
   AddLocationOptions(run, line.Illumination);
+  run->add_option("--clusters", line.KMeans.Clusters, "Ecological zones K (k-means; 0 skips)")
+    ->check(CLI::Range(0, 64))
+    ->capture_default_str();
 
   // slope
   CLI::App* slope = app.add_subcommand("slope", "Slope in degrees (Horn 1981, as gdaldem slope)");
@@ -920,6 +969,46 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   AddWaterFlowOptions(validate, line.WaterFlow);
   addCommon(validate);
 
+  // kmeans
+  CLI::App* kmeans = app.add_subcommand(
+    "kmeans", "Ecological zones: k-means clustering of terrain resources (Long 2016, ch. 4)");
+  std::string kmeansFeatures;
+  kmeans
+    ->add_option("IN", line.Input, "Terrain with resource arrays (.vti of terroir run), or a DEM")
+    ->required();
+  kmeans->add_option("OUT", line.Output, "Output .tif (ClusterId) or .vti (all arrays)")
+    ->required()
+    ->check(EndsWith(rasterOut));
+  kmeans->add_option("-k,--clusters", line.KMeans.Clusters, "Number of clusters K")
+    ->check(CLI::Range(1, 64))
+    ->capture_default_str();
+  kmeans->add_option("--features",
+    kmeansFeatures,
+    "NAME[:WEIGHT],... point arrays to cluster on (default: Slope, Temperature, "
+    "IlluminationHours, WeightedSoilHumidity:0.1, those present)");
+  kmeans->add_flag("--standardize", line.KMeans.Standardize, "Cluster z-scores of the features");
+  kmeans->add_option("--seeding", line.KMeans.Seeding, "diagonal (the seed's) or kmeans++")
+    ->check(CLI::IsMember({ "diagonal", "kmeans++" }))
+    ->capture_default_str();
+  kmeans->add_option("--seed", line.KMeans.Seed, "Random seed of kmeans++")
+    ->check(CLI::Range(0, std::numeric_limits<int>::max()))
+    ->capture_default_str();
+  kmeans->add_option("--max-iterations", line.KMeans.MaximumIterations, "Most Lloyd iterations")
+    ->check(CLI::Range(1, std::numeric_limits<int>::max()))
+    ->capture_default_str();
+  kmeans
+    ->add_option(
+      "--tolerance", line.KMeans.Tolerance, "Centre shift, relative to the feature variance")
+    ->check(FiniteIn(0.0, 1e9))
+    ->capture_default_str();
+  kmeans->add_option("--csv", line.KMeans.Csv, "Also write the cluster table as CSV here")
+    ->check(EndsWith({ ".csv" }));
+  kmeans->add_option("--json", line.KMeans.Json, "Also write the cluster table as JSON here")
+    ->check(EndsWith({ ".json" }));
+  kmeans->add_option("--png", line.KMeans.Png, "Also write the cluster overlay here")
+    ->check(EndsWith({ ".png" }));
+  addCommon(kmeans);
+
   // bench
   CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
   std::string backends = "cpu,gpu";
@@ -980,6 +1069,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
            flow,
            flowacc,
            validate,
+           kmeans,
            bench,
            info,
            fractal })
@@ -1039,6 +1129,17 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
         if (eq == std::string::npos || eq == 0 || eq + 1 == peer.size())
         {
           throw std::invalid_argument("--peer: '" + peer + "' is not NAME=RASTER");
+        }
+      }
+    }
+    if (*kmeans)
+    {
+      ParseFeatures(kmeansFeatures, line.KMeans);
+      for (const std::string* extra : { &line.KMeans.Csv, &line.KMeans.Json, &line.KMeans.Png })
+      {
+        if (!extra->empty() && *extra == line.Output)
+        {
+          throw std::invalid_argument("'" + *extra + "' is both OUT and an extra output");
         }
       }
     }

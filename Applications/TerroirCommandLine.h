@@ -130,12 +130,30 @@ struct ValidateSettings
   std::string Png;                ///< --png FILE (overlay)
 };
 
+/// Options of the k-means clustering (`kmeans`; `run` uses Clusters only).
+struct KMeansSettings
+{
+  int Clusters = 5; ///< -k, --clusters K, 1..64 (run: 0 skips the stage)
+  /// --features NAME[:WEIGHT],...: feature arrays and weights (weight 1 when left out); empty:
+  /// the seed's defaults (Slope, Temperature, IlluminationHours, WeightedSoilHumidity 0.1)
+  std::vector<std::string> FeatureNames;
+  std::vector<double> FeatureWeights;
+  bool Standardize = false;         ///< --standardize: z-scores before weighting
+  std::string Seeding = "diagonal"; ///< --seeding diagonal or kmeans++
+  int Seed = 0;                     ///< --seed N (kmeans++), >= 0
+  int MaximumIterations = 300;      ///< --max-iterations N, >= 1
+  double Tolerance = 1e-4;          ///< --tolerance T, >= 0
+  std::string Csv;                  ///< --csv FILE: the cluster table
+  std::string Json;                 ///< --json FILE: the cluster table and the run
+  std::string Png;                  ///< --png FILE: the cluster overlay
+};
+
 /// Everything the command line says.
 struct CommandLine
 {
   std::string Command; ///< run, slope, temperature, illumination, infiltration, humidity,
-                       ///< floodfill, waterflow, flowacc, validate, bench, info or
-                       ///< fractal
+                       ///< floodfill, waterflow, flowacc, validate, kmeans, bench, info
+                       ///< or fractal
   bool Verbose = false;
   std::string Backend = "auto"; ///< auto, cpu or gpu
   bool Overwrite = false;
@@ -160,6 +178,8 @@ struct CommandLine
   WaterFlowSettings WaterFlow;     ///< waterflow, validate
   ValidateSettings Validate;       ///< validate
   double FlowRiverThreshold = 1e5; ///< flowacc --river-threshold, m2
+
+  KMeansSettings KMeans; ///< kmeans (run: Clusters)
 
   int BenchSize = 2048;
   int BenchRepeat = 3;

@@ -10,6 +10,7 @@
 //   terroir waterflow IN OUT            the hydrostatic water-flow simulation (rivers, lakes)
 //   terroir flowacc IN OUT              D8 flow accumulation after priority-flood filling
 //   terroir validate [DEM]              simulated rivers scored against mapped ones
+//   terroir kmeans IN OUT -k K          ecological zones: k-means of the resources, zone table
 //   terroir bench [--size N]            time per stage and backend, per million cells
 //   terroir info IN                     grid and georeference of a DEM
 //   terroir fractal OUT --size N        a seeded synthetic DEM (GeoTIFF or .vti)
@@ -18,6 +19,7 @@
 // line, found before any work: TerroirCommandLine.h); outputs are written
 // under a temporary name and renamed, and existing files are kept unless --overwrite.
 #include "TerroirApp.h"
+#include "TerroirClusterCommands.h"
 #include "TerroirCommandLine.h"
 #include "TerroirFlowCommands.h"
 #include "TerroirOverlayPlugin.h"
@@ -34,12 +36,14 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
+#include "vtkTable.h"
 
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirInfiltration.h"
+#include "vtkTerroirKMeans.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
@@ -285,7 +289,8 @@ int CommandRun(const std::string& demArg,
   bool allowNetwork,
   const terroir::app::TemperatureSettings& tempOpts,
   const terroir::app::IlluminationSettings& illumOpts,
-  const terroir::app::SoilWaterSettings& soilOpts)
+  const terroir::app::SoilWaterSettings& soilOpts,
+  int clusters)
 {
   const std::string dem = demArg.empty() ? terroir::app::DefaultDEM() : demArg;
   const int backend = ParseBackend(backendName);
@@ -318,6 +323,10 @@ int CommandRun(const std::string& demArg,
   const std::string humidityJanPng = (out / "humidity_jan.png").string();
   const std::string humidityJulPng = (out / "humidity_jul.png").string();
   const std::string lakesPng = (out / "lakes.png").string();
+  const std::string clustersTif = (out / "clusters.tif").string();
+  const std::string clustersCsv = (out / "clusters.csv").string();
+  const std::string clustersJson = (out / "clusters.json").string();
+  const std::string clustersPng = (out / "clusters.png").string();
   const std::string reportMd = (out / "report.md").string();
   const std::string reportJson = (out / "report.json").string();
   std::vector<std::string> outputs = { vti,
@@ -333,6 +342,10 @@ int CommandRun(const std::string& demArg,
     lakesTif,
     reportMd,
     reportJson };
+  if (clusters > 0)
+  {
+    outputs.insert(outputs.end(), { clustersTif, clustersCsv, clustersJson });
+  }
   if (png)
   {
     if (!HaveDisplay())
@@ -351,6 +364,10 @@ int CommandRun(const std::string& demArg,
         humidityJanPng,
         humidityJulPng,
         lakesPng });
+    if (clusters > 0)
+    {
+      outputs.push_back(clustersPng);
+    }
   }
   // Refuse before any work, so a refused run leaves nothing behind.
   terroir::app::CheckWritable(outputs, overwrite);
@@ -440,6 +457,27 @@ int CommandRun(const std::string& demArg,
     result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyLevelName());
   stages["lakes"]["water_bodies"] = lakeLevels ? lakeLevels->GetNumberOfTuples() : 0;
 
+  // Ecological zones: k-means of the resources with the seed's features and weights.
+  vtkNew<vtkTable> clusterTable;
+  json clusterSummary;
+  if (clusters > 0)
+  {
+    vtkNew<vtkTerroirKMeans> kmeans;
+    terroir::app::KMeansSettings kmeansOpts;
+    kmeansOpts.Clusters = clusters;
+    terroir::app::ApplyKMeans(kmeansOpts, backendName, kmeans);
+    result = RunStage(kmeans.Get(), result, "clusters", stages);
+    clusterTable->DeepCopy(kmeans->GetClusterTable());
+    clusterSummary = terroir::app::ClusterTableJSON(clusterTable, result);
+    stages["clusters"]["k"] = clusters;
+    stages["clusters"]["iterations"] = clusterSummary["iterations"];
+    stages["clusters"]["stop_reason"] = clusterSummary["stop_reason"];
+  }
+  else
+  {
+    stages["clusters"] = json{ { "skipped", "--clusters 0" } };
+  }
+
   const double tw = terroir::app::Now();
   terroir::app::WriteVTI(result, vti, overwrite);
   terroir::app::WriteGeoTIFF(result, "Slope", slopeTif, overwrite);
@@ -459,6 +497,13 @@ int CommandRun(const std::string& demArg,
   terroir::app::WriteGeoTIFF(
     result, vtkTerroirSoilHumidity::StandingWaterName(), standingTif, overwrite);
   terroir::app::WriteGeoTIFF(result, vtkTerroirFloodFill::WaterDepthName(), lakesTif, overwrite);
+  if (clusters > 0)
+  {
+    terroir::app::WriteGeoTIFF(result, vtkTerroirKMeans::ClusterIdName(), clustersTif, overwrite);
+    terroir::app::WriteTextFile(
+      clustersCsv, terroir::app::ClusterTableCSV(clusterTable), overwrite);
+    terroir::app::WriteTextFile(clustersJson, clusterSummary.dump(2) + "\n", overwrite);
+  }
   if (png)
   {
     WriteOverlay(result,
@@ -482,6 +527,16 @@ int CommandRun(const std::string& demArg,
       "Lakes and closed depressions (depth, m)",
       lakesPng,
       overwrite);
+    if (clusters > 0)
+    {
+      WriteOverlay(result,
+        vtkTerroirKMeans::ClusterIdName(),
+        0,
+        "Clusters",
+        "Ecological zones (k-means, K = " + std::to_string(clusters) + ")",
+        clustersPng,
+        overwrite);
+    }
     WriteOverlay(result, "Slope", 0, "Slope", "Slope (°)", slopePng, overwrite);
     WriteOverlay(result,
       "Temperature",
@@ -560,6 +615,10 @@ int CommandRun(const std::string& demArg,
     arrays[arr->GetName()] = entry;
   }
   report["arrays"] = arrays;
+  if (clusters > 0)
+  {
+    report["clusters"] = clusterSummary;
+  }
   report["outputs"] = outputs;
 
   // Report: JSON for scripts, Markdown for people; both temp + rename.
@@ -583,6 +642,7 @@ int CommandRun(const std::string& demArg,
          "infiltration",
          "humidity",
          "lakes",
+         "clusters",
          "write" })
   {
     if (!stages[s].contains("seconds"))
@@ -616,6 +676,36 @@ int CommandRun(const std::string& demArg,
        << entry["units"].get<std::string>() << " | " << st["min"].get<double>() << " | "
        << st["mean"].get<double>() << " | " << st["max"].get<double>() << " |\n";
   }
+  if (clusters > 0)
+  {
+    // The zones at a glance; clusters.csv has the mean of every feature and month.
+    md << "\nEcological zones (k-means, K = " << clusters << ", "
+       << clusterSummary["iterations"].get<int>() << " iterations, "
+       << clusterSummary["stop_reason"].get<std::string>()
+       << "):\n\n| zone | colour | cells | share | slope (°) | temperature Jul (°C) |\n"
+       << "|---|---|---|---|---|---|\n";
+    for (const json& row : clusterSummary["clusters"])
+    {
+      auto mean = [&row](const char* column)
+      {
+        std::ostringstream os;
+        os << std::fixed << std::setprecision(1);
+        if (row.contains(column) && row[column].is_number())
+        {
+          os << row[column].get<double>();
+        }
+        else
+        {
+          os << "-";
+        }
+        return os.str();
+      };
+      md << "| " << row["ClusterId"].get<long long>() << " | " << row["Color"].get<std::string>()
+         << " | " << row["Cells"].get<long long>() << " | " << std::setprecision(1)
+         << 100.0 * row["Share"].get<double>() << " % | " << mean("Slope") << " | "
+         << mean("Temperature_Jul") << " |\n";
+    }
+  }
   md << "\nOutputs:\n\n";
   for (const auto& o : outputs)
   {
@@ -625,7 +715,7 @@ int CommandRun(const std::string& demArg,
 
   std::cout << "terroir run: " << dims[0] << "x" << dims[1] << " cells from " << dem << "\n";
   for (const char* s :
-    { "slope", "temperature", "illumination", "infiltration", "humidity", "lakes" })
+    { "slope", "temperature", "illumination", "infiltration", "humidity", "lakes", "clusters" })
   {
     if (!stages[s].contains("seconds"))
     {
@@ -901,6 +991,51 @@ double TimeHumidityKernel(vtkImageData* withRates, bool allOutputs, int repeat)
   return best;
 }
 
+/// The bench terrain with 37 feature components for the k-means stage: Slope, Temperature
+/// (12), and two 12-month fields that vary across the terrain and between months (stand-ins
+/// for IlluminationHours and WeightedSoilHumidity, which take long to compute).
+vtkSmartPointer<vtkImageData> BenchKMeansFeatures(vtkImageData* terrain)
+{
+  vtkNew<vtkTerroirSlope> slope;
+  slope->SetInputData(terrain);
+  vtkNew<vtkTerroirTemperature> temperature;
+  temperature->SetInputConnection(slope->GetOutputPort());
+  terroir::app::UpdateOrThrow(temperature, "kmeans features");
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->ShallowCopy(temperature->GetOutput());
+  int dims[3];
+  out->GetDimensions(dims);
+  const vtkIdType n = static_cast<vtkIdType>(dims[0]) * dims[1];
+  vtkDataArray* z = out->GetPointData()->GetArray("Elevation");
+  vtkDataArray* s = out->GetPointData()->GetArray("Slope");
+  for (const char* name : { "IlluminationHours", "WeightedSoilHumidity" })
+  {
+    vtkNew<vtkFloatArray> a;
+    a->SetName(name);
+    a->SetNumberOfComponents(12);
+    a->SetNumberOfTuples(n);
+    const bool sun = name[0] == 'I';
+    vtkSMPTools::For(0,
+      n,
+      [&](vtkIdType b, vtkIdType e)
+      {
+        for (vtkIdType c = b; c < e; ++c)
+        {
+          const double x = static_cast<double>(c % dims[0]) / dims[0];
+          for (int m = 0; m < 12; ++m)
+          {
+            const double season = std::cos(2.0 * M_PI * (m - 5.5) / 12.0);
+            const double v = sun ? 10.0 + 3.0 * season - 0.05 * s->GetComponent(c, 0) + x
+                                 : 80.0 - 40.0 * season + 0.02 * z->GetComponent(c, 0) - 20.0 * x;
+            a->SetComponent(c, m, v);
+          }
+        }
+      });
+    out->GetPointData()->AddArray(a);
+  }
+  return out;
+}
+
 int CommandBench(int size,
   int repeat,
   const std::string& backends,
@@ -953,6 +1088,7 @@ int CommandBench(int size,
 
   double slopeCpuSeconds = 0;
   vtkSmartPointer<vtkImageData> humidityInput; // terrain + InfiltrationRate, for --bandwidth
+  vtkSmartPointer<vtkImageData> kmeansInput;   // terrain + 37 feature components
   auto report = [&](const std::string& stage, const char* bname, double best, json extra)
   {
     std::cout << std::left << std::setw(18) << stage << std::setw(8) << bname << std::right
@@ -1178,6 +1314,50 @@ int CommandBench(int size,
               { "mcells_iterations_per_s",
                 iterations > 0 ? cells * iterations / best / 1e6 : 0.0 } });
         }
+        else if (stage == "kmeans")
+        {
+          // Lloyd iterations on 37 features (Slope, Temperature x 12 with the storage trick
+          // off, and two synthetic 12-month fields), K = 5 and 10, the seed's diagonal seeds.
+          // Time per iteration = (time of 11 iterations - time of 1) / 10: the set-up (packing,
+          // seeding, the table) cancels out. The stage's seconds: 11 iterations at K = 5.
+          if (!kmeansInput)
+          {
+            kmeansInput = BenchKMeansFeatures(terrain);
+          }
+          json perK;
+          double best5 = 0.0;
+          for (int k : { 5, 10 })
+          {
+            auto once = [&](int iterations)
+            {
+              return bestOf(
+                [&]
+                {
+                  vtkNew<vtkTerroirKMeans> f;
+                  f->SetBackend(b);
+                  f->SetNumberOfClusters(k);
+                  f->SetCollapseConstantOffsets(false);
+                  f->SetTolerance(0.0);
+                  f->SetMaximumIterations(iterations);
+                  f->SetInputData(kmeansInput);
+                  return timedUpdate(f, stage);
+                });
+            };
+            const double t1 = once(1);
+            const double t11 = once(11);
+            const double perIteration = std::max(0.0, (t11 - t1) / 10.0);
+            perK[std::to_string(k)] = json{ { "ms_per_iteration", 1e3 * perIteration },
+              { "seconds_1_iteration", t1 },
+              { "seconds_11_iterations", t11 } };
+            if (k == 5)
+            {
+              best5 = t11;
+            }
+            std::cout << "  kmeans K=" << k << " " << bname << ": " << std::setprecision(2)
+                      << 1e3 * perIteration << " ms per iteration (37 features)\n";
+          }
+          report(stage, bname, best5, json{ { "features", 37 }, { "per_k", perK } });
+        }
         else if (stage == "monthly")
         {
           // Monthly mode with its defaults (the 15th of each month, 10-minute steps), a fresh
@@ -1327,7 +1507,8 @@ int main(int argc, char** argv)
         c.AllowNetwork,
         c.Temperature,
         c.Illumination,
-        c.SoilWater);
+        c.SoilWater,
+        c.KMeans.Clusters);
     }
     if (c.Command == "slope")
     {
@@ -1370,21 +1551,25 @@ int main(int argc, char** argv)
     {
       return terroir::app::CommandFlowAccumulation(c);
     }
+    const auto overlayWriter = [&c](vtkImageData* image,
+                                 const std::string& array,
+                                 const std::string& preset,
+                                 const std::string& title,
+                                 const std::string& path)
+    {
+      if (!HaveDisplay())
+      {
+        throw Failure(path + ": PNG overlays need an X display: run under 'xvfb-run -a'");
+      }
+      WriteOverlay(image, array, 0, preset, title, path, c.Overwrite);
+    };
     if (c.Command == "validate")
     {
-      return terroir::app::CommandValidate(c,
-        [&c](vtkImageData* image,
-          const std::string& array,
-          const std::string& preset,
-          const std::string& title,
-          const std::string& path)
-        {
-          if (!HaveDisplay())
-          {
-            throw Failure(path + ": PNG overlays need an X display: run under 'xvfb-run -a'");
-          }
-          WriteOverlay(image, array, 0, preset, title, path, c.Overwrite);
-        });
+      return terroir::app::CommandValidate(c, overlayWriter);
+    }
+    if (c.Command == "kmeans")
+    {
+      return terroir::app::CommandKMeans(c, overlayWriter);
     }
     if (c.Command == "bench")
     {

@@ -9,6 +9,7 @@
 #include "vtkCellArray.h"
 #include "vtkCoordinate.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
@@ -45,6 +46,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -314,6 +316,28 @@ bool vtkTerroirOverlayView::Render()
       ", " + std::to_string(range[1]) + "]");
   }
   lut->SetNanColor(this->NanColor);
+  // Clusters from vtkTerroirKMeans: each zone's share of the cells (field data
+  // KMeansClusterShare, one fraction per cluster id) goes into its legend label.
+  vtkDataArray* shares = std::strcmp(preset, "Clusters") == 0
+    ? image->GetFieldData()->GetArray("KMeansClusterShare")
+    : nullptr;
+  if (shares && shares->GetNumberOfComponents() == 1)
+  {
+    for (vtkIdType k = 0; k < lut->GetNumberOfAnnotatedValues(); ++k)
+    {
+      const vtkIdType id = lut->GetAnnotatedValue(k).ToInt();
+      if (id >= 0 && id < shares->GetNumberOfTuples())
+      {
+        char label[64];
+        std::snprintf(label,
+          sizeof(label),
+          "Cluster %d %.0f%%",
+          static_cast<int>(id),
+          100.0 * shares->GetTuple1(id));
+        lut->SetAnnotation(lut->GetAnnotatedValue(k), label);
+      }
+    }
+  }
   this->LastRange[0] = range[0];
   this->LastRange[1] = range[1];
 

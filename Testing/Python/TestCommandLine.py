@@ -260,7 +260,7 @@ class TerroirCommandLine(unittest.TestCase):
         stages = [x["stage"] for x in bench["results"]]
         self.assertEqual(stages, ["slope", "temperature", "horizon", "instant", "instant-raymarch",
                                   "monthly", "infiltration", "humidity", "humidity-all",
-                                  "floodfill", "depressions", "waterflow"])
+                                  "floodfill", "depressions", "waterflow", "kmeans"])
         self.assertTrue(all(x["seconds"] > 0 for x in bench["results"]))
         self.assertTrue(all(x["mcells"] == 64 * 64 / 1e6 for x in bench["results"]))
         rows = {x["stage"]: x for x in bench["results"]}
@@ -281,7 +281,7 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 2)
         self.assertEqual(r.stderr, "terroir: error: --stages: 'shadows' is not one of slope, "
                                    "temperature, horizon, instant, monthly, infiltration, humidity, floodfill, "
-                                   "depressions, waterflow\n")
+                                   "depressions, waterflow, kmeans\n")
 
     def flat_dem(self, name="flat.tif"):
         """A flat 60 x 50 GeoTIFF at 1900 m near Sagehen Creek (UTM 11N, about 39.5 N)."""

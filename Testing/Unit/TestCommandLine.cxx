@@ -380,14 +380,15 @@ TEST(TerroirCommandLineParse, BenchStages)
       "humidity",
       "floodfill",
       "depressions",
-      "waterflow" }));
+      "waterflow",
+      "kmeans" }));
   // Run in the fixed order, each once, whatever the order asked.
   outcome = Parse({ "bench", "--stages", "monthly,horizon,instant,horizon" }, line);
   ASSERT_TRUE(outcome.Run) << outcome.Error;
   EXPECT_EQ(line.BenchStages, (std::vector<std::string>{ "horizon", "instant", "monthly" }));
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "slope,shadows" }),
     "--stages: 'shadows' is not one of slope, temperature, horizon, instant, monthly, "
-    "infiltration, humidity, floodfill, depressions, waterflow");
+    "infiltration, humidity, floodfill, depressions, waterflow, kmeans");
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "" }), "--stages: no stage given");
 }
 

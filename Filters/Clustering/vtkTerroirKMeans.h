@@ -1,0 +1,193 @@
+/**
+ * @class   vtkTerroirKMeans
+ * @brief   Groups the cells of a terrain into K ecological zones by k-means clustering of
+ *          their resources, and describes each zone in a table.
+ *
+ * Input: a Terroir terrain (2-D vtkImageData, point array `Elevation`, optional
+ * `vtkValidPointMask`) carrying the resource arrays to cluster on. Features are point arrays,
+ * each with a weight (AddFeature); every component of a multi-component array is a feature.
+ * With no feature added, the seed's defaults are used, those of them that exist: `Slope` (1),
+ * `Temperature` (12 months, 1), `IlluminationHours` (12, 1), `WeightedSoilHumidity` (12, 0.1).
+ * The squared distance between two cells is sum_f w_f (x_f - y_f)^2 over the features' values,
+ * or over their z-scores (mean 0, standard deviation 1 over the valid cells) when Standardize
+ * is on. A cell takes part when the terrain is valid there and every feature value is finite.
+ *
+ * Output port 0: the input's arrays plus `ClusterId` (vtkIntArray, 0..K-1; -1 on cells that
+ * take no part), and in field data `KMeansWithinClusterSumOfSquares` (double, the inertia in
+ * the weighted feature space), `KMeansIterations` (int), `KMeansStopReason` (string:
+ * Converged, Tolerance, MaximumIterations), `KMeansRelocatedClusters` (int, empty clusters
+ * re-seeded), `KMeansClusterShare` (double, K tuples: each cluster's fraction of the cells,
+ * which the `Clusters` overlay legend shows) and `KMeansCollapsedArrays` (strings: the arrays
+ * stored as one feature, below).
+ * Output port 1: a vtkTable, one row per cluster: `ClusterId` (int), `Color` (string
+ * "#rrggbb", the `Clusters` overlay colour), `Cells` (vtkIdType), `Share` (fraction of the
+ * cells that take part), then the mean of every feature array component in its own units
+ * (column `<Array>` for one component, `<Array>_<ComponentName>` such as `Temperature_Jan`, or
+ * `<Array>_<index>` when the component has no name), the seed's cluster description table.
+ *
+ * Algorithm (terroir::clustering, Filters/Clustering/Core/KMeans.h): Lloyd iterations from K
+ * seeds until no cell changes cluster, or the centres move less than Tolerance (relative to
+ * the mean feature variance, scikit-learn's definition), or MaximumIterations; empty clusters
+ * are re-seeded from the cells farthest from their centre. Seeds: the seed system's
+ * deterministic choice (K valid cells equally spaced along the diagonal from the south-west
+ * to the north-east corner) or k-means++ with RandomSeed. Storage trick (the seed's, for
+ * Temperature): an array whose components differ by one constant each over every cell (up to
+ * float rounding) is stored as one feature with its weight times its component count, which
+ * gives the same distances; it is applied when it holds and listed in KMeansCollapsedArrays.
+ *
+ * Whole extent (global filter). CPU (vtkSMPTools over blocks of 4096 cells) and GPU
+ * (Shaders/KMeansAssign.comp, KMeansPartialSums.comp) paths give the same labels, centres and
+ * inertia bit for bit: distances in float in feature order without fused multiply-add, sums in
+ * double per block in cell order, blocks added in order. Same input, same result on any thread
+ * count and backend. Errors (one line, empty outputs): a feature naming no point array, a
+ * non-numeric array, negative or non-finite weights, all weights zero, no default feature
+ * present, fewer cells with data than clusters.
+ *
+ * @par Correctness
+ * Testing/Unit/TestKMeans.cxx (hand-worked iterations, separated blobs, seeding, weights,
+ * empty clusters, thread independence), Testing/Pipeline/TestTerroirKMeans.cxx (arrays, table,
+ * no data, the diagonal seeds, vtkKMeansStatistics on blobs), Testing/GPU/TestKMeansGPU.cxx,
+ * Testing/Python/TestKMeansSklearn.py (scikit-learn's Lloyd from the same centres: same
+ * assignments and inertia on the bundled DEM's resources and on blobs).
+ *
+ * @par References
+ * Lloyd, S. P. (1982). Least squares quantization in PCM. IEEE Transactions on Information
+ * Theory 28(2):129-137. doi:10.1109/TIT.1982.1056489
+ * Arthur, D., Vassilvitskii, S. (2007). k-means++: the advantages of careful seeding. Proc.
+ * 18th ACM-SIAM Symposium on Discrete Algorithms, 1027-1035.
+ * Long, J. (2016). Terrain resources and ecosystem simulation (the seed system), chapter 4.
+ *
+ * @sa vtkTerroirImageAlgorithm vtkTerroirTemperature vtkTerroirSolarIllumination
+ */
+#ifndef vtkTerroirKMeans_h
+#define vtkTerroirKMeans_h
+
+#include "vtkTerroirFiltersClusteringModule.h" // For export macro
+#include "vtkTerroirImageAlgorithm.h"
+
+#include <string> // For std::string
+#include <vector> // For std::vector
+
+class vtkTable;
+
+class VTKTERROIRFILTERSCLUSTERING_EXPORT vtkTerroirKMeans : public vtkTerroirImageAlgorithm
+{
+public:
+  static vtkTerroirKMeans* New();
+  vtkTypeMacro(vtkTerroirKMeans, vtkTerroirImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Output point array name.
+  static const char* ClusterIdName() { return "ClusterId"; }
+
+  /// Seeding methods.
+  enum SeedingType
+  {
+    Diagonal = 0,       ///< the seed system's cells along the diagonal (default)
+    KMeansPlusPlus = 1, ///< k-means++ with RandomSeed
+  };
+
+  ///@{
+  /// Number of clusters K. Default 5; 1..64.
+  vtkSetClampMacro(NumberOfClusters, int, 1, 64);
+  vtkGetMacro(NumberOfClusters, int);
+  ///@}
+
+  ///@{
+  /**
+   * Features: point arrays and their weights (>= 0, finite; 0 drops the array). Adding an
+   * array twice replaces its weight. With none added the defaults above are used.
+   */
+  void AddFeature(const char* arrayName, double weight);
+  void RemoveAllFeatures();
+  int GetNumberOfFeatures() { return static_cast<int>(this->Features.size()); }
+  const char* GetFeatureName(int i);
+  double GetFeatureWeight(int i);
+  ///@}
+
+  ///@{
+  /// Cluster on z-scores of the features instead of their values. Default off.
+  vtkSetMacro(Standardize, bool);
+  vtkGetMacro(Standardize, bool);
+  vtkBooleanMacro(Standardize, bool);
+  ///@}
+
+  ///@{
+  /// Seeding: 0 Diagonal (default), 1 KMeansPlusPlus.
+  vtkSetClampMacro(Seeding, int, 0, 1);
+  vtkGetMacro(Seeding, int);
+  void SetSeedingToDiagonal() { this->SetSeeding(Diagonal); }
+  void SetSeedingToKMeansPlusPlus() { this->SetSeeding(KMeansPlusPlus); }
+  ///@}
+
+  ///@{
+  /// Random seed of k-means++ (std::mt19937_64). Default 0; >= 0.
+  vtkSetClampMacro(RandomSeed, int, 0, VTK_INT_MAX);
+  vtkGetMacro(RandomSeed, int);
+  ///@}
+
+  ///@{
+  /// Most Lloyd iterations. Default 300 (scikit-learn's); >= 1.
+  vtkSetClampMacro(MaximumIterations, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MaximumIterations, int);
+  ///@}
+
+  ///@{
+  /**
+   * Stop when the squared centre shift summed over the clusters is at most Tolerance times the
+   * mean variance of the (weighted) features, as scikit-learn's `tol`. Default 1e-4; 0 stops
+   * only when no cell changes cluster.
+   */
+  vtkSetMacro(Tolerance, double);
+  vtkGetMacro(Tolerance, double);
+  ///@}
+
+  ///@{
+  /// Apply the storage trick when it holds. Default on (it never changes the distances).
+  vtkSetMacro(CollapseConstantOffsets, bool);
+  vtkGetMacro(CollapseConstantOffsets, bool);
+  vtkBooleanMacro(CollapseConstantOffsets, bool);
+  ///@}
+
+  /// The cluster table (output port 1).
+  vtkTable* GetClusterTable();
+
+protected:
+  vtkTerroirKMeans();
+  ~vtkTerroirKMeans() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int GetHaloWidth() override { return -1; }
+  bool HasGPUPath() override { return true; }
+  double EstimateMemory(double nx, double ny) override;
+  std::string CheckParameters() override;
+#ifndef __VTK_WRAP__
+  int RequestTerrainData(vtkImageData* input,
+    const terroir::TerrainInput& terrain,
+    vtkImageData* output) override;
+#endif
+
+  int NumberOfClusters = 5;
+  bool Standardize = false;
+  int Seeding = Diagonal;
+  int RandomSeed = 0;
+  int MaximumIterations = 300;
+  double Tolerance = 1e-4;
+  bool CollapseConstantOffsets = true;
+
+private:
+  vtkTerroirKMeans(const vtkTerroirKMeans&) = delete;
+  void operator=(const vtkTerroirKMeans&) = delete;
+
+  struct Feature
+  {
+    std::string name;
+    double weight;
+  };
+  std::vector<Feature> Features;
+  /// Feature components of the current input (set by RequestData, for EstimateMemory).
+  int InputComponents = 0;
+};
+
+#endif
