@@ -12,12 +12,14 @@
 #include "vtkImageData.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
+#include "vtkTable.h"
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFlowAccumulation.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirInfiltration.h"
+#include "vtkTerroirKMeans.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
@@ -188,6 +190,35 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         f->SetInputData(TerrainWithHoles());
         f->Update();
         return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirKMeans",
+      []
+      {
+        // Slope and Temperature of the terrain with holes, K = 6, both seedings; the cluster
+        // table (port 1) too.
+        vtkNew<vtkTerroirSlope> slope;
+        slope->SetBackendToCPU();
+        slope->SetInputData(TerrainWithHoles());
+        vtkNew<vtkTerroirTemperature> temperature;
+        temperature->SetBackendToCPU();
+        temperature->SetInputConnection(slope->GetOutputPort());
+        Bytes all;
+        for (int seeding : { vtkTerroirKMeans::Diagonal, vtkTerroirKMeans::KMeansPlusPlus })
+        {
+          vtkNew<vtkTerroirKMeans> f;
+          f->SetBackendToCPU();
+          f->SetNumberOfClusters(6);
+          f->SetSeeding(seeding);
+          f->SetInputConnection(temperature->GetOutputPort());
+          f->Update();
+          Bytes out = OutputBytes(f->GetOutput());
+          AddArrays(f->GetClusterTable()->GetRowData(), "table:", out);
+          for (const auto& [key, bytes] : out)
+          {
+            all[std::to_string(seeding) + ":" + key] = bytes;
+          }
+        }
+        return all;
       } },
     { "vtkTerroirTemperature",
       []
