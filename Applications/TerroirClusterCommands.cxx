@@ -123,13 +123,13 @@ std::string ClusterTableCSV(vtkTable* table)
 }
 
 //------------------------------------------------------------------------------
-nlohmann::json ClusterTableJSON(vtkTable* table, vtkImageData* image)
+nlohmann::ordered_json ClusterTableJSON(vtkTable* table, vtkImageData* image)
 {
-  nlohmann::json clusters = nlohmann::json::array();
-  nlohmann::json units = nlohmann::json::object();
+  nlohmann::ordered_json clusters = nlohmann::ordered_json::array();
+  nlohmann::ordered_json units = nlohmann::ordered_json::object();
   for (vtkIdType r = 0; r < table->GetNumberOfRows(); ++r)
   {
-    nlohmann::json row = nlohmann::json::object();
+    nlohmann::ordered_json row = nlohmann::ordered_json::object();
     for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
     {
       vtkAbstractArray* column = table->GetColumn(c);
@@ -138,13 +138,14 @@ nlohmann::json ClusterTableJSON(vtkTable* table, vtkImageData* image)
       if (auto* numbers = vtkDataArray::SafeDownCast(column))
       {
         const double x = v.ToDouble();
-        if (numbers->IsIntegral())
+        if (numbers->GetDataType() != VTK_FLOAT && numbers->GetDataType() != VTK_DOUBLE)
         {
           row[name] = static_cast<long long>(x);
         }
         else
         {
-          row[name] = std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+          row[name] =
+            std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
         }
         if (r == 0 && column->GetInformation()->Has(vtkDataArray::UNITS_LABEL()))
         {
@@ -158,7 +159,7 @@ nlohmann::json ClusterTableJSON(vtkTable* table, vtkImageData* image)
     }
     clusters.push_back(row);
   }
-  nlohmann::json collapsed = nlohmann::json::array();
+  nlohmann::ordered_json collapsed = nlohmann::ordered_json::array();
   auto* names =
     vtkStringArray::SafeDownCast(image->GetFieldData()->GetAbstractArray("KMeansCollapsedArrays"));
   for (vtkIdType i = 0; names && i < names->GetNumberOfValues(); ++i)
@@ -224,7 +225,7 @@ int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverla
   {
     WriteTextFile(s.Csv, ClusterTableCSV(table), c.Overwrite);
   }
-  const nlohmann::json summary = ClusterTableJSON(table, out);
+  const nlohmann::ordered_json summary = ClusterTableJSON(table, out);
   if (!s.Json.empty())
   {
     WriteTextFile(s.Json, summary.dump(2) + "\n", c.Overwrite);

@@ -36,7 +36,7 @@ std::string ClusterTableCSV(vtkTable* table);
  * "units": {column: units}, "within_cluster_sum_of_squares", "iterations", "stop_reason",
  * "relocated_clusters", "collapsed_arrays"} (the last five from `image`'s field data).
  */
-nlohmann::json ClusterTableJSON(vtkTable* table, vtkImageData* image);
+nlohmann::ordered_json ClusterTableJSON(vtkTable* table, vtkImageData* image);
 
 int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverlay);
 

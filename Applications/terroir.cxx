@@ -459,7 +459,7 @@ int CommandRun(const std::string& demArg,
 
   // Ecological zones: k-means of the resources with the seed's features and weights.
   vtkNew<vtkTable> clusterTable;
-  json clusterSummary;
+  nlohmann::ordered_json clusterSummary;
   if (clusters > 0)
   {
     vtkNew<vtkTerroirKMeans> kmeans;
@@ -617,7 +617,7 @@ int CommandRun(const std::string& demArg,
   report["arrays"] = arrays;
   if (clusters > 0)
   {
-    report["clusters"] = clusterSummary;
+    report["clusters"] = json::parse(clusterSummary.dump());
   }
   report["outputs"] = outputs;
 
@@ -684,7 +684,7 @@ int CommandRun(const std::string& demArg,
        << clusterSummary["stop_reason"].get<std::string>()
        << "):\n\n| zone | colour | cells | share | slope (°) | temperature Jul (°C) |\n"
        << "|---|---|---|---|---|---|\n";
-    for (const json& row : clusterSummary["clusters"])
+    for (const auto& row : clusterSummary["clusters"])
     {
       auto mean = [&row](const char* column)
       {

@@ -317,23 +317,23 @@ bool vtkTerroirOverlayView::Render()
   }
   lut->SetNanColor(this->NanColor);
   // Clusters from vtkTerroirKMeans: each zone's share of the cells (field data
-  // KMeansClusterShare, one fraction per cluster id) goes into its legend label.
+  // KMeansClusterShare, one fraction per cluster id) goes into its legend label, "i: p%", under
+  // the title "Cluster (share)" (short enough for the legend column at 400 pixels).
   vtkDataArray* shares = std::strcmp(preset, "Clusters") == 0
     ? image->GetFieldData()->GetArray("KMeansClusterShare")
     : nullptr;
+  std::string categoricalTitle = vtkTerroirColorPresets::GetTitle(preset);
   if (shares && shares->GetNumberOfComponents() == 1)
   {
+    categoricalTitle = "Cluster (share)";
     for (vtkIdType k = 0; k < lut->GetNumberOfAnnotatedValues(); ++k)
     {
       const vtkIdType id = lut->GetAnnotatedValue(k).ToInt();
       if (id >= 0 && id < shares->GetNumberOfTuples())
       {
         char label[64];
-        std::snprintf(label,
-          sizeof(label),
-          "Cluster %d %.0f%%",
-          static_cast<int>(id),
-          100.0 * shares->GetTuple1(id));
+        std::snprintf(
+          label, sizeof(label), "%d: %.0f%%", static_cast<int>(id), 100.0 * shares->GetTuple1(id));
         lut->SetAnnotation(lut->GetAnnotatedValue(k), label);
       }
     }
@@ -544,7 +544,7 @@ bool vtkTerroirOverlayView::Render()
     const int fontSize = std::max(8, this->Height / 36);
     if (vtkTerroirColorPresets::IsCategorical(preset))
     {
-      this->AddCategoricalLegend(legendRenderer, lut, preset, fontSize, textGrey);
+      this->AddCategoricalLegend(legendRenderer, lut, categoricalTitle, fontSize, textGrey);
     }
     else
     {
@@ -617,13 +617,13 @@ void vtkTerroirOverlayView::AddScalarBar(vtkRenderer* legendRenderer,
 //------------------------------------------------------------------------------
 void vtkTerroirOverlayView::AddCategoricalLegend(vtkRenderer* legendRenderer,
   vtkLookupTable* lut,
-  const char* preset,
+  const std::string& titleText,
   int fontSize,
   double grey)
 {
   // One swatch and name per annotated value, top to bottom, under the title.
   vtkNew<vtkTextActor> title;
-  title->SetInput(vtkTerroirColorPresets::GetTitle(preset));
+  title->SetInput(titleText.c_str());
   title->GetTextProperty()->SetFontSize(fontSize);
   title->GetTextProperty()->SetColor(grey, grey, grey);
   title->GetTextProperty()->BoldOn();

@@ -42,7 +42,9 @@
  *
  * Legend (`ShowLegend`, default on): the right quarter of the frame holds a scalar bar titled
  * "<preset title>" / "(<units>)" (e.g. "Slope" / "(°)"), or for a categorical preset
- * (`Clusters`, `Sunlit`) one colour swatch and name per class ("Cluster i"; "shadow", "lit"),
+ * (`Clusters`, `Sunlit`) one colour swatch and name per class ("Cluster i"; "shadow", "lit";
+ * for clusters of vtkTerroirKMeans, whose field data `KMeansClusterShare` holds each cluster's
+ * share of the cells, "i: p%" under the title "Cluster (share)"),
  * outlined in the text colour when it is close to the background colour. `Title` (default none) is
  * drawn centred in a strip at the top (8% of the height, at least 24 pixels). Text is black on
  * light backgrounds and white on dark ones. `Background` default white.
@@ -236,7 +238,7 @@ protected:
     double grey);
   void AddCategoricalLegend(vtkRenderer* legendRenderer,
     vtkLookupTable* lut,
-    const char* preset,
+    const std::string& title,
     int fontSize,
     double grey);
 

@@ -24,7 +24,7 @@ mode=${1:-build}
 # illumination tests compare with, r.sunmask and r.horizon).
 packages=(
   build-essential cmake pkg-config git
-  libvtk9-dev python3-vtk9 python3-numpy
+  libvtk9-dev python3-vtk9 python3-numpy python3-sklearn
   libgdal-dev gdal-bin python3-gdal
   libgeographiclib-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libx11-dev

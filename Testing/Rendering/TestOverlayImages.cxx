@@ -12,6 +12,7 @@
 #include "TerroirSyntheticTerrain.h"
 
 #include "vtkExtractVOI.h"
+#include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
@@ -20,6 +21,7 @@
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirInfiltration.h"
+#include "vtkTerroirKMeans.h"
 #include "vtkTerroirOverlayView.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
@@ -277,6 +279,30 @@ TEST(TerroirOverlayImages, LegendClustersRelief)
   view->SetArrayName("ClusterId");
   view->SetModeToRelief();
   view->ShowLegendOn();
+  CompareWithBaseline(view);
+}
+
+// The five ecological zones vtkTerroirKMeans finds on the bundled DEM's Slope and Temperature
+// (CPU, the seed's diagonal seeds), with each zone's share in the legend (field data
+// KMeansClusterShare). Steep slopes (zones 0, 1) lie on the canyon walls in the south-west.
+TEST(TerroirOverlayImages, LegendKMeansZonesRelief)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirKMeans> kmeans;
+  kmeans->SetBackendToCPU();
+  kmeans->SetInputData(SagehenTerrain());
+  kmeans->Update();
+  vtkImageData* zones = kmeans->GetOutput();
+  vtkDataArray* shares = zones->GetFieldData()->GetArray("KMeansClusterShare");
+  ASSERT_NE(shares, nullptr);
+  ASSERT_EQ(shares->GetNumberOfTuples(), 5);
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(zones);
+  view->SetArrayName("ClusterId");
+  view->SetModeToRelief();
+  view->ShowLegendOn();
+  view->SetTitle("Ecological zones, K = 5");
+  EXPECT_STREQ(view->GetEffectivePreset(), "Clusters");
   CompareWithBaseline(view);
 }
 
