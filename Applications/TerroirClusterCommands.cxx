@@ -192,12 +192,13 @@ int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverla
   CheckWritable(outs, c.Overwrite);
   vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
 
-  // A bare DEM gets the two resources that need no location: slope and temperature (the
-  // seed's default climate), as `terroir slope` and `terroir temperature` compute them.
-  if (s.FeatureNames.empty() && HasNoDefaultFeature(terrain))
+  // A bare DEM (none of the four resources) gets the two that need no location: slope and
+  // temperature (the seed's default climate), as `terroir slope` and `terroir temperature`
+  // compute them; --features may then name them.
+  if (HasNoDefaultFeature(terrain))
   {
-    std::cerr << "terroir: note: " << c.Input
-              << " has no resource arrays: clustering on Slope and Temperature computed with "
+    std::cout << "terroir kmeans: note: " << c.Input
+              << " has no resource arrays: Slope and Temperature are computed first, with "
                  "their defaults (cluster terroir run's terrain.vti for all four resources)\n";
     vtkNew<vtkTerroirSlope> slope;
     slope->SetBackend(ParseBackend(c.Backend));

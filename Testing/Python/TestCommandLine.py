@@ -42,8 +42,8 @@ class TerroirCommandLine(unittest.TestCase):
         shutil.rmtree(self.work, ignore_errors=True)
 
     def test_help_on_every_command(self):
-        for cmd in ([], ["run"], ["slope"], ["temperature"], ["illumination"], ["bench"], ["info"],
-                    ["fractal"]):
+        for cmd in ([], ["run"], ["slope"], ["temperature"], ["illumination"], ["kmeans"], ["bench"],
+                    ["info"], ["fractal"]):
             r = terroir(*cmd, "--help")
             self.assertEqual(r.returncode, 0, (cmd, r.stderr))
             self.assertIn("Usage", r.stdout + r.stderr)
@@ -57,11 +57,13 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         expected = ["terrain.vti", "slope.tif", "aspect.tif", "temperature.tif", "illumination.tif",
                     "insolation.tif", "infiltration.tif", "humidity.tif", "weighted_humidity.tif",
-                    "standing_water.tif", "lakes.tif", "report.md", "report.json"]
+                    "standing_water.tif", "lakes.tif", "clusters.tif", "clusters.csv",
+                    "clusters.json", "report.md", "report.json"]
         if os.environ.get("DISPLAY"):
             expected += ["slope.png", "temperature_jan.png", "temperature_jul.png",
                          "illumination_dec.png", "illumination_jun.png", "insolation_dec.png",
-                         "insolation_jun.png", "humidity_jan.png", "humidity_jul.png", "lakes.png"]
+                         "insolation_jun.png", "humidity_jan.png", "humidity_jul.png", "lakes.png",
+                         "clusters.png"]
         for name in expected:
             path = os.path.join(out, name)
             self.assertTrue(os.path.getsize(path) > 0, name)
@@ -120,6 +122,33 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertGreaterEqual(report["stages"]["lakes"]["water_bodies"], 1)
         depth = gdal.Open(os.path.join(out, "lakes.tif")).ReadAsArray()
         self.assertTrue(np.all(depth >= 0.0))
+        # Ecological zones, K = 5 on the four resources: the zone raster, the table's counts
+        # and its mean slopes agree with what GDAL reads from clusters.tif and slope.tif.
+        ids = gdal.Open(os.path.join(out, "clusters.tif")).ReadAsArray()
+        with open(os.path.join(out, "clusters.json")) as f:
+            zones = json.load(f)
+        self.assertEqual(report["clusters"]["iterations"], zones["iterations"])
+        self.assertEqual(zones["collapsed_arrays"], ["Temperature"])
+        band = src.GetRasterBand(1)  # src (the DEM) stays open while its band is read
+        heights = band.ReadAsArray().astype(np.float64)
+        valid = np.isfinite(heights)
+        if band.GetNoDataValue() is not None:
+            valid &= heights != band.GetNoDataValue()
+        self.assertEqual(len(zones["clusters"]), 5)
+        self.assertTrue(np.all(ids[~valid] == -1))
+        self.assertAlmostEqual(sum(z["Share"] for z in zones["clusters"]), 1.0, places=12)
+        for z in zones["clusters"]:
+            members = ids == z["ClusterId"]
+            self.assertEqual(int(members.sum()), z["Cells"])
+            self.assertAlmostEqual(z["Cells"] / valid.sum(), z["Share"], places=12)
+            self.assertAlmostEqual(float(a[members].mean()), z["Slope"], delta=1e-4)
+        with open(os.path.join(out, "clusters.csv")) as f:
+            header = f.readline().strip().split(",")
+        self.assertEqual(header[:5], ["ClusterId", "Color", "Cells", "Share", "Slope"])
+        self.assertEqual(len(header), 4 + 1 + 12 * 3)
+        self.assertIn("Temperature_Jul", header)
+        with open(os.path.join(out, "report.md")) as f:
+            self.assertIn("Ecological zones (k-means, K = 5", f.read())
 
     def test_soil_water_and_lake_commands(self):
         rates = os.path.join(self.work, "rates.tif")
@@ -155,6 +184,47 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         body = gdal.Open(ids).ReadAsArray()
         self.assertGreaterEqual(np.count_nonzero(body), 23000)  # Independence Lake and more
+
+    def test_kmeans_command(self):
+        # A bare DEM: Slope and Temperature are computed first (a note says so). Weight 4 on
+        # the only feature gives the same zones and 4 times the within-cluster sum of squares
+        # (the distance is sum w (x - y)^2).
+        one, four = os.path.join(self.work, "one.tif"), os.path.join(self.work, "four.vti")
+        csv, js = os.path.join(self.work, "z.csv"), os.path.join(self.work, "z.json")
+        r = terroir("kmeans", DEM, one, "-k", "3", "--features", "Slope", "--csv", csv,
+                    "--json", js, "--backend", "cpu")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("has no resource arrays", r.stdout)
+        self.assertIn("K = 3", r.stdout)
+        r = terroir("kmeans", DEM, four, "-k", "3", "--features", "Slope:4", "--backend", "cpu",
+                    "--json", os.path.join(self.work, "four.json"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(js) as f:
+            a = json.load(f)
+        with open(os.path.join(self.work, "four.json")) as f:
+            b = json.load(f)
+        self.assertEqual([z["Cells"] for z in a["clusters"]], [z["Cells"] for z in b["clusters"]])
+        self.assertAlmostEqual(b["within_cluster_sum_of_squares"],
+                               4.0 * a["within_cluster_sum_of_squares"],
+                               delta=1e-5 * b["within_cluster_sum_of_squares"])
+        with open(csv) as f:
+            rows = [line.strip().split(",") for line in f]
+        self.assertEqual(rows[0], ["ClusterId", "Color", "Cells", "Share", "Slope", "Temperature_Jan",
+                                   "Temperature_Feb", "Temperature_Mar", "Temperature_Apr",
+                                   "Temperature_May", "Temperature_Jun", "Temperature_Jul",
+                                   "Temperature_Aug", "Temperature_Sep", "Temperature_Oct",
+                                   "Temperature_Nov", "Temperature_Dec"][:5])
+        self.assertEqual(len(rows), 4)
+        ids = gdal.Open(one).ReadAsArray()
+        self.assertEqual(sorted(np.unique(ids[ids >= 0]).tolist()), [0, 1, 2])
+        self.assertEqual([int((ids == k).sum()) for k in range(3)],
+                         [int(row[2]) for row in rows[1:]])
+        # Zones ordered as their diagonal seeds; mean slopes are the members' mean.
+        slope = gdal.DEMProcessing(os.path.join(self.work, "s.tif"), DEM, "slope",
+                                   computeEdges=True).ReadAsArray().astype(np.float64)
+        for row in rows[1:]:
+            members = ids == int(row[0])
+            self.assertAlmostEqual(float(slope[members].mean()), float(row[4]), delta=0.01)
 
     def test_existing_outputs_are_kept_without_overwrite(self):
         out = os.path.join(self.work, "slope.tif")
