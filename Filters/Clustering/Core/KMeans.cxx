@@ -174,6 +174,112 @@ inline std::size_t AssignChunk(const KMeansFeatures& features,
   return changed;
 }
 
+#if defined(__GNUC__) && !defined(TERROIR_KMEANS_SCALAR)
+#define TERROIR_KMEANS_VECTOR 1
+// The 32-byte vectors never cross a call boundary (everything below is inlined), so the ABI
+// note GCC gives for them on the baseline target does not apply.
+#pragma GCC diagnostic ignored "-Wpsabi"
+/// Eight floats (GCC/Clang vector extension): one AVX register, two SSE registers. Each lane
+/// does the scalar operations of its own cell, so the bits do not depend on the width.
+typedef float Vec8 __attribute__((vector_size(32)));
+typedef std::int32_t Int8 __attribute__((vector_size(32)));
+/// The vector helpers must be inlined into each clone of AssignKernel to get its instructions.
+#define TERROIR_KMEANS_INLINE inline __attribute__((always_inline))
+
+TERROIR_KMEANS_INLINE Vec8 Load8(const float* p)
+{
+  Vec8 v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+
+/// Cells per tile of the vector kernel: kTileVectors vectors of 8 cells.
+constexpr std::size_t kTileVectors = 4;
+constexpr std::size_t kTile = 8 * kTileVectors;
+
+/**
+ * Nearest centre for the kTile cells from c: two clusters per pass over the features, so each
+ * loaded feature vector serves two distance sums; 8 float accumulators stay in registers.
+ */
+TERROIR_KMEANS_INLINE std::size_t AssignTile(const KMeansFeatures& features,
+  const float* centres,
+  int k,
+  std::size_t c,
+  std::int32_t* labels,
+  float* distance)
+{
+  const int nf = features.features;
+  const std::size_t stride = features.cells;
+  const float* x = features.data + c;
+  Vec8 best[kTileVectors];
+  Int8 label[kTileVectors];
+  const Vec8 zero = {};
+  for (std::size_t v = 0; v < kTileVectors; ++v)
+  {
+    best[v] = zero;
+    label[v] = Int8{};
+  }
+  for (int kk = 0; kk < k; kk += 2)
+  {
+    const bool pair = kk + 1 < k;
+    const float* m0 = centres + static_cast<std::size_t>(kk) * nf;
+    const float* m1 = pair ? m0 + nf : m0;
+    Vec8 a0[kTileVectors];
+    Vec8 a1[kTileVectors];
+    for (std::size_t v = 0; v < kTileVectors; ++v)
+    {
+      a0[v] = zero;
+      a1[v] = zero;
+    }
+    for (int f = 0; f < nf; ++f)
+    {
+      const float* xf = x + static_cast<std::size_t>(f) * stride;
+      const Vec8 b0 = zero + m0[f];
+      const Vec8 b1 = zero + m1[f];
+      for (std::size_t v = 0; v < kTileVectors; ++v)
+      {
+        const Vec8 xv = Load8(xf + 8 * v);
+        const Vec8 d0 = xv - b0;
+        const Vec8 d1 = xv - b1;
+        a0[v] = a0[v] + d0 * d0;
+        a1[v] = a1[v] + d1 * d1;
+      }
+    }
+    for (std::size_t v = 0; v < kTileVectors; ++v)
+    {
+      if (kk == 0)
+      {
+        best[v] = a0[v];
+      }
+      else
+      {
+        const Int8 closer = a0[v] < best[v];
+        best[v] = closer ? a0[v] : best[v];
+        label[v] = closer ? Int8{} + kk : label[v];
+      }
+      if (pair)
+      {
+        const Int8 closer = a1[v] < best[v];
+        best[v] = closer ? a1[v] : best[v];
+        label[v] = closer ? Int8{} + (kk + 1) : label[v];
+      }
+    }
+  }
+  alignas(32) std::int32_t l[kTile];
+  alignas(32) float d[kTile];
+  std::memcpy(l, label, sizeof(l));
+  std::memcpy(d, best, sizeof(d));
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < kTile; ++i)
+  {
+    changed += labels[c + i] != l[i] ? 1 : 0;
+    labels[c + i] = l[i];
+    distance[c + i] = d[i];
+  }
+  return changed;
+}
+#endif
+
 /// KMeansAssignRange's loop, compiled for AVX2 and for the baseline (GCC picks at load time).
 /// Without contraction both give the same bits: each lane does the scalar operations.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&                             \
@@ -191,6 +297,12 @@ AssignKernel(const KMeansFeatures& features,
 {
   std::size_t changed = 0;
   std::size_t c = begin;
+#ifdef TERROIR_KMEANS_VECTOR
+  for (; c + kTile <= end; c += kTile)
+  {
+    changed += AssignTile(features, centres, k, c, labels, distance);
+  }
+#endif
   for (; c + kChunk <= end; c += kChunk)
   {
     changed += AssignChunk<kChunk>(features, centres, k, c, kChunk, labels, distance);
@@ -844,20 +956,42 @@ std::size_t KMeansCPUEngine::Assign(const std::vector<float>& centres, int k)
   {
     throw std::invalid_argument("k-means: Assign needs k >= 1 and k * features centre values");
   }
+  // Each block is assigned and then summed (KMeansBlockSums) while its features are still in
+  // the cache: one pass over the features per iteration instead of two. Sums() then only adds
+  // the blocks, as long as the block buffers fit k (they always hold the last Assign's sums).
   const std::size_t n = this->Features.cells;
+  const std::size_t K = static_cast<std::size_t>(k);
+  const std::size_t blocks = this->Features.Blocks();
+  const std::size_t per = K * static_cast<std::size_t>(this->Features.features);
+  this->BlockSumData.resize(blocks * per);
+  this->BlockCountData.resize(blocks * K);
+  this->BlockInertiaData.resize(blocks);
   std::atomic<std::size_t> changed{ 0 };
   RunParallel(this->Parallel,
     0,
-    this->Features.Blocks(),
+    blocks,
     [&](std::size_t b0, std::size_t b1)
     {
-      changed += KMeansAssignRange(this->Features,
-        centres.data(),
-        k,
-        BlockBegin(b0),
-        BlockEnd(b1 - 1, n),
-        this->LabelData.data(),
-        this->DistanceData.data());
+      std::size_t local = 0;
+      for (std::size_t b = b0; b < b1; ++b)
+      {
+        local += KMeansAssignRange(this->Features,
+          centres.data(),
+          k,
+          BlockBegin(b),
+          BlockEnd(b, n),
+          this->LabelData.data(),
+          this->DistanceData.data());
+        KMeansBlockSums(this->Features,
+          this->LabelData.data(),
+          this->DistanceData.data(),
+          k,
+          b,
+          this->BlockSumData.data() + b * per,
+          this->BlockCountData.data() + b * K,
+          this->BlockInertiaData.data() + b);
+      }
+      changed += local;
     });
   return changed.load();
 }
@@ -872,26 +1006,30 @@ void KMeansCPUEngine::Sums(int k,
   const std::size_t nf = static_cast<std::size_t>(this->Features.features);
   const std::size_t blocks = this->Features.Blocks();
   const std::size_t per = K * nf;
-  this->BlockSumData.resize(blocks * per);
-  this->BlockCountData.resize(blocks * K);
-  this->BlockInertiaData.resize(blocks);
-  RunParallel(this->Parallel,
-    0,
-    blocks,
-    [&](std::size_t b0, std::size_t b1)
-    {
-      for (std::size_t b = b0; b < b1; ++b)
+  if (this->BlockSumData.size() != blocks * per || this->BlockCountData.size() != blocks * K)
+  {
+    // No Assign with this k yet (labels of an earlier k, or none): sum the blocks now.
+    this->BlockSumData.resize(blocks * per);
+    this->BlockCountData.resize(blocks * K);
+    this->BlockInertiaData.resize(blocks);
+    RunParallel(this->Parallel,
+      0,
+      blocks,
+      [&](std::size_t b0, std::size_t b1)
       {
-        KMeansBlockSums(this->Features,
-          this->LabelData.data(),
-          this->DistanceData.data(),
-          k,
-          b,
-          this->BlockSumData.data() + b * per,
-          this->BlockCountData.data() + b * K,
-          this->BlockInertiaData.data() + b);
-      }
-    });
+        for (std::size_t b = b0; b < b1; ++b)
+        {
+          KMeansBlockSums(this->Features,
+            this->LabelData.data(),
+            this->DistanceData.data(),
+            k,
+            b,
+            this->BlockSumData.data() + b * per,
+            this->BlockCountData.data() + b * K,
+            this->BlockInertiaData.data() + b);
+        }
+      });
+  }
   sums.assign(per, 0.0);
   counts.assign(K, 0);
   inertia = 0.0;
@@ -902,10 +1040,10 @@ void KMeansCPUEngine::Sums(int k,
     {
       sums[i] += s[i];
     }
-    const std::int64_t* n = this->BlockCountData.data() + b * K;
+    const std::int64_t* c = this->BlockCountData.data() + b * K;
     for (std::size_t i = 0; i < K; ++i)
     {
-      counts[i] += n[i];
+      counts[i] += c[i];
     }
     inertia += this->BlockInertiaData[b];
   }
