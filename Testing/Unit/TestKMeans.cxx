@@ -250,6 +250,31 @@ TEST(KMeans, AssignTiesAndDistances)
   EXPECT_EQ(changed, 2u);
   // Again with the same centres: nothing changes. Only cell 1 of [1, 2) is touched.
   EXPECT_EQ(km::KMeansAssignRange(x.view, centres.data(), 5, 1, 2, labels.data(), d.data()), 0u);
+
+  // The same two points 50 times each (the vectorised tiles and the scalar tail alike), and with
+  // the centres in another order: (4,2) (0,2) (9,9) (0,0) (4,0): (2,1) ties between 0, 1, 3, 4
+  // -> 0; (1,2) is nearest (0,2) -> 1.
+  std::vector<std::vector<float>> many;
+  for (int i = 0; i < 50; ++i)
+  {
+    many.push_back({ 2, 1 });
+    many.push_back({ 1, 2 });
+  }
+  Matrix y(many);
+  for (const auto& order : { std::make_pair(centres, std::vector<std::int32_t>{ 1, 4 }),
+         std::make_pair(
+           std::vector<float>{ 4, 2, 0, 2, 9, 9, 0, 0, 4, 0 }, std::vector<std::int32_t>{ 0, 1 }) })
+  {
+    std::vector<std::int32_t> l(100, -1);
+    std::vector<float> dd(100);
+    EXPECT_EQ(
+      km::KMeansAssignRange(y.view, order.first.data(), 5, 0, 100, l.data(), dd.data()), 100u);
+    for (int c = 0; c < 100; ++c)
+    {
+      EXPECT_EQ(l[c], order.second[c % 2]) << "cell " << c;
+      EXPECT_EQ(dd[c], c % 2 == 0 ? 5.0f : 1.0f);
+    }
+  }
 }
 
 // The vectorised assignment gives the bits of the plainest float loop, cell by cell, for chunk
@@ -905,6 +930,30 @@ TEST(KMeans, ToleranceAndMaximumIterations)
   EXPECT_STREQ(km::KMeansStopReasonName(km::KMeansStopReason::Tolerance), "Tolerance");
   EXPECT_STREQ(
     km::KMeansStopReasonName(km::KMeansStopReason::MaximumIterations), "MaximumIterations");
+}
+
+// The first iteration never counts as converged (scikit-learn compares with labels of -1), even
+// on an engine whose labels already are the answer. From the solution of Lloyd1D (centres 2, 13):
+// it 1 changes no label of the reused engine, yet goes on to the stop tests: the centres moved
+// 0 <= tolerance, so it stops by Tolerance after 1 iteration, then assigns once more.
+TEST(KMeans, FirstIterationNeverConverged)
+{
+  Matrix x(kLine);
+  km::KMeansCPUEngine engine(x.view);
+  const km::KMeansResult first = km::KMeansLloyd(engine, x.view, { 1, 2 }, 2, Options(300, 0.0));
+  ASSERT_EQ(first.reason, km::KMeansStopReason::Converged);
+  std::vector<std::size_t> changed;
+  const km::KMeansResult again = km::KMeansLloyd(engine,
+    x.view,
+    first.centres,
+    2,
+    Options(300, 0.0),
+    [&](int, std::size_t n) { changed.push_back(n); });
+  EXPECT_EQ(changed, (std::vector<std::size_t>{ 0 }));
+  EXPECT_EQ(again.reason, km::KMeansStopReason::Tolerance);
+  EXPECT_EQ(again.iterations, 1);
+  EXPECT_EQ(again.centres, first.centres);
+  EXPECT_EQ(again.inertia, 196.0);
 }
 
 //------------------------------------------------------------------------------
