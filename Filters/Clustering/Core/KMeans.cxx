@@ -282,14 +282,36 @@ TERROIR_KMEANS_INLINE std::size_t AssignTile(const KMeansFeatures& features,
 }
 #endif
 
-/// KMeansAssignRange's loop, compiled for AVX2 and for the baseline (GCC picks at load time).
-/// Without contraction both give the same bits: each lane does the scalar operations.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&                             \
-  !defined(TERROIR_NO_TARGET_CLONES)
-__attribute__((target_clones("avx2", "default")))
-#endif
-std::size_t
-AssignKernel(const KMeansFeatures& features,
+/// KMeansAssignRange's loop in chunks of kChunk cells (auto-vectorised: one lane per cell).
+std::size_t AssignChunks(const KMeansFeatures& features,
+  const float* centres,
+  int k,
+  std::size_t c,
+  std::size_t end,
+  std::int32_t* labels,
+  float* distance)
+{
+  std::size_t changed = 0;
+  for (; c + kChunk <= end; c += kChunk)
+  {
+    changed += AssignChunk<kChunk>(features, centres, k, c, kChunk, labels, distance);
+  }
+  if (c < end)
+  {
+    changed += AssignChunk<kChunk>(features, centres, k, c, end - c, labels, distance);
+  }
+  return changed;
+}
+
+#if defined(TERROIR_KMEANS_VECTOR) && defined(__x86_64__)
+#define TERROIR_KMEANS_AVX2 1
+/**
+ * KMeansAssignRange's loop with AVX2 (chosen at run time): kTile-cell tiles (AssignTile), the
+ * rest in chunks. Without contraction (-ffp-contract=off) every lane does the scalar
+ * operations, so the bits are those of AssignChunks. On SSE2 alone the tiles' 16 accumulators
+ * would not fit in the registers: the baseline uses AssignChunks.
+ */
+__attribute__((target("avx2"))) std::size_t AssignKernelAVX2(const KMeansFeatures& features,
   const float* centres,
   int k,
   std::size_t begin,
@@ -299,7 +321,6 @@ AssignKernel(const KMeansFeatures& features,
 {
   std::size_t changed = 0;
   std::size_t c = begin;
-#ifdef TERROIR_KMEANS_VECTOR
   for (; c + kTile <= end; c += kTile)
   {
     // 37 feature streams are more than the hardware prefetchers follow well: ask for the lines
@@ -316,16 +337,26 @@ AssignKernel(const KMeansFeatures& features,
     }
     changed += AssignTile(features, centres, k, c, labels, distance);
   }
+  return changed + AssignChunks(features, centres, k, c, end, labels, distance);
+}
 #endif
-  for (; c + kChunk <= end; c += kChunk)
+
+std::size_t AssignKernel(const KMeansFeatures& features,
+  const float* centres,
+  int k,
+  std::size_t begin,
+  std::size_t end,
+  std::int32_t* labels,
+  float* distance)
+{
+#ifdef TERROIR_KMEANS_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2)
   {
-    changed += AssignChunk<kChunk>(features, centres, k, c, kChunk, labels, distance);
+    return AssignKernelAVX2(features, centres, k, begin, end, labels, distance);
   }
-  if (c < end)
-  {
-    changed += AssignChunk<kChunk>(features, centres, k, c, end - c, labels, distance);
-  }
-  return changed;
+#endif
+  return AssignChunks(features, centres, k, begin, end, labels, distance);
 }
 
 /// d2 of cells [begin, end) to one centre, as in the assignment.
