@@ -183,7 +183,7 @@ inline std::size_t AssignChunk(const KMeansFeatures& features,
 /// does the scalar operations of its own cell, so the bits do not depend on the width.
 typedef float Vec8 __attribute__((vector_size(32)));
 typedef std::int32_t Int8 __attribute__((vector_size(32)));
-/// The vector helpers must be inlined into each clone of AssignKernel to get its instructions.
+/// The vector helpers are inlined into AssignKernelAVX2, so they get its instructions.
 #define TERROIR_KMEANS_INLINE inline __attribute__((always_inline))
 
 TERROIR_KMEANS_INLINE Vec8 Load8(const float* p)
