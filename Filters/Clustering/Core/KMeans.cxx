@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 namespace terroir
@@ -443,33 +444,99 @@ void CheckedSums(const KMeansFeatures& features,
   }
 }
 
+/// Calls group(std::integral_constant<int, G>{}, f0) for the features in groups of kSumGroup,
+/// the last group smaller: G is a constant in each call, so the G chains unroll.
+template<typename Group>
+void ForFeatureGroups(int features, Group&& group)
+{
+  int f0 = 0;
+  for (; f0 + kSumGroup <= features; f0 += kSumGroup)
+  {
+    group(std::integral_constant<int, kSumGroup>{}, f0);
+  }
+  switch (features - f0)
+  {
+    case 7:
+      group(std::integral_constant<int, 7>{}, f0);
+      break;
+    case 6:
+      group(std::integral_constant<int, 6>{}, f0);
+      break;
+    case 5:
+      group(std::integral_constant<int, 5>{}, f0);
+      break;
+    case 4:
+      group(std::integral_constant<int, 4>{}, f0);
+      break;
+    case 3:
+      group(std::integral_constant<int, 3>{}, f0);
+      break;
+    case 2:
+      group(std::integral_constant<int, 2>{}, f0);
+      break;
+    case 1:
+      group(std::integral_constant<int, 1>{}, f0);
+      break;
+    default:
+      break;
+  }
+}
+
 /**
- * Per-feature sums over the cells of one block, in cell order, in double: out[f] = sum of
- * value(x_f(c), f) (c outer, features in groups inner, so the chains run side by side).
+ * Per-feature sums over the cells of one block, in cell order, in double: out[f] = sum of x_f,
+ * or, with `mean`, of (x_f - mean[f])^2 (cells outer, G features inner: G chains side by side).
  */
-template<typename Value>
-void BlockFeatureSums(const KMeansFeatures& features, std::size_t block, Value value, double* out)
+template<int G, bool Squares>
+void GroupFeatureSums(const KMeansFeatures& features,
+  int f0,
+  std::size_t begin,
+  std::size_t end,
+  const double* mean,
+  double* out)
+{
+  const std::size_t stride = features.cells;
+  const float* x = features.data + static_cast<std::size_t>(f0) * stride;
+  double m[G];
+  double a[G];
+  for (int j = 0; j < G; ++j)
+  {
+    m[j] = Squares ? mean[f0 + j] : 0.0;
+    a[j] = 0.0;
+  }
+  for (std::size_t c = begin; c < end; ++c)
+  {
+    for (int j = 0; j < G; ++j)
+    {
+      const double v = static_cast<double>(x[j * stride + c]);
+      if (Squares)
+      {
+        const double d = v - m[j];
+        a[j] += d * d;
+      }
+      else
+      {
+        a[j] += v;
+      }
+    }
+  }
+  for (int j = 0; j < G; ++j)
+  {
+    out[f0 + j] = a[j];
+  }
+}
+
+/// GroupFeatureSums of every feature over block `block`.
+template<bool Squares>
+void BlockFeatureSums(const KMeansFeatures& features,
+  std::size_t block,
+  const double* mean,
+  double* out)
 {
   const std::size_t b0 = BlockBegin(block);
   const std::size_t b1 = BlockEnd(block, features.cells);
-  const int nf = features.features;
-  for (int f0 = 0; f0 < nf; f0 += kSumGroup)
-  {
-    const int g = std::min(kSumGroup, nf - f0);
-    double a[kSumGroup] = {};
-    for (std::size_t c = b0; c < b1; ++c)
-    {
-      for (int j = 0; j < g; ++j)
-      {
-        const int f = f0 + j;
-        a[j] += value(features.data[static_cast<std::size_t>(f) * features.cells + c], f);
-      }
-    }
-    for (int j = 0; j < g; ++j)
-    {
-      out[f0 + j] = a[j];
-    }
-  }
+  ForFeatureGroups(features.features,
+    [&](auto g, int f0)
+    { GroupFeatureSums<decltype(g)::value, Squares>(features, f0, b0, b1, mean, out); });
 }
 
 /// Float ulp of |v| (the spacing of floats at |v|; the smallest subnormal at 0).
@@ -952,37 +1019,8 @@ void KMeansBlockSums(const KMeansFeatures& features,
     CheckedSums(features, labels, k, b0, b1, sums);
     return;
   }
-  int f0 = 0;
-  for (; f0 + kSumGroup <= features.features; f0 += kSumGroup)
-  {
-    GroupSums<kSumGroup>(features, labels, f0, b0, b1, sums);
-  }
-  switch (features.features - f0)
-  {
-    case 7:
-      GroupSums<7>(features, labels, f0, b0, b1, sums);
-      break;
-    case 6:
-      GroupSums<6>(features, labels, f0, b0, b1, sums);
-      break;
-    case 5:
-      GroupSums<5>(features, labels, f0, b0, b1, sums);
-      break;
-    case 4:
-      GroupSums<4>(features, labels, f0, b0, b1, sums);
-      break;
-    case 3:
-      GroupSums<3>(features, labels, f0, b0, b1, sums);
-      break;
-    case 2:
-      GroupSums<2>(features, labels, f0, b0, b1, sums);
-      break;
-    case 1:
-      GroupSums<1>(features, labels, f0, b0, b1, sums);
-      break;
-    default:
-      break;
-  }
+  ForFeatureGroups(features.features,
+    [&](auto g, int f0) { GroupSums<decltype(g)::value>(features, labels, f0, b0, b1, sums); });
 }
 
 //------------------------------------------------------------------------------
@@ -1127,8 +1165,7 @@ double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFo
     {
       for (std::size_t b = b0; b < b1; ++b)
       {
-        BlockFeatureSums(
-          features, b, [](float x, int) { return static_cast<double>(x); }, &partial[b * nf]);
+        BlockFeatureSums<false>(features, b, nullptr, &partial[b * nf]);
       }
     });
   std::vector<double> mean(nf, 0.0);
@@ -1151,15 +1188,7 @@ double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFo
     {
       for (std::size_t b = b0; b < b1; ++b)
       {
-        BlockFeatureSums(
-          features,
-          b,
-          [mp](float x, int f)
-          {
-            const double d = static_cast<double>(x) - mp[f];
-            return d * d;
-          },
-          &partial[b * nf]);
+        BlockFeatureSums<true>(features, b, mp, &partial[b * nf]);
       }
     });
   std::vector<double> squares(nf, 0.0);
