@@ -1,0 +1,1214 @@
+#include "KMeans.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <utility>
+
+namespace terroir
+{
+namespace clustering
+{
+
+namespace
+{
+/// Cells per vectorised assignment chunk: the float accumulators of one chunk stay in L1.
+constexpr std::size_t kChunk = 64;
+
+/// Features summed together by the block sums: as many independent double chains per cell.
+constexpr int kSumGroup = 8;
+
+/// Runs body over [begin, end) through parallelFor (or at once when it is empty).
+void RunParallel(const KMeansParallelFor& parallelFor,
+  std::size_t begin,
+  std::size_t end,
+  const std::function<void(std::size_t, std::size_t)>& body)
+{
+  if (begin >= end)
+  {
+    return;
+  }
+  if (parallelFor)
+  {
+    parallelFor(begin, end, body);
+  }
+  else
+  {
+    body(begin, end);
+  }
+}
+
+std::size_t BlockBegin(std::size_t block)
+{
+  return block * KMeansBlockCells;
+}
+
+std::size_t BlockEnd(std::size_t block, std::size_t cells)
+{
+  return std::min(cells, (block + 1) * KMeansBlockCells);
+}
+
+std::size_t BlockCount(std::size_t cells)
+{
+  return (cells + KMeansBlockCells - 1) / KMeansBlockCells;
+}
+
+/**
+ * acc[c] = d2 of cells c0 + c (c < n) to centre m: acc = acc + d * d, d = x - m, f = 0..F-1 in
+ * order, in float. The f loop is outside, the cell loop inside and vectorised: each lane is one
+ * cell's own sum in f order, so the bits are those of the scalar loop (no FMA: the library is
+ * built with -ffp-contract=off).
+ */
+template<std::size_t N>
+inline void ChunkDistances(const float* x,
+  std::size_t stride,
+  int features,
+  const float* m,
+  float* acc)
+{
+  for (std::size_t c = 0; c < N; ++c)
+  {
+    acc[c] = 0.0f;
+  }
+  for (int f = 0; f < features; ++f)
+  {
+    const float* xf = x + static_cast<std::size_t>(f) * stride;
+    const float mf = m[f];
+    for (std::size_t c = 0; c < N; ++c)
+    {
+      const float d = xf[c] - mf;
+      acc[c] = acc[c] + d * d;
+    }
+  }
+}
+
+/// The same for a partial chunk of n < kChunk cells (same operations per cell).
+inline void TailDistances(const float* x,
+  std::size_t stride,
+  int features,
+  const float* m,
+  std::size_t n,
+  float* acc)
+{
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    acc[c] = 0.0f;
+  }
+  for (int f = 0; f < features; ++f)
+  {
+    const float* xf = x + static_cast<std::size_t>(f) * stride;
+    const float mf = m[f];
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      const float d = xf[c] - mf;
+      acc[c] = acc[c] + d * d;
+    }
+  }
+}
+
+/// Nearest of k centres for a chunk of n cells starting at c0 (ties to the lowest k).
+template<std::size_t N>
+inline std::size_t AssignChunk(const KMeansFeatures& features,
+  const float* centres,
+  int k,
+  std::size_t c0,
+  std::size_t n,
+  std::int32_t* labels,
+  float* distance)
+{
+  alignas(64) float acc[N];
+  alignas(64) float best[N];
+  alignas(64) std::int32_t label[N];
+  const float* x = features.data + c0;
+  const int nf = features.features;
+  if (n < N)
+  {
+    // A partial chunk: the lanes past n are never read back, but are kept defined.
+    for (std::size_t c = n; c < N; ++c)
+    {
+      acc[c] = 0.0f;
+      best[c] = 0.0f;
+    }
+  }
+  if (n == N)
+  {
+    ChunkDistances<N>(x, features.cells, nf, centres, best);
+  }
+  else
+  {
+    TailDistances(x, features.cells, nf, centres, n, best);
+  }
+  for (std::size_t c = 0; c < N; ++c)
+  {
+    label[c] = 0;
+  }
+  for (int kk = 1; kk < k; ++kk)
+  {
+    const float* m = centres + static_cast<std::size_t>(kk) * nf;
+    if (n == N)
+    {
+      ChunkDistances<N>(x, features.cells, nf, m, acc);
+    }
+    else
+    {
+      TailDistances(x, features.cells, nf, m, n, acc);
+    }
+    for (std::size_t c = 0; c < N; ++c)
+    {
+      const bool closer = acc[c] < best[c];
+      best[c] = closer ? acc[c] : best[c];
+      label[c] = closer ? kk : label[c];
+    }
+  }
+  std::size_t changed = 0;
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    changed += labels[c0 + c] != label[c] ? 1 : 0;
+    labels[c0 + c] = label[c];
+    distance[c0 + c] = best[c];
+  }
+  return changed;
+}
+
+/// KMeansAssignRange's loop, compiled for AVX2 and for the baseline (GCC picks at load time).
+/// Without contraction both give the same bits: each lane does the scalar operations.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&                             \
+  !defined(TERROIR_NO_TARGET_CLONES)
+__attribute__((target_clones("avx2", "default")))
+#endif
+std::size_t
+AssignKernel(const KMeansFeatures& features,
+  const float* centres,
+  int k,
+  std::size_t begin,
+  std::size_t end,
+  std::int32_t* labels,
+  float* distance)
+{
+  std::size_t changed = 0;
+  std::size_t c = begin;
+  for (; c + kChunk <= end; c += kChunk)
+  {
+    changed += AssignChunk<kChunk>(features, centres, k, c, kChunk, labels, distance);
+  }
+  if (c < end)
+  {
+    changed += AssignChunk<kChunk>(features, centres, k, c, end - c, labels, distance);
+  }
+  return changed;
+}
+
+/// d2 of cells [begin, end) to one centre, as in the assignment.
+void DistancesToCentre(const KMeansFeatures& features,
+  const float* centre,
+  std::size_t begin,
+  std::size_t end,
+  float* out)
+{
+  std::size_t c = begin;
+  for (; c + kChunk <= end; c += kChunk)
+  {
+    ChunkDistances<kChunk>(features.data + c, features.cells, features.features, centre, out + c);
+  }
+  if (c < end)
+  {
+    TailDistances(features.data + c, features.cells, features.features, centre, end - c, out + c);
+  }
+}
+
+/**
+ * sums[labels[c] * F + f0 + j] += x_{f0 + j}(c), j < G, over cells c in [begin, end) in cell
+ * order. G features at once give G independent double chains per cell; a run of equal labels
+ * keeps its G sums in registers (loaded before, stored after: the same additions in the same
+ * order as adding into memory cell by cell).
+ */
+template<int G>
+void GroupSums(const KMeansFeatures& features,
+  const std::int32_t* labels,
+  int f0,
+  std::size_t begin,
+  std::size_t end,
+  double* sums)
+{
+  const std::size_t stride = features.cells;
+  const float* x = features.data + static_cast<std::size_t>(f0) * stride;
+  const std::size_t nf = static_cast<std::size_t>(features.features);
+  std::size_t c = begin;
+  while (c < end)
+  {
+    const std::int32_t l = labels[c];
+    double* s = sums + static_cast<std::size_t>(l) * nf + f0;
+    double a[G];
+    for (int j = 0; j < G; ++j)
+    {
+      a[j] = s[j];
+    }
+    do
+    {
+      for (int j = 0; j < G; ++j)
+      {
+        a[j] += static_cast<double>(x[j * stride + c]);
+      }
+      ++c;
+    } while (c < end && labels[c] == l);
+    for (int j = 0; j < G; ++j)
+    {
+      s[j] = a[j];
+    }
+  }
+}
+
+/// The general (slow) path of GroupSums for labels outside [0, k): those cells are skipped.
+void CheckedSums(const KMeansFeatures& features,
+  const std::int32_t* labels,
+  int k,
+  std::size_t begin,
+  std::size_t end,
+  double* sums)
+{
+  const std::size_t nf = static_cast<std::size_t>(features.features);
+  for (std::size_t c = begin; c < end; ++c)
+  {
+    const std::int32_t l = labels[c];
+    if (l < 0 || l >= k)
+    {
+      continue;
+    }
+    double* s = sums + static_cast<std::size_t>(l) * nf;
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      s[f] += static_cast<double>(features.data[f * features.cells + c]);
+    }
+  }
+}
+
+/**
+ * Per-feature sums over the cells of one block, in cell order, in double: out[f] = sum of
+ * value(x_f(c), f) (c outer, features in groups inner, so the chains run side by side).
+ */
+template<typename Value>
+void BlockFeatureSums(const KMeansFeatures& features, std::size_t block, Value value, double* out)
+{
+  const std::size_t b0 = BlockBegin(block);
+  const std::size_t b1 = BlockEnd(block, features.cells);
+  const int nf = features.features;
+  for (int f0 = 0; f0 < nf; f0 += kSumGroup)
+  {
+    const int g = std::min(kSumGroup, nf - f0);
+    double a[kSumGroup] = {};
+    for (std::size_t c = b0; c < b1; ++c)
+    {
+      for (int j = 0; j < g; ++j)
+      {
+        const int f = f0 + j;
+        a[j] += value(features.data[static_cast<std::size_t>(f) * features.cells + c], f);
+      }
+    }
+    for (int j = 0; j < g; ++j)
+    {
+      out[f0 + j] = a[j];
+    }
+  }
+}
+
+/// Float ulp of |v| (the spacing of floats at |v|; the smallest subnormal at 0).
+double FloatUlp(float v)
+{
+  const float a = std::fabs(v);
+  const int e = a > 0.0f ? std::max(std::ilogb(a), -126) : -126;
+  return std::ldexp(1.0, e - 23);
+}
+
+/// One draw in [0, 1): the top 53 bits of the generator's output.
+double Uniform(std::mt19937_64& rng)
+{
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+std::string ArrayLabel(const KMeansInputArray& array, std::size_t index)
+{
+  return array.name.empty() ? "input array " + std::to_string(index)
+                            : "input array '" + array.name + "'";
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansInputArray>& arrays,
+  std::size_t cells,
+  bool standardize,
+  bool allowCollapse,
+  std::vector<float>& out,
+  const KMeansParallelFor& parallelFor)
+{
+  bool anyWeight = false;
+  for (std::size_t a = 0; a < arrays.size(); ++a)
+  {
+    const KMeansInputArray& array = arrays[a];
+    if (!array.values)
+    {
+      throw std::invalid_argument("k-means: " + ArrayLabel(array, a) + " has no values (null)");
+    }
+    if (array.components < 1)
+    {
+      throw std::invalid_argument("k-means: " + ArrayLabel(array, a) + " has " +
+        std::to_string(array.components) + " components (at least 1 needed)");
+    }
+    if (!std::isfinite(array.weight) || array.weight < 0.0)
+    {
+      throw std::invalid_argument("k-means: " + ArrayLabel(array, a) + " has weight " +
+        std::to_string(array.weight) + " (a finite number >= 0 is needed)");
+    }
+    anyWeight = anyWeight || array.weight > 0.0;
+  }
+  if (!anyWeight)
+  {
+    throw std::invalid_argument(arrays.empty()
+        ? "k-means: no input array"
+        : "k-means: every input array has weight 0 (nothing to cluster)");
+  }
+
+  const std::size_t blocks = BlockCount(cells);
+  std::vector<KMeansPreparedArray> prepared(arrays.size());
+  int features = 0;
+  for (std::size_t a = 0; a < arrays.size(); ++a)
+  {
+    const KMeansInputArray& array = arrays[a];
+    KMeansPreparedArray& p = prepared[a];
+    const std::size_t nc = static_cast<std::size_t>(array.components);
+    p.name = array.name;
+    p.components = array.components;
+    p.firstFeature = features;
+    p.mean.assign(nc, 0.0);
+    p.stddev.assign(nc, 0.0);
+    if (!(array.weight > 0.0))
+    {
+      // Dropped: its values are not read.
+      p.features = 0;
+      continue;
+    }
+    const float* values = array.values;
+
+    // Means: per block, per component, in cell order; the blocks added in block order.
+    std::vector<double> partial(blocks * nc, 0.0);
+    RunParallel(parallelFor,
+      0,
+      blocks,
+      [&](std::size_t first, std::size_t last)
+      {
+        std::vector<double> acc(nc);
+        for (std::size_t b = first; b < last; ++b)
+        {
+          std::fill(acc.begin(), acc.end(), 0.0);
+          for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
+          {
+            for (std::size_t j = 0; j < nc; ++j)
+            {
+              acc[j] += static_cast<double>(values[c * nc + j]);
+            }
+          }
+          std::copy(acc.begin(), acc.end(), partial.begin() + b * nc);
+        }
+      });
+    for (std::size_t b = 0; b < blocks; ++b)
+    {
+      for (std::size_t j = 0; j < nc; ++j)
+      {
+        p.mean[j] += partial[b * nc + j];
+      }
+    }
+    for (std::size_t j = 0; j < nc; ++j)
+    {
+      // Finite floats cannot overflow a double sum: a non-finite sum means a non-finite value.
+      if (!std::isfinite(p.mean[j]))
+      {
+        throw std::invalid_argument("k-means: " + ArrayLabel(array, a) + " component " +
+          std::to_string(j) + " has a non-finite value (NaN or infinity)");
+      }
+      p.mean[j] = cells > 0 ? p.mean[j] / static_cast<double>(cells) : 0.0;
+    }
+
+    // Population standard deviations (second pass, same order), and the collapse test: the
+    // interval of constants c_j allowed by every cell, [max(d - tol), min(d + tol)].
+    const bool tryCollapse = allowCollapse && nc > 1;
+    std::vector<double> lo(tryCollapse ? blocks * nc : 0, -std::numeric_limits<double>::infinity());
+    std::vector<double> hi(tryCollapse ? blocks * nc : 0, std::numeric_limits<double>::infinity());
+    std::fill(partial.begin(), partial.end(), 0.0);
+    RunParallel(parallelFor,
+      0,
+      blocks,
+      [&](std::size_t first, std::size_t last)
+      {
+        std::vector<double> acc(nc);
+        for (std::size_t b = first; b < last; ++b)
+        {
+          std::fill(acc.begin(), acc.end(), 0.0);
+          for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
+          {
+            for (std::size_t j = 0; j < nc; ++j)
+            {
+              const double d = static_cast<double>(values[c * nc + j]) - p.mean[j];
+              acc[j] += d * d;
+            }
+          }
+          std::copy(acc.begin(), acc.end(), partial.begin() + b * nc);
+          if (tryCollapse)
+          {
+            double* l = lo.data() + b * nc;
+            double* h = hi.data() + b * nc;
+            for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
+            {
+              const float x0 = values[c * nc];
+              for (std::size_t j = 1; j < nc; ++j)
+              {
+                const float xj = values[c * nc + j];
+                const double d = static_cast<double>(xj) - static_cast<double>(x0);
+                const double tol = 4.0 * FloatUlp(std::max(std::fabs(xj), std::fabs(x0)));
+                l[j] = std::max(l[j], d - tol);
+                h[j] = std::min(h[j], d + tol);
+              }
+            }
+          }
+        }
+      });
+    std::vector<double> squares(nc, 0.0);
+    for (std::size_t b = 0; b < blocks; ++b)
+    {
+      for (std::size_t j = 0; j < nc; ++j)
+      {
+        squares[j] += partial[b * nc + j];
+      }
+    }
+    for (std::size_t j = 0; j < nc; ++j)
+    {
+      p.stddev[j] = cells > 0 ? std::sqrt(squares[j] / static_cast<double>(cells)) : 0.0;
+    }
+    p.collapsed = false;
+    if (tryCollapse)
+    {
+      p.collapsed = true;
+      for (std::size_t j = 1; j < nc && p.collapsed; ++j)
+      {
+        double l = -std::numeric_limits<double>::infinity();
+        double h = std::numeric_limits<double>::infinity();
+        for (std::size_t b = 0; b < blocks; ++b)
+        {
+          l = std::max(l, lo[b * nc + j]);
+          h = std::min(h, hi[b * nc + j]);
+        }
+        p.collapsed = l <= h;
+      }
+    }
+    p.features = p.collapsed ? 1 : array.components;
+    features += p.features;
+  }
+
+  // The feature-major matrix: one pass per array, all its features at once.
+  out.assign(static_cast<std::size_t>(features) * cells, 0.0f);
+  for (std::size_t a = 0; a < arrays.size(); ++a)
+  {
+    const KMeansInputArray& array = arrays[a];
+    const KMeansPreparedArray& p = prepared[a];
+    if (p.features == 0)
+    {
+      continue;
+    }
+    const std::size_t nc = static_cast<std::size_t>(array.components);
+    // A collapsed array is component 0 counted `components` times.
+    const double root =
+      std::sqrt(p.collapsed ? array.weight * static_cast<double>(nc) : array.weight);
+    std::vector<double> mean(static_cast<std::size_t>(p.features), 0.0);
+    std::vector<double> factor(static_cast<std::size_t>(p.features), root);
+    for (std::size_t j = 0; j < mean.size(); ++j)
+    {
+      if (standardize)
+      {
+        mean[j] = p.mean[j];
+        factor[j] = p.stddev[j] > 0.0 ? root / p.stddev[j] : 0.0;
+      }
+    }
+    float* dst = out.data() + static_cast<std::size_t>(p.firstFeature) * cells;
+    const float* values = array.values;
+    RunParallel(parallelFor,
+      0,
+      blocks,
+      [&](std::size_t first, std::size_t last)
+      {
+        const std::size_t c1 = BlockEnd(last - 1, cells);
+        for (std::size_t c = BlockBegin(first); c < c1; ++c)
+        {
+          for (std::size_t j = 0; j < mean.size(); ++j)
+          {
+            const double x = static_cast<double>(values[c * nc + j]);
+            dst[j * cells + c] = static_cast<float>((x - mean[j]) * factor[j]);
+          }
+        }
+      });
+  }
+  return prepared;
+}
+
+//------------------------------------------------------------------------------
+std::vector<std::size_t> KMeansDiagonalSeedCells(int nx, int ny, const std::uint8_t* valid, int k)
+{
+  if (k < 1)
+  {
+    throw std::invalid_argument(
+      "k-means: the number of clusters must be at least 1 (got " + std::to_string(k) + ")");
+  }
+  if (nx < 1 || ny < 1)
+  {
+    throw std::invalid_argument("k-means: the grid is empty (" + std::to_string(nx) + " x " +
+      std::to_string(ny) + "), no cell to seed " + std::to_string(k) + " clusters");
+  }
+  const std::uint64_t NX = static_cast<std::uint64_t>(nx);
+  const std::uint64_t NY = static_cast<std::uint64_t>(ny);
+  const std::uint64_t L = std::max(NX, NY);
+  // round(t a / b) with halves up, in integers: floor((2 t a + b) / (2 b)).
+  auto along = [L](std::uint64_t t, std::uint64_t n) -> std::uint64_t
+  {
+    if (L == 1)
+    {
+      return 0;
+    }
+    const std::uint64_t b = L - 1;
+    return (2 * t * (n - 1) + b) / (2 * b);
+  };
+  std::vector<std::size_t> candidates;
+  candidates.reserve(static_cast<std::size_t>(L));
+  for (std::uint64_t t = 0; t < L; ++t)
+  {
+    const std::size_t cell = static_cast<std::size_t>(along(t, NY) * NX + along(t, NX));
+    if (!valid || valid[cell])
+    {
+      candidates.push_back(cell);
+    }
+  }
+  const std::size_t K = static_cast<std::size_t>(k);
+  if (candidates.size() < K)
+  {
+    // Too few valid diagonal cells: the same rule over every valid cell in row order.
+    candidates.clear();
+    const std::size_t n = static_cast<std::size_t>(NX * NY);
+    for (std::size_t cell = 0; cell < n; ++cell)
+    {
+      if (!valid || valid[cell])
+      {
+        candidates.push_back(cell);
+      }
+    }
+    if (candidates.size() < K)
+    {
+      throw std::invalid_argument("k-means: " + std::to_string(k) + " clusters but only " +
+        std::to_string(candidates.size()) + " valid cells");
+    }
+  }
+  const std::size_t M = candidates.size();
+  std::vector<std::size_t> seeds(K);
+  for (std::size_t i = 0; i < K; ++i)
+  {
+    seeds[i] = candidates[(2 * i + 1) * M / (2 * K)];
+  }
+  return seeds;
+}
+
+//------------------------------------------------------------------------------
+std::vector<std::size_t> KMeansPlusPlusSeeds(const KMeansFeatures& features,
+  int k,
+  std::uint64_t seed,
+  const KMeansParallelFor& parallelFor)
+{
+  if (k < 1 || static_cast<std::size_t>(k) > features.cells)
+  {
+    throw std::invalid_argument("k-means++: " + std::to_string(k) +
+      " clusters need between 1 and the number of cells (" + std::to_string(features.cells) + ")");
+  }
+  const std::size_t n = features.cells;
+  std::mt19937_64 rng(seed);
+  std::vector<std::size_t> chosen;
+  chosen.reserve(static_cast<std::size_t>(k));
+  std::vector<std::uint8_t> taken(n, 0);
+  std::size_t first = static_cast<std::size_t>(Uniform(rng) * static_cast<double>(n));
+  first = std::min(first, n - 1);
+  chosen.push_back(first);
+  taken[first] = 1;
+
+  std::vector<float> d2(n);
+  std::vector<float> centre(static_cast<std::size_t>(features.features));
+  auto setCentre = [&](std::size_t cell)
+  {
+    for (int f = 0; f < features.features; ++f)
+    {
+      centre[f] = features.At(f, cell);
+    }
+  };
+  setCentre(first);
+  const std::size_t blocks = features.Blocks();
+  RunParallel(parallelFor,
+    0,
+    blocks,
+    [&](std::size_t b0, std::size_t b1) {
+      DistancesToCentre(features, centre.data(), BlockBegin(b0), BlockEnd(b1 - 1, n), d2.data());
+    });
+
+  std::vector<float> scratch(n);
+  for (int i = 1; i < k; ++i)
+  {
+    const double u = Uniform(rng);
+    double total = 0.0;
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      total += static_cast<double>(d2[c]);
+    }
+    std::size_t next = n;
+    if (total > 0.0)
+    {
+      const double threshold = u * total;
+      double running = 0.0;
+      std::size_t lastPositive = n;
+      for (std::size_t c = 0; c < n; ++c)
+      {
+        running += static_cast<double>(d2[c]);
+        if (d2[c] > 0.0f)
+        {
+          lastPositive = c;
+        }
+        if (running > threshold)
+        {
+          next = c;
+          break;
+        }
+      }
+      if (next == n)
+      {
+        // u * total rounded up to total: the last cell that carries weight.
+        next = lastPositive;
+      }
+    }
+    else
+    {
+      for (std::size_t c = 0; c < n; ++c)
+      {
+        if (!taken[c])
+        {
+          next = c;
+          break;
+        }
+      }
+    }
+    chosen.push_back(next);
+    taken[next] = 1;
+    if (i + 1 < k)
+    {
+      setCentre(next);
+      RunParallel(parallelFor,
+        0,
+        blocks,
+        [&](std::size_t b0, std::size_t b1)
+        {
+          const std::size_t c0 = BlockBegin(b0);
+          const std::size_t c1 = BlockEnd(b1 - 1, n);
+          DistancesToCentre(features, centre.data(), c0, c1, scratch.data());
+          for (std::size_t c = c0; c < c1; ++c)
+          {
+            d2[c] = std::min(d2[c], scratch[c]);
+          }
+        });
+    }
+  }
+  return chosen;
+}
+
+//------------------------------------------------------------------------------
+std::vector<float> KMeansCentresFromCells(const KMeansFeatures& features,
+  const std::vector<std::size_t>& cells)
+{
+  const std::size_t nf = static_cast<std::size_t>(features.features);
+  std::vector<float> centres(cells.size() * nf);
+  for (std::size_t i = 0; i < cells.size(); ++i)
+  {
+    if (cells[i] >= features.cells)
+    {
+      throw std::invalid_argument("k-means: seed cell " + std::to_string(cells[i]) +
+        " is outside the " + std::to_string(features.cells) + " cells");
+    }
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      centres[i * nf + f] = features.At(static_cast<int>(f), cells[i]);
+    }
+  }
+  return centres;
+}
+
+//------------------------------------------------------------------------------
+std::size_t KMeansAssignRange(const KMeansFeatures& features,
+  const float* centres,
+  int k,
+  std::size_t begin,
+  std::size_t end,
+  std::int32_t* labels,
+  float* distance)
+{
+  if (begin >= end || k < 1)
+  {
+    return 0;
+  }
+  return AssignKernel(features, centres, k, begin, end, labels, distance);
+}
+
+//------------------------------------------------------------------------------
+void KMeansBlockSums(const KMeansFeatures& features,
+  const std::int32_t* labels,
+  const float* distance,
+  int k,
+  std::size_t block,
+  double* sums,
+  std::int64_t* counts,
+  double* inertia)
+{
+  const std::size_t nf = static_cast<std::size_t>(features.features);
+  const std::size_t K = static_cast<std::size_t>(std::max(k, 0));
+  std::fill(sums, sums + K * nf, 0.0);
+  std::fill(counts, counts + K, std::int64_t(0));
+  *inertia = 0.0;
+  const std::size_t b0 = BlockBegin(block);
+  const std::size_t b1 = BlockEnd(block, features.cells);
+  double in = 0.0;
+  bool inRange = true;
+  for (std::size_t c = b0; c < b1; ++c)
+  {
+    const std::int32_t l = labels[c];
+    if (l < 0 || l >= k)
+    {
+      inRange = false;
+      continue;
+    }
+    ++counts[l];
+    in += static_cast<double>(distance[c]);
+  }
+  *inertia = in;
+  if (!inRange)
+  {
+    CheckedSums(features, labels, k, b0, b1, sums);
+    return;
+  }
+  int f0 = 0;
+  for (; f0 + kSumGroup <= features.features; f0 += kSumGroup)
+  {
+    GroupSums<kSumGroup>(features, labels, f0, b0, b1, sums);
+  }
+  switch (features.features - f0)
+  {
+    case 7:
+      GroupSums<7>(features, labels, f0, b0, b1, sums);
+      break;
+    case 6:
+      GroupSums<6>(features, labels, f0, b0, b1, sums);
+      break;
+    case 5:
+      GroupSums<5>(features, labels, f0, b0, b1, sums);
+      break;
+    case 4:
+      GroupSums<4>(features, labels, f0, b0, b1, sums);
+      break;
+    case 3:
+      GroupSums<3>(features, labels, f0, b0, b1, sums);
+      break;
+    case 2:
+      GroupSums<2>(features, labels, f0, b0, b1, sums);
+      break;
+    case 1:
+      GroupSums<1>(features, labels, f0, b0, b1, sums);
+      break;
+    default:
+      break;
+  }
+}
+
+//------------------------------------------------------------------------------
+KMeansCPUEngine::KMeansCPUEngine(const KMeansFeatures& features, KMeansParallelFor parallelFor)
+  : Features(features)
+  , Parallel(std::move(parallelFor))
+  , LabelData(features.cells, -1)
+  , DistanceData(features.cells, 0.0f)
+{
+}
+
+//------------------------------------------------------------------------------
+std::size_t KMeansCPUEngine::Assign(const std::vector<float>& centres, int k)
+{
+  if (k < 1 || centres.size() != static_cast<std::size_t>(k) * this->Features.features)
+  {
+    throw std::invalid_argument("k-means: Assign needs k >= 1 and k * features centre values");
+  }
+  const std::size_t n = this->Features.cells;
+  std::atomic<std::size_t> changed{ 0 };
+  RunParallel(this->Parallel,
+    0,
+    this->Features.Blocks(),
+    [&](std::size_t b0, std::size_t b1)
+    {
+      changed += KMeansAssignRange(this->Features,
+        centres.data(),
+        k,
+        BlockBegin(b0),
+        BlockEnd(b1 - 1, n),
+        this->LabelData.data(),
+        this->DistanceData.data());
+    });
+  return changed.load();
+}
+
+//------------------------------------------------------------------------------
+void KMeansCPUEngine::Sums(int k,
+  std::vector<double>& sums,
+  std::vector<std::int64_t>& counts,
+  double& inertia)
+{
+  const std::size_t K = static_cast<std::size_t>(std::max(k, 0));
+  const std::size_t nf = static_cast<std::size_t>(this->Features.features);
+  const std::size_t blocks = this->Features.Blocks();
+  const std::size_t per = K * nf;
+  this->BlockSumData.resize(blocks * per);
+  this->BlockCountData.resize(blocks * K);
+  this->BlockInertiaData.resize(blocks);
+  RunParallel(this->Parallel,
+    0,
+    blocks,
+    [&](std::size_t b0, std::size_t b1)
+    {
+      for (std::size_t b = b0; b < b1; ++b)
+      {
+        KMeansBlockSums(this->Features,
+          this->LabelData.data(),
+          this->DistanceData.data(),
+          k,
+          b,
+          this->BlockSumData.data() + b * per,
+          this->BlockCountData.data() + b * K,
+          this->BlockInertiaData.data() + b);
+      }
+    });
+  sums.assign(per, 0.0);
+  counts.assign(K, 0);
+  inertia = 0.0;
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    const double* s = this->BlockSumData.data() + b * per;
+    for (std::size_t i = 0; i < per; ++i)
+    {
+      sums[i] += s[i];
+    }
+    const std::int64_t* n = this->BlockCountData.data() + b * K;
+    for (std::size_t i = 0; i < K; ++i)
+    {
+      counts[i] += n[i];
+    }
+    inertia += this->BlockInertiaData[b];
+  }
+}
+
+//------------------------------------------------------------------------------
+const char* KMeansStopReasonName(KMeansStopReason reason)
+{
+  switch (reason)
+  {
+    case KMeansStopReason::Converged:
+      return "Converged";
+    case KMeansStopReason::Tolerance:
+      return "Tolerance";
+    case KMeansStopReason::MaximumIterations:
+      return "MaximumIterations";
+  }
+  return "Unknown";
+}
+
+//------------------------------------------------------------------------------
+double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFor& parallelFor)
+{
+  const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
+  const std::size_t blocks = features.Blocks();
+  if (nf == 0 || features.cells == 0)
+  {
+    return 0.0;
+  }
+  const double n = static_cast<double>(features.cells);
+  std::vector<double> partial(blocks * nf);
+  RunParallel(parallelFor,
+    0,
+    blocks,
+    [&](std::size_t b0, std::size_t b1)
+    {
+      for (std::size_t b = b0; b < b1; ++b)
+      {
+        BlockFeatureSums(
+          features, b, [](float x, int) { return static_cast<double>(x); }, &partial[b * nf]);
+      }
+    });
+  std::vector<double> mean(nf, 0.0);
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      mean[f] += partial[b * nf + f];
+    }
+  }
+  for (double& m : mean)
+  {
+    m /= n;
+  }
+  const double* mp = mean.data();
+  RunParallel(parallelFor,
+    0,
+    blocks,
+    [&](std::size_t b0, std::size_t b1)
+    {
+      for (std::size_t b = b0; b < b1; ++b)
+      {
+        BlockFeatureSums(
+          features,
+          b,
+          [mp](float x, int f)
+          {
+            const double d = static_cast<double>(x) - mp[f];
+            return d * d;
+          },
+          &partial[b * nf]);
+      }
+    });
+  std::vector<double> squares(nf, 0.0);
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      squares[f] += partial[b * nf + f];
+    }
+  }
+  double total = 0.0;
+  for (std::size_t f = 0; f < nf; ++f)
+  {
+    total += squares[f] / n;
+  }
+  return total / static_cast<double>(nf);
+}
+
+//------------------------------------------------------------------------------
+KMeansResult KMeansLloyd(KMeansEngine& engine,
+  const KMeansFeatures& features,
+  const std::vector<float>& initialCentres,
+  int k,
+  const KMeansOptions& options,
+  const std::function<void(int, std::size_t)>& progress)
+{
+  if (k < 1 || k > KMeansMaxClusters)
+  {
+    throw std::invalid_argument("k-means: the number of clusters must be in [1, " +
+      std::to_string(KMeansMaxClusters) + "] (got " + std::to_string(k) + ")");
+  }
+  if (static_cast<std::size_t>(k) > features.cells)
+  {
+    throw std::invalid_argument("k-means: " + std::to_string(k) + " clusters but only " +
+      std::to_string(features.cells) + " cells");
+  }
+  const std::size_t K = static_cast<std::size_t>(k);
+  const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
+  if (features.features < 1 || initialCentres.size() != K * nf)
+  {
+    throw std::invalid_argument("k-means: " + std::to_string(initialCentres.size()) +
+      " initial centre values, expected k * features = " + std::to_string(k) + " * " +
+      std::to_string(features.features));
+  }
+  if (options.maximumIterations < 1)
+  {
+    throw std::invalid_argument("k-means: the maximum number of iterations must be at least 1 "
+                                "(got " +
+      std::to_string(options.maximumIterations) + ")");
+  }
+  if (!(options.tolerance >= 0.0))
+  {
+    throw std::invalid_argument("k-means: the tolerance must be a number >= 0");
+  }
+  // scikit-learn's _tolerance: tol * mean of the features' variances (0 needs no pass).
+  const double threshold =
+    options.tolerance > 0.0 ? options.tolerance * KMeansMeanVariance(features) : 0.0;
+
+  KMeansResult result;
+  std::vector<float> centres = initialCentres; // used by the next assignment
+  std::vector<float> next(K * nf);
+  std::vector<double> sums;
+  std::vector<std::int64_t> counts;
+  double inertia = 0.0;
+  std::vector<std::int64_t> rawCounts; // counts of the last assignment's labels
+  bool strict = false;
+  int i = 0;
+  for (;; ++i)
+  {
+    // 1-2. Assignment to `centres`, sums of the new labels.
+    const std::size_t changed = engine.Assign(centres, k);
+    engine.Sums(k, sums, counts, inertia);
+    rawCounts = counts;
+
+    // 3. Empty clusters (scikit-learn's _relocate_empty_clusters_dense): the cells farthest
+    // from their centre, largest kept d2 first (ties to the lowest cell), to the empty
+    // clusters in increasing order; nothing when every cell sits on its centre.
+    std::vector<std::size_t> empty;
+    for (std::size_t kk = 0; kk < K; ++kk)
+    {
+      if (counts[kk] == 0)
+      {
+        empty.push_back(kk);
+      }
+    }
+    if (!empty.empty())
+    {
+      const float* d = engine.Distances();
+      const std::int32_t* labels = engine.Labels();
+      // The |empty| largest d2, in decreasing order (ties: lower index first). Scanning in cell
+      // order, only a strictly larger d2 passes an entry already kept.
+      std::vector<std::size_t> far;
+      for (std::size_t c = 0; c < features.cells; ++c)
+      {
+        if (far.size() == empty.size() && !(d[c] > d[far.back()]))
+        {
+          continue;
+        }
+        std::size_t pos = far.size();
+        while (pos > 0 && d[c] > d[far[pos - 1]])
+        {
+          --pos;
+        }
+        far.insert(far.begin() + static_cast<std::ptrdiff_t>(pos), c);
+        if (far.size() > empty.size())
+        {
+          far.pop_back();
+        }
+      }
+      if (!far.empty() && d[far[0]] > 0.0f)
+      {
+        for (std::size_t e = 0; e < empty.size(); ++e)
+        {
+          const std::size_t kk = empty[e];
+          const std::size_t cell = far[e];
+          const std::size_t old = static_cast<std::size_t>(labels[cell]);
+          for (std::size_t f = 0; f < nf; ++f)
+          {
+            const double x = static_cast<double>(features.At(static_cast<int>(f), cell));
+            sums[old * nf + f] -= x;
+            sums[kk * nf + f] = x;
+          }
+          counts[kk] = 1;
+          counts[old] -= 1;
+          ++result.relocated;
+        }
+      }
+    }
+
+    // 4. New centres. A cluster left empty keeps sums of 0 as its centre (scikit-learn's
+    // _average_centers only divides clusters with members).
+    for (std::size_t kk = 0; kk < K; ++kk)
+    {
+      for (std::size_t f = 0; f < nf; ++f)
+      {
+        const double s = sums[kk * nf + f];
+        next[kk * nf + f] =
+          static_cast<float>(counts[kk] > 0 ? s / static_cast<double>(counts[kk]) : s);
+      }
+    }
+    double shift = 0.0;
+    for (std::size_t kk = 0; kk < K; ++kk)
+    {
+      double s = 0.0;
+      for (std::size_t f = 0; f < nf; ++f)
+      {
+        const double d =
+          static_cast<double>(next[kk * nf + f]) - static_cast<double>(centres[kk * nf + f]);
+        s += d * d;
+      }
+      shift += s;
+    }
+    std::swap(centres, next); // centres: new; next: those the labels were assigned to
+
+    if (progress)
+    {
+      progress(i + 1, changed);
+    }
+    // 5. Stop tests, in scikit-learn's order.
+    if (i > 0 && changed == 0)
+    {
+      strict = true;
+      result.reason = KMeansStopReason::Converged;
+      break;
+    }
+    if (shift <= threshold)
+    {
+      result.reason = KMeansStopReason::Tolerance;
+      break;
+    }
+    if (i + 1 >= options.maximumIterations)
+    {
+      result.reason = KMeansStopReason::MaximumIterations;
+      break;
+    }
+  }
+
+  // Final assignment to the final centres (scikit-learn's "rerun E-step"); after a strict
+  // convergence only when the centres moved nonetheless (a relocation), so that labels, centres
+  // and inertia agree.
+  if (!strict || std::memcmp(centres.data(), next.data(), centres.size() * sizeof(float)) != 0)
+  {
+    engine.Assign(centres, k);
+    engine.Sums(k, sums, rawCounts, inertia);
+  }
+  result.centres = std::move(centres);
+  result.counts = std::move(rawCounts);
+  result.inertia = inertia;
+  result.iterations = i + 1;
+  return result;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+constexpr unsigned char kPalette[12][3] = {
+  { 0x1f, 0x77, 0xb4 },
+  { 0xff, 0x7f, 0x0e },
+  { 0x2c, 0xa0, 0x2c },
+  { 0xd6, 0x27, 0x28 },
+  { 0x94, 0x67, 0xbd },
+  { 0x8c, 0x56, 0x4b },
+  { 0xe3, 0x77, 0xc2 },
+  { 0x7f, 0x7f, 0x7f },
+  { 0xbc, 0xbd, 0x22 },
+  { 0x17, 0xbe, 0xcf },
+  { 0x00, 0x00, 0x80 },
+  { 0x00, 0x00, 0x00 },
+};
+} // namespace
+
+void KMeansClusterColorRGB(int id, unsigned char rgb[3])
+{
+  const int i = ((id % 12) + 12) % 12;
+  rgb[0] = kPalette[i][0];
+  rgb[1] = kPalette[i][1];
+  rgb[2] = kPalette[i][2];
+}
+
+std::string KMeansClusterColor(int id)
+{
+  unsigned char rgb[3];
+  KMeansClusterColorRGB(id, rgb);
+  static const char* hex = "0123456789abcdef";
+  std::string s = "#";
+  for (unsigned char v : rgb)
+  {
+    s += hex[v >> 4];
+    s += hex[v & 15];
+  }
+  return s;
+}
+
+} // namespace clustering
+} // namespace terroir
