@@ -11,7 +11,8 @@
 //   invocation walks the block's cells (KMeansBlockCells = uBlockCells, fewer in the last block
 //   of the data) in cell order with one double accumulator per cluster, starting from 0:
 //   acc[label(c)] += double(x_jc) (slot F: += 1, and inertia += double(d2(c)) over every cell),
-//   exactly the additions of KMeansBlockSums in the same order. It writes record b of
+//   exactly the additions of KMeansBlockSums in the same order (the accumulator of the current
+//   run of equal labels is kept in a register, as the core's GroupSums does). It writes record b of
 //   `partials`: R = (F + 1) * K + 1 doubles, [j * K + k] = acc[k], [(F + 1) * K] = inertia.
 //   Invocation i = b * (F + 1) + j, so neighbouring invocations share a block (and its labels).
 //
@@ -100,17 +101,27 @@ void main()
     acc[k] = 0.0LF;
   }
   precise double inertia = 0.0LF;
+  // The accumulator of the current run of equal labels lives in `run` (labels come in runs on
+  // a terrain, and neighbouring invocations share the block, so the flushes are coherent); the
+  // additions are those of KMeansBlockSums, in the same order.
+  int current = labels[first];
+  precise double run = 0.0LF;
   for (uint c = first; c < last; ++c, ++x)
   {
     int label = labels[c];
-    double value = counter ? 1.0LF : double(features[x]);
-    precise double s = acc[label] + value;
-    acc[label] = s;
+    if (label != current)
+    {
+      acc[current] = run;
+      current = label;
+      run = acc[current];
+    }
+    run = run + (counter ? 1.0LF : double(features[x]));
     if (counter)
     {
       inertia = inertia + double(distances[c]);
     }
   }
+  acc[current] = run;
   uint slots = perBlock * uint(uK) + 1u;
   uint record = b * slots + j * uint(uK);
   for (int k = 0; k < uK; ++k)
