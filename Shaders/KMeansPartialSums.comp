@@ -6,15 +6,18 @@
 //
 // Two entry points, chosen by a define:
 //
-// (default) block pass: one invocation per (block b of the chunk, slot j), j = 0..F: slot j < F
-//   sums feature j, slot F counts the members (as doubles, exact) and sums the inertia. The
-//   invocation walks the block's cells (KMeansBlockCells = uBlockCells, fewer in the last block
-//   of the data) in cell order with one double accumulator per cluster, starting from 0:
-//   acc[label(c)] += double(x_jc) (slot F: += 1, and inertia += double(d2(c)) over every cell),
-//   exactly the additions of KMeansBlockSums in the same order (the accumulator of the current
-//   run of equal labels is kept in a register, as the core's GroupSums does). It writes record b of
-//   `partials`: R = (F + 1) * K + 1 doubles, [j * K + k] = acc[k], [(F + 1) * K] = inertia.
-//   Invocation i = b * (F + 1) + j, so neighbouring invocations share a block (and its labels).
+// (default) block pass: one invocation per (block b of the chunk, group g), g = 0..G-1 with
+//   G = ceil(F / 4) + 1: group g < G - 1 sums features 4g .. 4g + 3 (those < F; the four
+//   accumulators are the components of a dvec4), group G - 1 counts the members (as doubles,
+//   exact) and sums the inertia. The invocation walks the block's cells (KMeansBlockCells =
+//   uBlockCells, fewer in the last block of the data) in cell order with one accumulator per
+//   cluster, starting from 0: acc[label(c)] += double(x_fc) (counter: += 1, and inertia +=
+//   double(d2(c)) over every cell), exactly the additions of KMeansBlockSums in the same order
+//   (the accumulator of the current run of equal labels is kept in a register, as the core's
+//   GroupSums does). It writes record b of `partials`: R = (F + 1) * K + 1 doubles,
+//   [f * K + k] = sum of feature f over cluster k, [F * K + k] = count of cluster k,
+//   [(F + 1) * K] = inertia. Invocation i = b * G + g, so neighbouring invocations share a block
+//   (and its labels).
 //
 // KMEANS_FINAL_PASS: one invocation per record entry i = 0..R-1 adds the chunk's blocks in
 //   block order to the running total: acc = totals[i]; acc += partials[b * R + i] for
@@ -35,8 +38,8 @@
 // uint uBlockCells (KMeansBlockCells).
 // Defines: LOCAL_X (work group, 64 by default); MAX_K (accumulators per invocation, >= uK,
 // KMeansMaxClusters = 64 by default; the host passes K rounded up to a power of two);
-// KMEANS_FINAL_PASS (the final pass). Dispatch ceil(B * (F + 1) / LOCAL_X) groups (block
-// pass) or ceil(R / LOCAL_X) groups (final pass), 1-D.
+// KMEANS_FINAL_PASS (the final pass). Dispatch ceil(B * G / LOCAL_X) groups (block pass) or
+// ceil(R / LOCAL_X) groups (final pass), 1-D.
 
 #ifndef LOCAL_X
 #define LOCAL_X 64
@@ -81,32 +84,35 @@ void main()
 
 void main()
 {
-  uint perBlock = uint(uFeatures + 1);
+  // Invocation i = b * groups + g: g < groups - 1 sums features 4g .. 4g + 3 (those < F), the
+  // last one counts and sums the inertia.
+  uint groups = (uint(uFeatures) + 3u) / 4u + 1u;
   uint i = gl_GlobalInvocationID.x;
-  uint b = i / perBlock;
+  uint b = i / groups;
   if (b >= uBlocks)
   {
     return;
   }
-  uint j = i - b * perBlock;
-  bool counter = j == uint(uFeatures);
+  uint g = i - b * groups;
+  bool counter = g == groups - 1u;
   uint first = b * uBlockCells;
   uint last = min(first + uBlockCells, uCells);
-  // Slot F reads feature 0 (any valid address) and adds 1 instead.
-  uint x = (counter ? 0u : j * uCells) + first;
+  // Feature rows of this group, past F clamped to F - 1 (read, never written).
+  uint f0 = counter ? 0u : 4u * g;
+  uvec4 row = min(uvec4(f0, f0 + 1u, f0 + 2u, f0 + 3u), uvec4(uint(uFeatures) - 1u)) * uCells;
 
-  double acc[MAX_K];
+  dvec4 acc[MAX_K];
   for (int k = 0; k < MAX_K; ++k)
   {
-    acc[k] = 0.0LF;
+    acc[k] = dvec4(0.0LF);
   }
   precise double inertia = 0.0LF;
-  // The accumulator of the current run of equal labels lives in `run` (labels come in runs on
+  // The accumulators of the current run of equal labels live in `run` (labels come in runs on
   // a terrain, and neighbouring invocations share the block, so the flushes are coherent); the
   // additions are those of KMeansBlockSums, in the same order.
   int current = labels[first];
-  precise double run = 0.0LF;
-  for (uint c = first; c < last; ++c, ++x)
+  precise dvec4 run = dvec4(0.0LF);
+  for (uint c = first; c < last; ++c)
   {
     int label = labels[c];
     if (label != current)
@@ -115,22 +121,35 @@ void main()
       current = label;
       run = acc[current];
     }
-    run = run + (counter ? 1.0LF : double(features[x]));
     if (counter)
     {
+      run.x = run.x + 1.0LF;
       inertia = inertia + double(distances[c]);
+    }
+    else
+    {
+      uvec4 x = row + uvec4(c);
+      run = run + dvec4(features[x.x], features[x.y], features[x.z], features[x.w]);
     }
   }
   acc[current] = run;
-  uint slots = perBlock * uint(uK) + 1u;
-  uint record = b * slots + j * uint(uK);
-  for (int k = 0; k < uK; ++k)
-  {
-    partials[record + uint(k)] = acc[k];
-  }
+  uint slots = uint(uFeatures + 1) * uint(uK) + 1u;
+  uint record = b * slots;
   if (counter)
   {
-    partials[b * slots + slots - 1u] = inertia;
+    for (int k = 0; k < uK; ++k)
+    {
+      partials[record + uint(uFeatures * uK + k)] = acc[k].x;
+    }
+    partials[record + slots - 1u] = inertia;
+    return;
+  }
+  for (uint q = 0u; q < 4u && f0 + q < uint(uFeatures); ++q)
+  {
+    for (int k = 0; k < uK; ++k)
+    {
+      partials[record + (f0 + q) * uint(uK) + uint(k)] = acc[k][q];
+    }
   }
 }
 

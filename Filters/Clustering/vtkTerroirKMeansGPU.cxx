@@ -18,8 +18,9 @@ namespace clustering
 
 namespace
 {
-/// Work groups of Shaders/KMeansAssign.comp (a cell per invocation).
+/// Cells per work group of Shaders/KMeansAssign.comp, and per invocation (LOCAL_X = 32).
 constexpr std::size_t kAssignLocal = 256;
+constexpr std::size_t kAssignCellsPerInvocation = 8;
 /// Work groups of Shaders/KMeansPartialSums.comp (both passes).
 constexpr std::size_t kSumsLocal = 64;
 /// Largest index the kernels form in 32 bits.
@@ -27,6 +28,13 @@ constexpr std::size_t kIndexLimit = 0xffffffffu;
 
 /// Cells per block as an unsigned uniform.
 static_assert(KMeansBlockCells % kAssignLocal == 0, "a block is a whole number of work groups");
+
+/// Invocations per block in the block pass of KMeansPartialSums.comp: 4 features each, and one
+/// for the counts and the inertia.
+std::size_t SumGroups(std::size_t features)
+{
+  return (features + 3) / 4 + 1;
+}
 
 std::string Bytes(std::size_t bytes)
 {
@@ -83,7 +91,7 @@ ChunkPlan PlanChunks(const KMeansFeatures& x, const gpu::Limits& limits, std::si
   blocks = std::min(blocks, maxBytes / (KMeansBlockCells * sizeof(float))); // labels, distances
   blocks = std::min(blocks, maxBytes / partialBlock);                // block records
   blocks = std::min(blocks, maxGroups / (KMeansBlockCells / kAssignLocal)); // assignment groups
-  blocks = std::min(blocks, maxGroups * kSumsLocal / (f + 1));       // block-pass invocations
+  blocks = std::min(blocks, maxGroups * kSumsLocal / SumGroups(f));   // block-pass invocations
   if (blocks < 1)
   {
     throw gpu::Error("KMeansAssign.comp: one block of " + std::to_string(KMeansBlockCells) +
@@ -165,8 +173,6 @@ public:
     this->Partials =
       gpu::StorageBuffer(plan.blocksPerChunk * plan.slots * sizeof(double));
     this->Totals = gpu::StorageBuffer(plan.slots * sizeof(double));
-    this->Assigner =
-      &this->Ctx.GetProgram("KMeansAssign.comp", vtkTerroirKMeansAssignCS, { "LOCAL_X 256" });
   }
 
   std::size_t Assign(const std::vector<float>& centres, int k) override
@@ -178,8 +184,13 @@ public:
         " centre values for k = " + std::to_string(k) + " and " + std::to_string(f) +
         " features");
     }
+    // Centres per pass of the kernel (see its header): 4, or 8 for K > 8 (fewer passes over the
+    // features; more accumulators than that spill registers on llvmpipe).
+    const int perPass = k <= 8 ? 4 : 8;
+    gpu::Program& prog = this->Ctx.GetProgram("KMeansAssign.comp", vtkTerroirKMeansAssignCS,
+      { "LOCAL_X " + std::to_string(kAssignLocal / kAssignCellsPerInvocation),
+        "CENTRES_PER_PASS " + std::to_string(perPass) });
     this->Centres.Upload(centres.data(), centres.size() * sizeof(float));
-    gpu::Program& prog = *this->Assigner;
     prog.SetInt("uFeatures", this->Features.features);
     prog.SetInt("uK", k);
     this->Centres.Bind(1);
@@ -241,7 +252,7 @@ public:
       blockPass.SetUInt("uCells", static_cast<unsigned>(chunk.cells));
       blockPass.SetUInt("uBlocks", static_cast<unsigned>(chunk.blocks));
       blockPass.Dispatch(
-        static_cast<unsigned>((chunk.blocks * (f + 1) + kSumsLocal - 1) / kSumsLocal));
+        static_cast<unsigned>((chunk.blocks * SumGroups(f) + kSumsLocal - 1) / kSumsLocal));
       finalPass.SetUInt("uCells", static_cast<unsigned>(chunk.cells));
       finalPass.SetUInt("uBlocks", static_cast<unsigned>(chunk.blocks));
       finalPass.Dispatch(static_cast<unsigned>((slots + kSumsLocal - 1) / kSumsLocal));
@@ -323,7 +334,6 @@ private:
   gpu::StorageBuffer Changed{ sizeof(std::uint32_t) };
   gpu::StorageBuffer Partials{ sizeof(double) };
   gpu::StorageBuffer Totals{ sizeof(double) };
-  gpu::Program* Assigner = nullptr;
   std::vector<std::uint32_t> ChangedHost;
   std::vector<std::int32_t> LabelHost;
   std::vector<float> DistanceHost;
