@@ -242,7 +242,9 @@ private:
 struct KMeansOptions
 {
   int maximumIterations = 300; ///< >= 1 (scikit-learn's default)
-  double tolerance = 1e-4;     ///< relative to the mean feature variance; 0: labels only
+  /// Relative to the mean feature variance. 0: stop when no label changes, or when no centre
+  /// moves at all (scikit-learn's `<=`).
+  double tolerance = 1e-4;
 };
 
 /// Why KMeansLloyd stopped.
