@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -26,7 +25,6 @@ constexpr std::size_t kSumsLocal = 64;
 /// Largest index the kernels form in 32 bits.
 constexpr std::size_t kIndexLimit = 0xffffffffu;
 
-/// Cells per block as an unsigned uniform.
 static_assert(KMeansBlockCells % kAssignLocal == 0, "a block is a whole number of work groups");
 
 /// Invocations per block in the block pass of KMeansPartialSums.comp: 4 features each, and one
