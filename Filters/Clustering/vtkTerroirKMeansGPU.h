@@ -1,7 +1,7 @@
 /**
  * @file vtkTerroirKMeansGPU.h
  * @brief GPU path of the k-means (Shaders/KMeansAssign.comp, KMeansPartialSums.comp); private,
- *        not wrapped.
+ *        not wrapped (exported only for Testing/GPU/TestKMeansGPU.cxx, as RunWaterFlowGPU).
  *
  * A terroir::clustering::KMeansEngine on the compute context: the feature matrix is uploaded
  * once; Assign is one dispatch (a cell per invocation, the core's float arithmetic in the same
@@ -17,6 +17,7 @@
 
 #include "KMeans.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -37,13 +38,28 @@ namespace clustering
  *         exceeds GL_MAX_SHADER_STORAGE_BLOCK_SIZE or a dispatch GL_MAX_COMPUTE_WORK_GROUP_COUNT
  * @throws std::invalid_argument as KMeansLloyd
  */
-VTKTERROIRFILTERSCLUSTERING_NO_EXPORT KMeansResult RunKMeansGPU(const KMeansFeatures& features,
+VTKTERROIRFILTERSCLUSTERING_EXPORT KMeansResult RunKMeansGPU(const KMeansFeatures& features,
   const std::vector<float>& initialCentres,
   int k,
   const KMeansOptions& options,
   std::vector<std::int32_t>& labels,
   std::vector<float>& distances,
   const std::function<void(int, std::size_t)>& progress = {});
+
+/**
+ * @brief RunKMeansGPU with at most `chunkBlocks` KMeansBlockCells blocks per chunk (0: as many
+ *        as the driver's limits allow). The feature matrix is uploaded in chunks of whole blocks
+ *        so that each fits GL_MAX_SHADER_STORAGE_BLOCK_SIZE; the result never depends on the
+ *        chunk size. For tests, which use it to run many chunks on small inputs.
+ */
+VTKTERROIRFILTERSCLUSTERING_EXPORT KMeansResult RunKMeansGPU(const KMeansFeatures& features,
+  const std::vector<float>& initialCentres,
+  int k,
+  const KMeansOptions& options,
+  std::vector<std::int32_t>& labels,
+  std::vector<float>& distances,
+  const std::function<void(int, std::size_t)>& progress,
+  std::size_t chunkBlocks);
 
 } // namespace clustering
 } // namespace terroir

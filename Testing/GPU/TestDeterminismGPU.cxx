@@ -8,6 +8,7 @@
 #include "vtkFloatArray.h"
 #include "vtkPointData.h"
 #include "vtkTerroirComputeContext.h"
+#include "vtkTerroirKMeans.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
@@ -34,6 +35,19 @@ struct GPUCase
 const std::map<std::string, GPUCase>& Cases()
 {
   static const std::map<std::string, GPUCase> cases = {
+    { "vtkTerroirKMeans",
+      { []
+        {
+          // Elevation and the infiltration rates, standardised (the DEM has none of the
+          // default resource arrays); labels are compared exactly (atol 0).
+          auto f = vtkSmartPointer<vtkTerroirKMeans>::New();
+          f->AddFeature("Elevation", 1.0);
+          f->AddFeature("InfiltrationRate", 0.5);
+          f->SetStandardize(true);
+          f->SetMaximumIterations(30);
+          return f;
+        },
+        { { "ClusterId", 0.0 } } } },
     { "vtkTerroirSlope",
       { [] { return vtkSmartPointer<vtkTerroirSlope>::New(); },
         { { "Slope", 1e-3 }, { "Normals", 1e-5 } } } },
