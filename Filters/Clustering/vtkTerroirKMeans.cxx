@@ -429,9 +429,11 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
     packed.clear();
     packed.shrink_to_fit();
     int total = 0;
+    int uncollapsed = 0; // the features without the storage trick
     for (const cl::KMeansPreparedArray& p : prepared)
     {
       total += p.features;
+      uncollapsed += p.features > 0 ? p.components : 0;
       if (p.collapsed)
       {
         collapsed.push_back(p.name);
@@ -468,7 +470,10 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
     // 5. Lloyd iterations.
     cl::KMeansOptions options;
     options.maximumIterations = this->MaximumIterations;
-    options.tolerance = this->Tolerance;
+    // Tolerance is relative to the mean variance per feature of the uncollapsed features (as
+    // scikit-learn would see them): a collapsed array carries its components' total variance
+    // in one feature, so the core's mean over `total` features is scaled back.
+    options.tolerance = this->Tolerance * static_cast<double>(total) / uncollapsed;
     vtkDebugMacro(<< "Lloyd (1982) iterations, K = " << k << ", " << total << " features, " << m
                   << " cells");
     int ran = backend;

@@ -33,7 +33,12 @@
  * to the north-east corner) or k-means++ with RandomSeed. Storage trick (the seed's, for
  * Temperature): an array whose components differ by one constant each over every cell (up to
  * float rounding) is stored as one feature with its weight times its component count, which
- * gives the same distances; it is applied when it holds and listed in KMeansCollapsedArrays.
+ * gives the same distances (and Tolerance keeps its meaning: the mean variance is taken over
+ * the uncollapsed features), so the same result; it is applied when it holds and listed in
+ * KMeansCollapsedArrays. The table's means are those of the final clusters' members; after a
+ * stop by Tolerance or MaximumIterations the cells were assigned to centres one update older
+ * (scikit-learn's `cluster_centers_` are the same), so the two differ by less than the
+ * tolerance allows.
  *
  * Whole extent (global filter). CPU (vtkSMPTools over blocks of 4096 cells) and GPU
  * (Shaders/KMeansAssign.comp, KMeansPartialSums.comp) paths give the same labels, centres and

@@ -56,9 +56,9 @@ struct ChunkPlan
 ChunkPlan PlanChunks(const KMeansFeatures& x, const gpu::Limits& limits, std::size_t requested)
 {
   const std::size_t f = static_cast<std::size_t>(x.features);
-  const std::size_t maxBytes = std::min<std::size_t>(
-    limits.MaxShaderStorageBlockSize > 0 ? static_cast<std::size_t>(limits.MaxShaderStorageBlockSize)
-                                         : kIndexLimit,
+  const std::size_t maxBytes = std::min<std::size_t>(limits.MaxShaderStorageBlockSize > 0
+      ? static_cast<std::size_t>(limits.MaxShaderStorageBlockSize)
+      : kIndexLimit,
     kIndexLimit);
   const std::size_t maxGroups =
     limits.MaxWorkGroupCount[0] > 0 ? static_cast<std::size_t>(limits.MaxWorkGroupCount[0]) : 65535;
@@ -76,8 +76,8 @@ ChunkPlan PlanChunks(const KMeansFeatures& x, const gpu::Limits& limits, std::si
   const std::size_t finalGroups = (plan.slots + kSumsLocal - 1) / kSumsLocal;
   if (finalGroups > maxGroups)
   {
-    throw gpu::Error("KMeansPartialSums.comp: " + std::to_string(f) +
-      " features need " + std::to_string(finalGroups) +
+    throw gpu::Error("KMeansPartialSums.comp: " + std::to_string(f) + " features need " +
+      std::to_string(finalGroups) +
       " work groups in the final pass, more than GL_MAX_COMPUTE_WORK_GROUP_COUNT (" +
       std::to_string(maxGroups) + "); use the CPU backend");
   }
@@ -85,18 +85,17 @@ ChunkPlan PlanChunks(const KMeansFeatures& x, const gpu::Limits& limits, std::si
   // Each limit caps the blocks of a chunk.
   const std::size_t featureBlock = f * KMeansBlockCells * sizeof(float);
   const std::size_t partialBlock = plan.slots * sizeof(double);
-  std::size_t blocks = maxBytes / featureBlock;                      // features
+  std::size_t blocks = maxBytes / featureBlock;                             // features
   blocks = std::min(blocks, maxBytes / (KMeansBlockCells * sizeof(float))); // labels, distances
-  blocks = std::min(blocks, maxBytes / partialBlock);                // block records
+  blocks = std::min(blocks, maxBytes / partialBlock);                       // block records
   blocks = std::min(blocks, maxGroups / (KMeansBlockCells / kAssignLocal)); // assignment groups
-  blocks = std::min(blocks, maxGroups * kSumsLocal / SumGroups(f));   // block-pass invocations
+  blocks = std::min(blocks, maxGroups * kSumsLocal / SumGroups(f)); // block-pass invocations
   if (blocks < 1)
   {
     throw gpu::Error("KMeansAssign.comp: one block of " + std::to_string(KMeansBlockCells) +
-      " cells x " + std::to_string(f) + " features needs " + Bytes(featureBlock) +
-      " (and " + Bytes(partialBlock) +
-      " of partial sums), more than GL_MAX_SHADER_STORAGE_BLOCK_SIZE (" + Bytes(maxBytes) +
-      "); too many features for the GPU path, use the CPU backend");
+      " cells x " + std::to_string(f) + " features needs " + Bytes(featureBlock) + " (and " +
+      Bytes(partialBlock) + " of partial sums), more than GL_MAX_SHADER_STORAGE_BLOCK_SIZE (" +
+      Bytes(maxBytes) + "); too many features for the GPU path, use the CPU backend");
   }
   if (requested > 0)
   {
@@ -153,7 +152,8 @@ public:
         staging.resize(f * chunk.cells);
         for (std::size_t j = 0; j < f; ++j)
         {
-          std::copy(src + j * x.cells, src + j * x.cells + chunk.cells,
+          std::copy(src + j * x.cells,
+            src + j * x.cells + chunk.cells,
             staging.begin() + static_cast<std::ptrdiff_t>(j * chunk.cells));
         }
         chunk.features = gpu::StorageBuffer(staging.size() * sizeof(float), staging.data());
@@ -165,11 +165,11 @@ public:
     }
     staging.clear();
     staging.shrink_to_fit();
-    this->Centres = gpu::StorageBuffer(static_cast<std::size_t>(KMeansMaxClusters) * f * sizeof(float));
+    this->Centres =
+      gpu::StorageBuffer(static_cast<std::size_t>(KMeansMaxClusters) * f * sizeof(float));
     this->Changed = gpu::StorageBuffer(groups * sizeof(std::uint32_t));
     this->ChangedHost.resize(groups);
-    this->Partials =
-      gpu::StorageBuffer(plan.blocksPerChunk * plan.slots * sizeof(double));
+    this->Partials = gpu::StorageBuffer(plan.blocksPerChunk * plan.slots * sizeof(double));
     this->Totals = gpu::StorageBuffer(plan.slots * sizeof(double));
   }
 
@@ -179,13 +179,13 @@ public:
     if (k < 1 || k > KMeansMaxClusters || centres.size() != static_cast<std::size_t>(k) * f)
     {
       throw std::invalid_argument("k-means GPU: " + std::to_string(centres.size()) +
-        " centre values for k = " + std::to_string(k) + " and " + std::to_string(f) +
-        " features");
+        " centre values for k = " + std::to_string(k) + " and " + std::to_string(f) + " features");
     }
     // Centres per pass of the kernel (see its header): 4, or 8 for K > 8 (fewer passes over the
     // features; more accumulators than that spill registers on llvmpipe).
     const int perPass = k <= 8 ? 4 : 8;
-    gpu::Program& prog = this->Ctx.GetProgram("KMeansAssign.comp", vtkTerroirKMeansAssignCS,
+    gpu::Program& prog = this->Ctx.GetProgram("KMeansAssign.comp",
+      vtkTerroirKMeansAssignCS,
       { "LOCAL_X " + std::to_string(kAssignLocal / kAssignCellsPerInvocation),
         "CENTRES_PER_PASS " + std::to_string(perPass) });
     this->Centres.Upload(centres.data(), centres.size() * sizeof(float));
@@ -232,7 +232,8 @@ public:
     gpu::Program& blockPass =
       this->Ctx.GetProgram("KMeansPartialSums.comp", vtkTerroirKMeansPartialSumsCS, defines);
     gpu::Program& finalPass = this->Ctx.GetProgram("KMeansPartialSums.comp",
-      vtkTerroirKMeansPartialSumsCS, { "LOCAL_X 64", "KMEANS_FINAL_PASS" });
+      vtkTerroirKMeansPartialSumsCS,
+      { "LOCAL_X 64", "KMEANS_FINAL_PASS" });
     for (gpu::Program* p : { &blockPass, &finalPass })
     {
       p->SetInt("uFeatures", this->Features.features);

@@ -408,6 +408,25 @@ TEST(TerroirKMeans, StorageTrickChangesNothingButTheStorage)
   EXPECT_EQ(Ids(a), Ids(b));
   const double ss = FieldNumber(b, "KMeansWithinClusterSumOfSquares");
   EXPECT_NEAR(FieldNumber(a, "KMeansWithinClusterSumOfSquares"), ss, 1e-5 * ss);
+
+  // Tolerance means the same with the trick: the mean feature variance is taken over the 24
+  // uncollapsed features, not the 13 stored ones (else the threshold would be 24/13 larger and
+  // runs stopped by tolerance would end earlier). Stops by tolerance must happen at the same
+  // iteration with and without the trick.
+  int byTolerance = 0;
+  for (double tolerance : { 1e-4, 1e-3, 1e-2, 3e-2, 1e-1 })
+  {
+    on->SetTolerance(tolerance);
+    off->SetTolerance(tolerance);
+    auto x = RunKMeans(on, in);
+    auto y = RunKMeans(off, in);
+    EXPECT_EQ(FieldNumber(x, "KMeansIterations"), FieldNumber(y, "KMeansIterations")) << tolerance;
+    EXPECT_EQ(Ids(x), Ids(y)) << tolerance;
+    auto* reason =
+      vtkStringArray::SafeDownCast(y->GetFieldData()->GetAbstractArray("KMeansStopReason"));
+    byTolerance += reason && reason->GetValue(0) == "Tolerance";
+  }
+  EXPECT_GT(byTolerance, 0) << "no run stopped by tolerance: the check above proves nothing";
 }
 
 TEST(TerroirKMeans, SameCentresAsVTKsKMeansStatistics)

@@ -1157,48 +1157,44 @@ double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFo
     return 0.0;
   }
   const double n = static_cast<double>(features.cells);
+  // Per-feature sums of x (mean == nullptr) or of (x - mean)^2: each block in cell order, in
+  // parallel, then the blocks added in block order.
   std::vector<double> partial(blocks * nf);
-  RunParallel(parallelFor,
-    0,
-    blocks,
-    [&](std::size_t b0, std::size_t b1)
-    {
-      for (std::size_t b = b0; b < b1; ++b)
-      {
-        BlockFeatureSums<false>(features, b, nullptr, &partial[b * nf]);
-      }
-    });
-  std::vector<double> mean(nf, 0.0);
-  for (std::size_t b = 0; b < blocks; ++b)
+  auto blockOrderSums = [&](const double* mean)
   {
-    for (std::size_t f = 0; f < nf; ++f)
+    RunParallel(parallelFor,
+      0,
+      blocks,
+      [&](std::size_t b0, std::size_t b1)
+      {
+        for (std::size_t b = b0; b < b1; ++b)
+        {
+          if (mean)
+          {
+            BlockFeatureSums<true>(features, b, mean, &partial[b * nf]);
+          }
+          else
+          {
+            BlockFeatureSums<false>(features, b, nullptr, &partial[b * nf]);
+          }
+        }
+      });
+    std::vector<double> total(nf, 0.0);
+    for (std::size_t b = 0; b < blocks; ++b)
     {
-      mean[f] += partial[b * nf + f];
+      for (std::size_t f = 0; f < nf; ++f)
+      {
+        total[f] += partial[b * nf + f];
+      }
     }
-  }
+    return total;
+  };
+  std::vector<double> mean = blockOrderSums(nullptr);
   for (double& m : mean)
   {
     m /= n;
   }
-  const double* mp = mean.data();
-  RunParallel(parallelFor,
-    0,
-    blocks,
-    [&](std::size_t b0, std::size_t b1)
-    {
-      for (std::size_t b = b0; b < b1; ++b)
-      {
-        BlockFeatureSums<true>(features, b, mp, &partial[b * nf]);
-      }
-    });
-  std::vector<double> squares(nf, 0.0);
-  for (std::size_t b = 0; b < blocks; ++b)
-  {
-    for (std::size_t f = 0; f < nf; ++f)
-    {
-      squares[f] += partial[b * nf + f];
-    }
-  }
+  const std::vector<double> squares = blockOrderSums(mean.data());
   double total = 0.0;
   for (std::size_t f = 0; f < nf; ++f)
   {
