@@ -25,10 +25,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <functional>
 #include <iostream>
 #include <random>
@@ -89,8 +89,8 @@ Data Blobs(std::size_t cells, int features, int blobs, std::uint64_t seed)
     const int b = static_cast<int>(Uniform(rng) * blobs);
     for (int f = 0; f < features; ++f)
     {
-      d.At(f, c) = static_cast<float>(centre[static_cast<std::size_t>(b) * features + f] +
-        0.5 * Normal(rng));
+      d.At(f, c) =
+        static_cast<float>(centre[static_cast<std::size_t>(b) * features + f] + 0.5 * Normal(rng));
     }
   }
   return d;
@@ -110,15 +110,16 @@ Data TerrainLike(std::size_t cells, int nx, std::uint64_t seed)
   {
     const double i = static_cast<double>(c % static_cast<std::size_t>(nx));
     const double j = static_cast<double>(c / static_cast<std::size_t>(nx));
-    const double z = std::sin(i * 0.031) * std::cos(j * 0.027) + 0.3 * std::sin(i * 0.11 + j * 0.07);
+    const double z =
+      std::sin(i * 0.031) * std::cos(j * 0.027) + 0.3 * std::sin(i * 0.11 + j * 0.07);
     const double slope = std::fabs(std::cos(i * 0.031) * std::sin(j * 0.027)) + 0.1 * Uniform(rng);
     d.At(0, c) = static_cast<float>(2.0 * slope - 0.8);
     for (int m = 0; m < 12; ++m)
     {
       const double season = std::cos(6.283185307179586 * (m - 6) / 12.0);
       d.At(1 + m, c) = static_cast<float>(-z + 0.5 * season + 0.02 * Normal(rng));
-      d.At(13 + m, c) = static_cast<float>(0.8 * season - 0.6 * slope + 0.3 * std::sin(i * 0.05) +
-        0.05 * Normal(rng));
+      d.At(13 + m, c) = static_cast<float>(
+        0.8 * season - 0.6 * slope + 0.3 * std::sin(i * 0.05) + 0.05 * Normal(rng));
       d.At(25 + m, c) = static_cast<float>(0.3 * (z + 0.2 * Normal(rng)) * (1.0 + 0.1 * m));
     }
   }
@@ -234,7 +235,8 @@ std::vector<float> Spread(const Data& d, int k)
   std::vector<std::size_t> cells;
   for (int i = 0; i < k; ++i)
   {
-    cells.push_back((2 * static_cast<std::size_t>(i) + 1) * d.cells / (2 * static_cast<std::size_t>(k)));
+    cells.push_back(
+      (2 * static_cast<std::size_t>(i) + 1) * d.cells / (2 * static_cast<std::size_t>(k)));
   }
   return cl::KMeansCentresFromCells(d.View(), cells);
 }
@@ -277,8 +279,8 @@ TEST(KMeansGPU, TerrainLikeSeveralBlocksIdenticalToCPU)
   const Outcome converged = RunCPU(d, centres, 8, Options(300, 0.0));
   EXPECT_EQ(converged.result.reason, cl::KMeansStopReason::Converged);
   EXPECT_GT(converged.result.iterations, 3);
-  EXPECT_EQ(RunCPU(d, centres, 8, Options(3, 0.0)).result.reason,
-    cl::KMeansStopReason::MaximumIterations);
+  EXPECT_EQ(
+    RunCPU(d, centres, 8, Options(3, 0.0)).result.reason, cl::KMeansStopReason::MaximumIterations);
 }
 
 TEST(KMeansGPU, ManyBlocksAreAddedInBlockOrder)
@@ -345,7 +347,8 @@ TEST(KMeansGPU, ResultDoesNotDependOnTheChunks)
   const Outcome cpu = RunCPU(d, centres, 6, o);
   for (std::size_t chunk : { 1, 2, 3 })
   {
-    ExpectIdentical(cpu, RunGPU(d, centres, 6, o, chunk), std::to_string(chunk) + " blocks a chunk");
+    ExpectIdentical(
+      cpu, RunGPU(d, centres, 6, o, chunk), std::to_string(chunk) + " blocks a chunk");
   }
 }
 
@@ -399,7 +402,8 @@ TEST(KMeansGPU, InvalidArgumentsThrowBeforeAnyGPUWork)
     std::invalid_argument);
   EXPECT_THROW(cl::RunKMeansGPU(d.View(), two, 3, {}, labels, distances), std::invalid_argument);
   Data small = Blobs(1, 2, 1, 1);
-  EXPECT_THROW(cl::RunKMeansGPU(small.View(), two, 2, {}, labels, distances), std::invalid_argument);
+  EXPECT_THROW(
+    cl::RunKMeansGPU(small.View(), two, 2, {}, labels, distances), std::invalid_argument);
 }
 
 namespace
@@ -419,7 +423,8 @@ vtkSmartPointer<vtkImageData> ClusterTerrain()
       {
         return std::nan("");
       }
-      return 1000.0 + 200.0 * std::sin(i * 0.04) * std::cos(j * 0.05) + 3.0 * ((i * 7 + j * 13) % 11);
+      return 1000.0 + 200.0 * std::sin(i * 0.04) * std::cos(j * 0.05) +
+        3.0 * ((i * 7 + j * 13) % 11);
     });
   vtkDataArray* z = t->GetPointData()->GetArray("Elevation");
   auto slope = vtkSmartPointer<vtkFloatArray>::New();
@@ -438,13 +443,17 @@ vtkSmartPointer<vtkImageData> ClusterTerrain()
   {
     const int i = static_cast<int>(c % nx), j = static_cast<int>(c / nx);
     const double h = z->GetComponent(c, 0);
-    slope->SetValue(c, static_cast<float>(20.0 * std::fabs(std::cos(i * 0.04) * std::sin(j * 0.05)) +
-      0.1 * ((i * 3 + j * 5) % 7)));
+    slope->SetValue(c,
+      static_cast<float>(
+        20.0 * std::fabs(std::cos(i * 0.04) * std::sin(j * 0.05)) + 0.1 * ((i * 3 + j * 5) % 7)));
     for (int m = 0; m < 12; ++m)
     {
-      temperature->SetComponent(c, m, 15.0 - 0.0065 * (h - 1000.0) + 8.0 * std::cos((m - 6) * 0.5236));
-      hours->SetComponent(c, m, 6.0 + 4.0 * std::cos((m - 6) * 0.5236) + 0.05 * slope->GetValue(c) *
-        std::sin(i * 0.02 + m));
+      temperature->SetComponent(
+        c, m, 15.0 - 0.0065 * (h - 1000.0) + 8.0 * std::cos((m - 6) * 0.5236));
+      hours->SetComponent(c,
+        m,
+        6.0 + 4.0 * std::cos((m - 6) * 0.5236) +
+          0.05 * slope->GetValue(c) * std::sin(i * 0.02 + m));
     }
   }
   t->GetPointData()->AddArray(slope);
@@ -542,8 +551,8 @@ TEST(KMeansGPU, DISABLED_Timings)
       const std::clock_t c2 = std::clock();
       const double one = std::chrono::duration<double>(t1 - t0).count();
       const double more = std::chrono::duration<double>(t2 - t1).count();
-      const double cpu = (static_cast<double>(c2 - c1) - static_cast<double>(c1 - c0)) /
-        CLOCKS_PER_SEC / extra;
+      const double cpu =
+        (static_cast<double>(c2 - c1) - static_cast<double>(c1 - c0)) / CLOCKS_PER_SEC / extra;
       return Times{ one, 1e3 * (more - one) / extra, 1e3 * cpu };
     };
     auto cpuRun = [&](const cl::KMeansParallelFor& pf)
@@ -566,11 +575,11 @@ TEST(KMeansGPU, DISABLED_Timings)
           cl::RunKMeansGPU(x, centres, k, Options(it, 0.0), labels, distances);
         EXPECT_EQ(r.iterations, it);
       });
-    std::cout << "1024^2 cells x 37 features, K = " << k << ", ms per iteration (CPU ms): CPU 1 thread "
-              << one.wall << " (" << one.cpu << "), CPU "
-              << vtkSMPTools::GetEstimatedNumberOfThreads() << " threads " << two.wall << " ("
-              << two.cpu << "), llvmpipe " << gpu.wall << " (" << gpu.cpu
-              << "); 1-iteration runs " << one.setup << " s, " << two.setup << " s, "
-              << gpu.setup << " s (GPU: with context, compile and uploads)" << std::endl;
+    std::cout << "1024^2 cells x 37 features, K = " << k
+              << ", ms per iteration (CPU ms): CPU 1 thread " << one.wall << " (" << one.cpu
+              << "), CPU " << vtkSMPTools::GetEstimatedNumberOfThreads() << " threads " << two.wall
+              << " (" << two.cpu << "), llvmpipe " << gpu.wall << " (" << gpu.cpu
+              << "); 1-iteration runs " << one.setup << " s, " << two.setup << " s, " << gpu.setup
+              << " s (GPU: with context, compile and uploads)" << std::endl;
   }
 }

@@ -1,11 +1,41 @@
 """Helpers shared by the tests that compare Terroir with GRASS GIS (TestGrassPeer.py,
 TestFlowAccumulationGrass.py): one throwaway GRASS session, and reading its GeoTIFF exports."""
 import os
+import shutil
 import subprocess
+import sys
 import time
 
 import numpy as np
 from osgeo import gdal
+
+failures = []
+
+
+def check(condition, message):
+    """Records a failed check (the test goes on, and finish() reports them all)."""
+    if not condition:
+        failures.append(message)
+        print("FAIL:", message)
+
+
+def finish(name):
+    """Exits 1 when a check failed, else prints "<name>: OK" and exits 0."""
+    if failures:
+        print("%d failure(s)" % len(failures))
+        sys.exit(1)
+    print("%s: OK" % name)
+    sys.exit(0)
+
+
+def require_grass():
+    """The `grass` program, or exit 1: the peer tests fail (not skip) without it."""
+    grass = shutil.which("grass")
+    if grass is None:
+        print("FAIL: `grass` (GRASS GIS, Debian package grass-core) is not on PATH; this peer "
+              "test needs it (CI installs grass-core).")
+        sys.exit(1)
+    return grass
 
 
 def run_session(grass, dem, script, work, timeout=600):

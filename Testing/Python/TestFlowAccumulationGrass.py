@@ -48,39 +48,19 @@ Conventions
 import json
 import os
 import shutil
-import sys
 import tempfile
 import time
 
 import numpy as np
 
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        print("FAIL:", message)
-
-
-def finish():
-    if failures:
-        print("%d failure(s)" % len(failures))
-        sys.exit(1)
-    print("TestFlowAccumulationGrass: OK")
-    sys.exit(0)
-
-
-t_start = time.time()
-grass = shutil.which("grass")
-if grass is None:
-    print("FAIL: `grass` (GRASS GIS, Debian package grass-core) is not on PATH; this peer test "
-          "needs it (CI installs grass-core).")
-    sys.exit(1)
-
-from osgeo import gdal  # noqa: E402  (after the grass check: its message comes first)
+from osgeo import gdal  # noqa: E402
 
 import TerroirGrass  # noqa: E402 (beside this script)
+from TerroirGrass import check  # noqa: E402
+
+t_start = time.time()
+grass = TerroirGrass.require_grass()
+
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 import terroir  # noqa: E402
@@ -113,15 +93,15 @@ t_ours = time.time() - t0
 out = f.GetOutput()
 nx, ny, _ = out.GetDimensions()
 check((nx, ny) == (786, 720), "DEM dimensions %s" % ((nx, ny),))
-if failures:
-    finish()
+if TerroirGrass.failures:
+    TerroirGrass.finish("TestFlowAccumulationGrass")
 
 
 def point_array(name):
     a = out.GetPointData().GetArray(name)
     check(a is not None, "array %s missing" % name)
     if a is None:
-        finish()
+        TerroirGrass.finish("TestFlowAccumulationGrass")
     return vtk_to_numpy(a).reshape(ny, nx)
 
 
@@ -154,7 +134,7 @@ check(grass_rc == 0, "GRASS session failed (exit %s)" % grass_rc)
 if grass_rc != 0:
     print(grass_log[-4000:])
     print("scratch kept in", work)
-    finish()
+    TerroirGrass.finish("TestFlowAccumulationGrass")
 
 ref_gt = gdal.Open(dem).GetGeoTransform()
 
@@ -169,9 +149,9 @@ def read_grass(name):
 
 grass_drain = read_grass("drain.tif")
 grass_acc = read_grass("acc.tif")
-if failures:
+if TerroirGrass.failures:
     print("scratch kept in", work)
-    finish()
+    TerroirGrass.finish("TestFlowAccumulationGrass")
 check(np.isfinite(grass_drain).all(), "GRASS drainage has NULL cells")
 check(np.isfinite(grass_acc).all(), "GRASS accumulation has NULL cells")
 check(not (grass_drain == 0).any(), "GRASS drainage has depression cells (0)")
@@ -262,8 +242,8 @@ check(within.mean() >= STEM_SHARE_MIN, "only %.2f %% of the main stem within %.0
 print()
 print("time: terroir %.2f s, GRASS session %.1f s, total %.1f s"
       % (t_ours, t_grass, time.time() - t_start))
-if failures:
+if TerroirGrass.failures:
     print("scratch kept in", work)
 else:
     shutil.rmtree(work, ignore_errors=True)
-finish()
+TerroirGrass.finish("TestFlowAccumulationGrass")

@@ -60,39 +60,19 @@ Conventions decided here (measured, see the docstrings of the helpers)
 import math
 import os
 import shutil
-import sys
 import tempfile
 import time
 
 import numpy as np
 
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        print("FAIL:", message)
-
-
-def finish():
-    if failures:
-        print("%d failure(s)" % len(failures))
-        sys.exit(1)
-    print("TestGrassPeer: OK")
-    sys.exit(0)
-
-
-t_start = time.time()
-grass = shutil.which("grass")
-if grass is None:
-    print("FAIL: `grass` (GRASS GIS, Debian package grass-core) is not on PATH; this peer test "
-          "needs it (CI installs grass-core).")
-    sys.exit(1)
-
-from osgeo import gdal  # noqa: E402  (after the grass check: its message comes first)
+from osgeo import gdal  # noqa: E402
 
 import TerroirGrass  # noqa: E402 (beside this script)
+from TerroirGrass import check  # noqa: E402
+
+t_start = time.time()
+grass = TerroirGrass.require_grass()
+
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 import terroir  # noqa: E402
@@ -133,8 +113,8 @@ check((nx, ny) == (786, 720), "DEM dimensions %s" % ((nx, ny),))
 gamma = terroir.vtkTerroirGeoreference.GetMeridianConvergence(image)
 check(math.isfinite(gamma) and abs(gamma + 2.08) < 0.05,
       "meridian convergence %r, expected about -2.08" % gamma)
-if failures:
-    finish()
+if TerroirGrass.failures:
+    TerroirGrass.finish("TestGrassPeer")
 print("DEM %d x %d, meridian convergence (bearing of grid north from true north) %.4f deg"
       % (nx, ny, gamma))
 
@@ -183,7 +163,7 @@ check(grass_rc == 0, "GRASS session failed (exit %s)" % grass_rc)
 if grass_rc != 0:
     print(grass_log[-4000:])
     print("scratch kept in", work)
-    finish()
+    TerroirGrass.finish("TestGrassPeer")
 
 ref_gt = gdal.Open(dem).GetGeoTransform()
 
@@ -197,9 +177,9 @@ def read_grass(name):
 
 
 horizon_grass = np.stack([read_grass("horizon_%d.tif" % k) for k in range(K)], axis=2)
-if failures:
+if TerroirGrass.failures:
     print("scratch kept in", work)
-    finish()
+    TerroirGrass.finish("TestGrassPeer")
 
 
 # ---- our filter -------------------------------------------------------------------------------
@@ -237,7 +217,7 @@ for curvature in (True, False):
     f.Update()
     h = point_array(f, "HorizonAngle", K)
     if h is None:
-        finish()
+        TerroirGrass.finish("TestGrassPeer")
     ours_h[curvature] = h
 
 # (1) cast shadows
@@ -323,8 +303,8 @@ for k in range(K):
 print()
 print("time: GRASS %.1f s, terroir %.1f s, total %.1f s"
       % (t_grass, t_ours, time.time() - t_start))
-if failures:
+if TerroirGrass.failures:
     print("scratch kept in", work)
 else:
     shutil.rmtree(work, ignore_errors=True)
-finish()
+TerroirGrass.finish("TestGrassPeer")

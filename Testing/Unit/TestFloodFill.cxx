@@ -6,6 +6,8 @@
 #include "FloodFill.h"
 #include "PriorityFlood.h"
 
+#include "TerroirDrawnGrid.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,41 +24,8 @@ namespace hy = terroir::hydrology;
 
 const float kNoData = std::numeric_limits<float>::quiet_NaN();
 
-/// A grid with its storage. `rows` lists the rows north first, as drawn in the tests.
-struct Grid
-{
-  std::vector<float> z;
-  std::vector<std::uint8_t> valid;
-  GridView<float> view;
-
-  Grid(int nx, int ny, double dx, double dy, const std::vector<std::vector<float>>& rows)
-  {
-    z.resize(static_cast<std::size_t>(nx) * ny);
-    for (int j = 0; j < ny; ++j)
-    {
-      for (int i = 0; i < nx; ++i)
-      {
-        z[static_cast<std::size_t>(j) * nx + i] = rows[ny - 1 - j][i];
-      }
-    }
-    view.data = z.data();
-    view.nx = nx;
-    view.ny = ny;
-    view.dx = dx;
-    view.dy = dy;
-  }
-  /// Marks cell (i, j) as no data through the mask (its elevation stays as it is).
-  void MaskOut(int i, int j)
-  {
-    if (valid.empty())
-    {
-      valid.assign(z.size(), 1);
-    }
-    valid[view.Index(i, j)] = 0;
-    view.valid = valid.data();
-  }
-  std::size_t Cell(int i, int j) const { return view.Index(i, j); }
-};
+/// A grid drawn north row first, with its storage (Testing/Common/TerroirDrawnGrid.h).
+using Grid = terroir_test::DrawnGrid;
 
 struct SeedResult
 {

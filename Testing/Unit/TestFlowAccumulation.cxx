@@ -6,6 +6,8 @@
 #include "FlowAccumulation.h"
 #include "PriorityFlood.h"
 
+#include "TerroirDrawnGrid.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -26,41 +28,8 @@ const float kNoData = std::numeric_limits<float>::quiet_NaN();
 // Direction codes, as in FlowAccumulation.h.
 constexpr int E = 0, NE = 1, N = 2, NW = 3, W = 4, SW = 5, S = 6, SE = 7, OUT = -1, ND = -2;
 
-/// A grid with its storage. `rows` lists the rows north first, as drawn in the tests.
-struct Grid
-{
-  std::vector<float> z;
-  std::vector<std::uint8_t> valid;
-  std::vector<double> rowDx, rowDy;
-  GridView<float> view;
-
-  Grid(int nx, int ny, double dx, double dy, const std::vector<std::vector<float>>& rows)
-  {
-    z.resize(static_cast<std::size_t>(nx) * ny);
-    for (int j = 0; j < ny; ++j)
-    {
-      for (int i = 0; i < nx; ++i)
-      {
-        z[static_cast<std::size_t>(j) * nx + i] = rows[ny - 1 - j][i];
-      }
-    }
-    view.data = z.data();
-    view.nx = nx;
-    view.ny = ny;
-    view.dx = dx;
-    view.dy = dy;
-  }
-  void MaskOut(int i, int j)
-  {
-    if (valid.empty())
-    {
-      valid.assign(z.size(), 1);
-    }
-    valid[view.Index(i, j)] = 0;
-    view.valid = valid.data();
-  }
-  std::size_t Cell(int i, int j) const { return view.Index(i, j); }
-};
+/// A grid drawn north row first, with its storage (Testing/Common/TerroirDrawnGrid.h).
+using Grid = terroir_test::DrawnGrid;
 
 /// Priority-Flood, then D8 directions and accumulation (1 per cell).
 struct Routed

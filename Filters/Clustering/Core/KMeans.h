@@ -75,9 +75,9 @@ struct KMeansFeatures
 
 /// Runs body(begin, end) over disjoint ranges covering [begin, end), possibly in parallel.
 /// The default (empty function) runs body(begin, end) once.
-using KMeansParallelFor =
-  std::function<void(std::size_t begin, std::size_t end,
-    const std::function<void(std::size_t, std::size_t)>& body)>;
+using KMeansParallelFor = std::function<void(std::size_t begin,
+  std::size_t end,
+  const std::function<void(std::size_t, std::size_t)>& body)>;
 
 /// One input column before preparation: `components` interleaved values per cell (VTK's
 /// layout), a weight, and its name (for reports).
@@ -283,7 +283,8 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
   const std::function<void(int, std::size_t)>& progress = {});
 
 /// Mean of each prepared feature's variance (population), the scale of `tolerance`.
-double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFor& parallelFor = {});
+double KMeansMeanVariance(const KMeansFeatures& features,
+  const KMeansParallelFor& parallelFor = {});
 
 /// Colour of cluster `id` as "#rrggbb": Tableau 10 then two more, cycled (the `Clusters` overlay
 /// preset's palette).
