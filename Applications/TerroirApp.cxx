@@ -213,13 +213,20 @@ bool HasExtension(const std::string& path, const std::string& ext)
     [](char a, char b) { return std::tolower(a) == std::tolower(b); });
 }
 
-vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path, bool allowNetwork)
+vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path,
+  bool allowNetwork,
+  const std::string& zUnit)
 {
   vtkSmartPointer<vtkAlgorithm> reader;
   std::string error;
   TakeLastVTKError();
   if (HasExtension(path, ".ter"))
   {
+    if (zUnit != "auto")
+    {
+      throw Failure(path + ": --z-unit applies to GDAL rasters; a Terragen file carries its own " +
+        "height scale");
+    }
     vtkNew<vtkTerroirTerragenReader> ter;
     ter->SetFileName(path.c_str());
     ter->Update();
@@ -231,6 +238,10 @@ vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path, bool allowNet
     vtkNew<vtkTerroirDEMReader> dem;
     dem->SetFileName(path.c_str());
     dem->SetAllowNetworkPaths(allowNetwork);
+    dem->SetVerticalUnit(zUnit == "m" ? vtkTerroirDEMReader::VERTICAL_UNIT_METRE
+        : zUnit == "ft"               ? vtkTerroirDEMReader::VERTICAL_UNIT_FOOT
+        : zUnit == "us-ft"            ? vtkTerroirDEMReader::VERTICAL_UNIT_US_FOOT
+                                      : vtkTerroirDEMReader::VERTICAL_UNIT_AUTO);
     WatchProgress(dem, "read");
     dem->Update();
     error = dem->GetErrorMessage();

@@ -42,8 +42,12 @@ void UpdateOrThrow(vtkAlgorithm* algorithm, const std::string& what);
 /// The bundled default DEM (Data/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif).
 std::string DefaultDEM();
 
-/// Reads a terrain: Terragen `.ter` natively, anything else through GDAL.
-vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path, bool allowNetwork);
+/// Reads a terrain: Terragen `.ter` natively, anything else through GDAL. `zUnit` (--z-unit):
+/// auto (the file's unit metadata), m, ft or us-ft for a GDAL DEM's heights; a `.ter` file
+/// carries its own height scale, so anything but auto is refused for it.
+vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path,
+  bool allowNetwork,
+  const std::string& zUnit = "auto");
 
 /// Throws Failure if any of `paths` exists and overwriting was not asked for.
 void CheckWritable(const std::vector<std::string>& paths, bool overwrite);

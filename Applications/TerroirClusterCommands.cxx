@@ -190,7 +190,7 @@ int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverla
     }
   }
   CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
 
   // A bare DEM (none of the four resources) gets the two that need no location: slope and
   // temperature (the seed's default climate), as `terroir slope` and `terroir temperature`

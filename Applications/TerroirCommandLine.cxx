@@ -807,6 +807,15 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   app.fallthrough(); // -v is accepted after the command too
   app.add_flag("-v,--verbose", line.Verbose, "Show VTK's log (backend choice, timings)");
 
+  auto addZUnit = [&](CLI::App* sub)
+  {
+    sub
+      ->add_option("--z-unit",
+        line.ZUnit,
+        "Unit of the DEM's heights: auto (the file's metadata, else metres), m, ft or us-ft")
+      ->check(CLI::IsMember({ "auto", "m", "ft", "us-ft" }))
+      ->capture_default_str();
+  };
   auto addCommon = [&](CLI::App* sub)
   {
     sub->add_option("--backend", line.Backend, "auto, cpu or gpu (TERROIR_BACKEND overrides auto)")
@@ -816,6 +825,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     sub->add_flag("--allow-network-paths",
       line.AllowNetwork,
       "Allow GDAL network and archive paths (/vsicurl/, /vsizip/, ...)");
+    addZUnit(sub);
   };
   const std::vector<std::string> rasterOut{ ".tif", ".tiff", ".vti" };
 
@@ -1039,6 +1049,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   info->add_option("IN", line.Input, "Input DEM")->required();
   info->add_flag(
     "--allow-network-paths", line.AllowNetwork, "Allow GDAL network and archive paths");
+  addZUnit(info);
 
   // fractal
   CLI::App* fractal =

@@ -158,6 +158,7 @@ struct CommandLine
   std::string Backend = "auto"; ///< auto, cpu or gpu
   bool Overwrite = false;
   bool AllowNetwork = false;
+  std::string ZUnit = "auto"; ///< --z-unit: heights of a GDAL DEM in auto, m, ft or us-ft
 
   std::string Input;  ///< DEM / IN (run: empty = the bundled DEM)
   std::string Output; ///< OUT (run: --out folder)

@@ -220,7 +220,7 @@ int CommandWaterFlow(const CommandLine& c)
     }
   }
   CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
   double seconds = 0.0;
   vtkSmartPointer<vtkImageData> out = SimulateWaterFlow(s, terrain, c.Backend, seconds);
   WriteStageResult(out, vtkTerroirWaterFlow::WaterHeightName(), c.Output, c.Overwrite);
@@ -240,7 +240,7 @@ int CommandWaterFlow(const CommandLine& c)
 int CommandFlowAccumulation(const CommandLine& c)
 {
   CheckWritable({ c.Output }, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
   vtkNew<vtkTerroirFlowAccumulation> d8;
   d8->SetRiverThreshold(c.FlowRiverThreshold);
   d8->SetInputData(terrain);
@@ -286,7 +286,7 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
     }
   }
   CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(dem, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(dem, c.AllowNetwork, c.ZUnit);
   const std::size_t n = static_cast<std::size_t>(terrain->GetNumberOfPoints());
 
   // Reference lines on the DEM grid (GDAL's rasterisation: the cells of each segment's path).

@@ -235,7 +235,7 @@ void PrintWaterBodies(vtkImageData* result, int limit)
 int CommandInfiltration(const CommandLine& c)
 {
   CheckWritable({ c.Output }, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
   vtkNew<vtkTerroirInfiltration> infiltration;
   infiltration->SetBackend(ParseBackend(c.Backend));
   ApplyInfiltration(c.SoilWater, infiltration, terrain, c.AllowNetwork);
@@ -261,7 +261,7 @@ int CommandHumidity(const CommandLine& c)
     }
   }
   CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
   vtkSmartPointer<vtkImageData> withRates;
   if (!s.InfiltrationInput.empty())
   {
@@ -311,7 +311,7 @@ int CommandFloodFill(const CommandLine& c)
     outs.push_back(s.IdsOutput);
   }
   CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
   vtkNew<vtkTerroirFloodFill> flood;
   flood->SetBackend(ParseBackend(c.Backend));
   ApplyFloodFill(s, flood);

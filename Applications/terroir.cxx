@@ -287,6 +287,7 @@ int CommandRun(const std::string& demArg,
   const std::string& backendName,
   bool png,
   bool allowNetwork,
+  const std::string& zUnit,
   const terroir::app::TemperatureSettings& tempOpts,
   const terroir::app::IlluminationSettings& illumOpts,
   const terroir::app::SoilWaterSettings& soilOpts,
@@ -376,7 +377,7 @@ int CommandRun(const std::string& demArg,
   report["input"] = dem;
   json stages;
   const double t0 = terroir::app::Now();
-  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, allowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, allowNetwork, zUnit);
   stages["read"] = json{ { "seconds", terroir::app::Now() - t0 } };
 
   int dims[3];
@@ -744,7 +745,8 @@ int CommandSlope(const std::string& in,
   double zFactor,
   bool percent,
   const std::string& aspectPath,
-  bool allowNetwork)
+  bool allowNetwork,
+  const std::string& zUnit)
 {
   const int backend = ParseBackend(backendName);
   std::vector<std::string> outs = { outPath };
@@ -753,7 +755,7 @@ int CommandSlope(const std::string& in,
     outs.push_back(aspectPath);
   }
   terroir::app::CheckWritable(outs, overwrite);
-  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork, zUnit);
   vtkNew<vtkTerroirSlope> slope;
   slope->SetBackend(backend);
   slope->SetZFactor(zFactor);
@@ -780,11 +782,12 @@ int CommandTemperature(const std::string& in,
   bool overwrite,
   const std::string& backendName,
   bool allowNetwork,
+  const std::string& zUnit,
   const terroir::app::TemperatureSettings& opts)
 {
   const int backend = ParseBackend(backendName);
   terroir::app::CheckWritable({ outPath }, overwrite);
-  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork, zUnit);
   vtkNew<vtkTerroirTemperature> temperature;
   temperature->SetBackend(backend);
   ApplyTemperature(opts, temperature);
@@ -800,6 +803,7 @@ int CommandIllumination(const std::string& in,
   bool overwrite,
   const std::string& backendName,
   bool allowNetwork,
+  const std::string& zUnit,
   const terroir::app::IlluminationSettings& opts)
 {
   const int backend = ParseBackend(backendName);
@@ -812,7 +816,7 @@ int CommandIllumination(const std::string& in,
     }
   }
   terroir::app::CheckWritable(outs, overwrite);
-  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork, zUnit);
   vtkNew<vtkTerroirSolarIllumination> illumination;
   illumination->SetBackend(backend);
   ApplyIllumination(opts, illumination);
@@ -839,9 +843,9 @@ int CommandIllumination(const std::string& in,
   return 0;
 }
 
-int CommandInfo(const std::string& in, bool allowNetwork)
+int CommandInfo(const std::string& in, bool allowNetwork, const std::string& zUnit)
 {
-  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(in, allowNetwork, zUnit);
   int dims[3];
   double spacing[3], origin[3];
   terrain->GetDimensions(dims);
@@ -1505,6 +1509,7 @@ int main(int argc, char** argv)
         c.Backend,
         !c.NoPng,
         c.AllowNetwork,
+        c.ZUnit,
         c.Temperature,
         c.Illumination,
         c.SoilWater,
@@ -1519,17 +1524,18 @@ int main(int argc, char** argv)
         c.ZFactor,
         c.Percent,
         c.AspectOutput,
-        c.AllowNetwork);
+        c.AllowNetwork,
+        c.ZUnit);
     }
     if (c.Command == "temperature")
     {
       return CommandTemperature(
-        c.Input, c.Output, c.Overwrite, c.Backend, c.AllowNetwork, c.Temperature);
+        c.Input, c.Output, c.Overwrite, c.Backend, c.AllowNetwork, c.ZUnit, c.Temperature);
     }
     if (c.Command == "illumination")
     {
       return CommandIllumination(
-        c.Input, c.Output, c.Overwrite, c.Backend, c.AllowNetwork, c.Illumination);
+        c.Input, c.Output, c.Overwrite, c.Backend, c.AllowNetwork, c.ZUnit, c.Illumination);
     }
     if (c.Command == "infiltration")
     {
@@ -1587,7 +1593,7 @@ int main(int argc, char** argv)
     }
     if (c.Command == "info")
     {
-      return CommandInfo(c.Input, c.AllowNetwork);
+      return CommandInfo(c.Input, c.AllowNetwork, c.ZUnit);
     }
     if (c.Command == "fractal")
     {

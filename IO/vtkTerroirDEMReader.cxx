@@ -417,6 +417,7 @@ void vtkTerroirDEMReader::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "Band: " << this->Band << "\n";
+  os << indent << "VerticalUnit: " << this->VerticalUnit << "\n";
   os << indent << "RequireGeoreference: " << this->RequireGeoreference << "\n";
   os << indent << "MaxCells: " << this->MaxCells << "\n";
   os << indent << "AllowNetworkPaths: " << this->AllowNetworkPaths << "\n";
@@ -567,6 +568,18 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   {
     this->Fail(error + capture.Suffix());
     return 0;
+  }
+  if (this->VerticalUnit != VERTICAL_UNIT_AUTO)
+  {
+    const double chosen = this->VerticalUnit == VERTICAL_UNIT_FOOT ? kFoot
+      : this->VerticalUnit == VERTICAL_UNIT_US_FOOT                ? kUSSurveyFoot
+                                                                   : 1.0;
+    if (d.zScale != 1.0 && d.zScale != chosen)
+    {
+      d.warnings.push_back("the file's vertical unit (" + std::to_string(d.zScale) +
+        " m) is replaced by VerticalUnit (" + std::to_string(chosen) + " m)");
+    }
+    d.zScale = chosen;
   }
   this->VerticalUnitToMetres = d.zScale;
 

@@ -5,7 +5,8 @@
  *
  * Output: vtkImageData (nx, ny, 1), point array `Elevation` (float32, metres; band values
  * times the band's GDAL scale plus offset, times 0.3048 (or 1200/3937) when the band unit is
- * feet or the CRS's vertical unit is feet), and, when some cells are no-data (the band's
+ * feet or the CRS's vertical unit is feet, or when VerticalUnit says so for a file that does
+ * not), and, when some cells are no-data (the band's
  * nodata value, or NaN), `vtkValidPointMask` (unsigned char, 1 = valid) with NaN in
  * `Elevation` at those cells; values that are infinite, or larger than 1e30 m in magnitude
  * (float sentinels such as ESRI's -3.4e38 left undeclared), are no-data too. Row j = 0 is
@@ -86,6 +87,27 @@ public:
   vtkBooleanMacro(RequireGeoreference, bool);
   ///@}
 
+  /// Units of the band values (after GDAL's scale and offset).
+  enum VerticalUnits
+  {
+    VERTICAL_UNIT_AUTO = 0, ///< the band's unit type, else the CRS's vertical unit, else metres
+    VERTICAL_UNIT_METRE,    ///< metres, whatever the file says
+    VERTICAL_UNIT_FOOT,     ///< international feet (0.3048 m)
+    VERTICAL_UNIT_US_FOOT   ///< US survey feet (1200/3937 m)
+  };
+
+  ///@{
+  /// Units of the band values, for DEMs without (or with wrong) unit metadata, such as the
+  /// bundled Shellmound DEM in feet. Anything but Auto replaces the file's unit, with a warning
+  /// when the file declares a different one. Default: VERTICAL_UNIT_AUTO.
+  vtkSetClampMacro(VerticalUnit, int, VERTICAL_UNIT_AUTO, VERTICAL_UNIT_US_FOOT);
+  vtkGetMacro(VerticalUnit, int);
+  void SetVerticalUnitToAuto() { this->SetVerticalUnit(VERTICAL_UNIT_AUTO); }
+  void SetVerticalUnitToMetre() { this->SetVerticalUnit(VERTICAL_UNIT_METRE); }
+  void SetVerticalUnitToFoot() { this->SetVerticalUnit(VERTICAL_UNIT_FOOT); }
+  void SetVerticalUnitToUSFoot() { this->SetVerticalUnit(VERTICAL_UNIT_US_FOOT); }
+  ///@}
+
   ///@{
   /// Largest number of cells (nx * ny) accepted. Default: 2^31 - 1.
   vtkSetClampMacro(MaxCells, vtkIdType, 1, VTK_ID_MAX);
@@ -118,6 +140,7 @@ protected:
   bool RequireGeoreference = false;
   vtkIdType MaxCells = 2147483647;
   bool AllowNetworkPaths = false;
+  int VerticalUnit = VERTICAL_UNIT_AUTO;
   double VerticalUnitToMetres = 1.0;
   std::string ErrorMessage;
 

@@ -50,6 +50,7 @@
  * sub-extents); agreement with the shipped `gdal_rasterize` masks of the bundled Sagehen
  * watershed and NHD flowlines (also through a NAD83 GeoPackage, and onto the geographic DEM
  * against GeographicLib projections); every error case. Testing/Pipeline/TestDeterminism.cxx.
+ * Testing/Fuzz/FuzzVectorRasterizer.cxx (any vector file, fuzzed options).
  *
  * @par References
  * GDAL/OGR, https://gdal.org (GDALRasterizeGeometries, gdal_rasterize).

@@ -22,10 +22,10 @@ jobs=${TERROIR_JOBS:-2}
 minutes=${1:-1}
 [ $# -gt 0 ] && shift
 harnesses=("$@")
-[ ${#harnesses[@]} -eq 0 ] && harnesses=(Terragen ClimateTable CommandLine DEMReader)
+[ ${#harnesses[@]} -eq 0 ] && harnesses=(Terragen ClimateTable CommandLine DEMReader VectorRasterizer)
 seconds=$(awk -v m="$minutes" 'BEGIN { s = int(m * 60 + 0.5); if (s < 1) s = 1; print s }')
 
-declare -A max_len=([Terragen]=16384 [ClimateTable]=4096 [CommandLine]=512 [DEMReader]=17000)
+declare -A max_len=([Terragen]=16384 [ClimateTable]=4096 [CommandLine]=512 [DEMReader]=17000 [VectorRasterizer]=8192)
 
 bash "$repo/Scripts/setup.sh" configure-sanitize >/dev/null
 cmake --build "$build" -j "$jobs" --target "${harnesses[@]/#/Fuzz}" >/dev/null

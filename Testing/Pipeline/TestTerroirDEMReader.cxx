@@ -1,8 +1,10 @@
 // Pipeline tests of vtkTerroirDEMReader on the bundled rasters and on hand-written bad files.
+#include "TerroirFilterTestUtilities.h"
 #include "TerroirIOTestUtilities.h"
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirGeoreference.h"
 
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkImageData.h"
@@ -201,6 +203,52 @@ TEST(TerroirDEMReader, GeographicImgRowSpacing)
   EXPECT_NEAR(spacing[1], 10.29, 0.01);
   // East-west spacing shrinks northwards.
   EXPECT_GT(rows->GetComponent(0, 0), rows->GetComponent(733, 0));
+}
+
+// The Shellmound DEM is in feet without saying so. `gdallocationinfo -valonly
+// meras_100m_dem.tif 200 150` prints 131.643310546875 (feet); its 341 rows put GDAL's row 150
+// at j = 190.
+TEST(TerroirDEMReader, VerticalUnitOverridesMissingMetadata)
+{
+  const std::string path = std::string(TERROIR_DATA_DIR) + "/shellmound_ms/meras_100m_dem.tif";
+  const double raw = 131.643310546875;
+  const struct
+  {
+    int unit;
+    double metresPerUnit;
+  } cases[] = { { vtkTerroirDEMReader::VERTICAL_UNIT_AUTO, 1.0 },
+    { vtkTerroirDEMReader::VERTICAL_UNIT_METRE, 1.0 },
+    { vtkTerroirDEMReader::VERTICAL_UNIT_FOOT, 0.3048 },
+    { vtkTerroirDEMReader::VERTICAL_UNIT_US_FOOT, 1200.0 / 3937.0 } };
+  for (const auto& c : cases)
+  {
+    vtkNew<vtkTerroirDEMReader> reader;
+    reader->SetFileName(path.c_str());
+    reader->SetVerticalUnit(c.unit);
+    reader->Update();
+    EXPECT_STREQ(reader->GetErrorMessage(), "");
+    EXPECT_DOUBLE_EQ(reader->GetVerticalUnitToMetres(), c.metresPerUnit) << c.unit;
+    EXPECT_FLOAT_EQ(
+      ElevationAt(reader->GetOutput(), 200, 340 - 150), static_cast<float>(raw * c.metresPerUnit))
+      << c.unit;
+  }
+}
+
+// A file that declares feet (the USGS .dem) read with VerticalUnit = metre keeps the raw values
+// and says that it overrode the file.
+TEST(TerroirDEMReader, VerticalUnitOverridesDeclaredFeetWithWarning)
+{
+  vtkNew<vtkTerroirDEMReader> reader;
+  vtkNew<terroir_test::ErrorObserver> observer;
+  reader->AddObserver(vtkCommand::WarningEvent, observer);
+  reader->SetFileName(kFeet.c_str());
+  reader->SetVerticalUnitToMetre();
+  reader->Update();
+  EXPECT_STREQ(reader->GetErrorMessage(), "");
+  EXPECT_DOUBLE_EQ(reader->GetVerticalUnitToMetres(), 1.0);
+  EXPECT_FLOAT_EQ(ElevationAt(reader->GetOutput(), 100, 465 - 200), 242.0f);
+  EXPECT_NE(observer->Warnings.find("replaced by VerticalUnit"), std::string::npos)
+    << observer->Warnings;
 }
 
 TEST(TerroirDEMReader, USGSDemInFeetConvertedToMetres)

@@ -5,6 +5,7 @@ Run by CTest with /usr/bin/python3 (env TERROIR_BIN_DIR, TERROIR_DATA_DIR, TERRO
 Expected values come from GDAL (python3-gdal) reading the written files and from gdaldem.
 """
 import json
+import re
 import os
 import shutil
 import subprocess
@@ -498,6 +499,22 @@ class TerroirCommandLine(unittest.TestCase):
             report = json.load(f)
         self.assertIn("skipped", report["stages"]["illumination"])
         self.assertNotIn("IlluminationHours", report["arrays"])
+
+    def test_z_unit_scales_heights_of_a_dem_without_unit_metadata(self):
+        # The Shellmound DEM is in feet but says nothing; GDAL gives its exact minimum.
+        dem = os.path.join(DATA, "shellmound_ms", "meras_100m_dem.tif")
+        ds = gdal.Open(dem)  # the band lives only as long as its dataset
+        stats = ds.GetRasterBand(1).ComputeRasterMinMax(False)[0]
+        ranges = {}
+        for unit in ("auto", "ft", "us-ft"):
+            r = terroir("info", dem, "--z-unit", unit)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            m = re.search(r"elevation \(m\): min (\S+),", r.stdout)
+            ranges[unit] = float(m.group(1))
+        # `info` prints 10 significant digits of float32 heights.
+        self.assertAlmostEqual(ranges["auto"], stats, delta=1e-5)
+        self.assertAlmostEqual(ranges["ft"], stats * 0.3048, delta=1e-5)
+        self.assertAlmostEqual(ranges["us-ft"], stats * 1200.0 / 3937.0, delta=1e-5)
 
     def test_terragen_input(self):
         ter = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.ter")

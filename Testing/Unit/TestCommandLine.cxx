@@ -45,10 +45,24 @@ TEST(TerroirCommandLineParse, RunDefaults)
   EXPECT_EQ(line.Backend, "auto");
   EXPECT_FALSE(line.Overwrite);
   EXPECT_FALSE(line.AllowNetwork);
+  EXPECT_EQ(line.ZUnit, "auto");
   EXPECT_EQ(line.Temperature.Coldest, 2.0);
   EXPECT_EQ(line.Temperature.Warmest, 20.0);
   EXPECT_EQ(line.Temperature.LapseRate, 6.4);
   EXPECT_TRUE(line.Temperature.Monthly.empty());
+}
+
+TEST(TerroirCommandLineParse, ZUnitIsOneOfTheKnownUnits)
+{
+  terroir::app::CommandLine line;
+  for (const char* unit : { "auto", "m", "ft", "us-ft" })
+  {
+    ASSERT_TRUE(Parse({ "info", "dem.tif", "--z-unit", unit }, line).Run) << unit;
+    EXPECT_EQ(line.ZUnit, unit);
+  }
+  EXPECT_NE(
+    ErrorOf({ "validate", "dem.tif", "--z-unit", "feet" }).find("--z-unit"), std::string::npos);
+  EXPECT_NE(ErrorOf({ "info", "dem.tif", "--z-unit" }).find("--z-unit"), std::string::npos);
 }
 
 TEST(TerroirCommandLineParse, EveryOptionLandsInItsField)
@@ -66,6 +80,8 @@ TEST(TerroirCommandLineParse, EveryOptionLandsInItsField)
                          "cpu",
                          "--overwrite",
                          "--allow-network-paths",
+                         "--z-unit",
+                         "us-ft",
                          "-v" },
     line);
   ASSERT_TRUE(outcome.Run) << outcome.Error;
@@ -77,6 +93,7 @@ TEST(TerroirCommandLineParse, EveryOptionLandsInItsField)
   EXPECT_EQ(line.AspectOutput, "a.vti");
   EXPECT_EQ(line.Backend, "cpu");
   EXPECT_TRUE(line.Overwrite && line.AllowNetwork && line.Verbose);
+  EXPECT_EQ(line.ZUnit, "us-ft");
 
   outcome = Parse({ "temperature",
                     "in.ter",
