@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -31,11 +32,160 @@ struct GiverRow
   }
 };
 
-/// What the giver in `row` at column slot `s` sends to a receiver at absolute height `h`.
-inline double Sent(const GiverRow& row, std::size_t s, double closeness, double h)
+// The two row kernels take their arrays as restrict parameters (not in a struct): the compiler
+// then knows that no store aliases another array and vectorises the loops without run-time
+// overlap checks (with the arrays in a struct it gave up: too many pairs to check).
+
+/// The giver row of padded row r (nx cells from column 1): terrain T and water W of the row,
+/// absolute heights H = T + W of the rows south, mid and north, the 8 closenesses in neighbour
+/// order; writes level, scale and out at slot = column + 1, out = -1 (never a real value) for
+/// the cells left to WaterFlowEvacuation.
+#define TERROIR_GIVER_ROW_PARAMETERS                                                               \
+  int nx, const float *__restrict T, const double *__restrict W, const double *__restrict hs,      \
+    const double *__restrict hm, const double *__restrict hn, const double *__restrict close,      \
+    double *__restrict level, double *__restrict scale, double *__restrict out
+#define TERROIR_GIVER_ROW_ARGUMENTS nx, T, W, hs, hm, hn, close, level, scale, out
+
+/// The fast "none" and "all" cases of WaterFlowEvacuation for every cell of a row, as straight
+/// code (the same operations in the same order, so the same bits) that the compiler vectorises
+/// across cells; cells in the "part" case (or exactly at all = W) are flagged for the scalar
+/// function. (A flag array of bytes next to the float and double arrays kept GCC 12 from
+/// vectorising the loop, hence the flag in `out`.)
+inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAMETERS)
 {
-  // The giver's own expression (WaterFlowEvacuation), branch-free: scale * c * max(0, drop).
-  return row.scale[s] * closeness * std::max(0.0, row.level[s] - h);
+  const double c0 = close[0], c1 = close[1], c2 = close[2], c3 = close[3];
+  const double c4 = close[4], c5 = close[5], c6 = close[6], c7 = close[7];
+  for (int pi = 1; pi <= nx; ++pi)
+  {
+    const double t = T[pi];
+    const double w = W[pi];
+    // Neighbour order E, NE, N, NW, W, SW, S, SE.
+    double all = c0 * std::max(0.0, t - hm[pi + 1]);
+    all += c1 * std::max(0.0, t - hn[pi + 1]);
+    all += c2 * std::max(0.0, t - hn[pi]);
+    all += c3 * std::max(0.0, t - hn[pi - 1]);
+    all += c4 * std::max(0.0, t - hm[pi - 1]);
+    all += c5 * std::max(0.0, t - hs[pi - 1]);
+    all += c6 * std::max(0.0, t - hs[pi]);
+    all += c7 * std::max(0.0, t - hs[pi + 1]);
+    const double share = w / all;
+    const bool wet = w > 0.0;
+    const bool fast = wet & (all >= w) & (share < 1.0); // no branches: selects only
+    level[pi + 1] = fast ? t : 0.0;
+    scale[pi + 1] = fast ? share : 0.0;
+    out[pi + 1] = fast ? w : (wet ? -1.0 : 0.0);
+  }
+}
+
+/// The gather of padded row r (columns = nx + 2 cells): heights H and water W of the row, its
+/// isCell flags (`interior` false on the border rows), the giver slots of the rows south, mid
+/// and north, the closenesses towards them and the area ratios of the neighbouring rows; writes
+/// the new water and the discharge of the row, and per column what a cell gave (0 on outlets)
+/// and what an outlet received (0 on cells), for the row's sums.
+struct GatherRowConstants
+{
+  double cEW, cN, cNE, cS, cSE, fromNorth, fromSouth;
+};
+#define TERROIR_GATHER_ROW_PARAMETERS                                                              \
+  int columns, bool interior, const GatherRowConstants &k, const double *__restrict H,             \
+    const double *__restrict W, const std::uint8_t *__restrict isCell,                             \
+    const double *__restrict sl, const double *__restrict ss, const double *__restrict ml,         \
+    const double *__restrict ms, const double *__restrict mo, const double *__restrict nl,         \
+    const double *__restrict ns, double *__restrict next, double *__restrict discharge,            \
+    double *__restrict cellOut, double *__restrict outletIn
+#define TERROIR_GATHER_ROW_ARGUMENTS                                                               \
+  columns, interior, k, H, W, isCell, sl, ss, ml, ms, mo, nl, ns, next, discharge, cellOut, outletIn
+
+inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARAMETERS)
+{
+  const double cEW = k.cEW, cN = k.cN, cNE = k.cNE, cS = k.cS, cSE = k.cSE;
+  const double fromNorth = k.fromNorth, fromSouth = k.fromSouth;
+  // What a giver at slot s sends to a receiver at height h: scale * c * max(0, level - h).
+  auto sent = [](const double* lv, const double* sc, int s, double c, double h)
+  { return sc[s] * c * std::max(0.0, lv[s] - h); };
+  for (int pi = 0; pi < columns; ++pi)
+  {
+    const int s = pi + 1; // slot of this column
+    const double h = H[pi];
+    const double inRow = sent(ml, ms, s - 1, cEW, h) + sent(ml, ms, s + 1, cEW, h);
+    const double inNorth =
+      sent(nl, ns, s - 1, cNE, h) + sent(nl, ns, s, cN, h) + sent(nl, ns, s + 1, cNE, h);
+    const double inSouth =
+      sent(sl, ss, s - 1, cSE, h) + sent(sl, ss, s, cS, h) + sent(sl, ss, s + 1, cSE, h);
+    const double in = inRow + fromNorth * inNorth + fromSouth * inSouth;
+    const bool cell = interior & (isCell[pi] != 0);
+    const double o = mo[s];
+    const double kept = std::max(0.0, W[pi] - o + in);
+    next[pi] = cell ? kept : 0.0;
+    discharge[pi] += cell ? o : 0.0;
+    cellOut[pi] = cell ? o : 0.0;
+    outletIn[pi] = cell ? 0.0 : in;
+  }
+}
+
+// The row kernels for the baseline x86-64 target and, chosen at run time, for AVX2 and
+// AVX-512: one body, so the same operations (no FMA contraction: -ffp-contract=off) and the
+// same bits on every path.
+void GiverRowBase(TERROIR_GIVER_ROW_PARAMETERS)
+{
+  GiverRowBody(TERROIR_GIVER_ROW_ARGUMENTS);
+}
+void GatherRowBase(TERROIR_GATHER_ROW_PARAMETERS)
+{
+  GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
+}
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+__attribute__((target("avx2"))) void GiverRowAVX2(TERROIR_GIVER_ROW_PARAMETERS)
+{
+  GiverRowBody(TERROIR_GIVER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx2"))) void GatherRowAVX2(TERROIR_GATHER_ROW_PARAMETERS)
+{
+  GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx512f,avx512vl,avx512bw"))) void GiverRowAVX512(
+  TERROIR_GIVER_ROW_PARAMETERS)
+{
+  GiverRowBody(TERROIR_GIVER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx512f,avx512vl,avx512bw"))) void GatherRowAVX512(
+  TERROIR_GATHER_ROW_PARAMETERS)
+{
+  GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
+}
+#endif
+
+struct RowKernels
+{
+  void (*giver)(TERROIR_GIVER_ROW_PARAMETERS) = GiverRowBase;
+  void (*gather)(TERROIR_GATHER_ROW_PARAMETERS) = GatherRowBase;
+};
+
+/// The widest kernels this CPU runs (TERROIR_WATERFLOW_ISA=base|avx2|avx512 narrows the
+/// choice, for benchmarks and tests).
+RowKernels ChooseRowKernels()
+{
+  RowKernels k;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  const char* env = std::getenv("TERROIR_WATERFLOW_ISA");
+  const std::string want = env ? env : "";
+  if (want == "base")
+  {
+    return k;
+  }
+  if (want != "avx2" && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+    __builtin_cpu_supports("avx512bw"))
+  {
+    k.giver = GiverRowAVX512;
+    k.gather = GatherRowAVX512;
+  }
+  else if (__builtin_cpu_supports("avx2"))
+  {
+    k.giver = GiverRowAVX2;
+    k.gather = GatherRowAVX2;
+  }
+#endif
+  return k;
 }
 } // namespace
 
@@ -184,6 +334,7 @@ WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const d
 //------------------------------------------------------------------------------
 void WaterFlowSimulation::RowBlock(int begin, int end)
 {
+  const RowKernels kernels = ChooseRowKernels();
   const int stride = NX + 2;
   const std::size_t width = static_cast<std::size_t>(stride) + 2;
   GiverRow rows[3];
@@ -198,6 +349,34 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
   const std::uint8_t* isCell = this->IsCell.data();
   double* next = this->NextWater.data();
   double* discharge = this->DischargeDepth.data();
+  auto rowStart = [stride](int r)
+  { return static_cast<std::size_t>(r) * static_cast<std::size_t>(stride); };
+
+  // Absolute heights H = T + W of padded rows, computed once per row: a ring of four rows
+  // (the givers of row r + 1 read rows r .. r + 2 while row r gathers).
+  std::vector<double> heights[4];
+  int heightRow[4] = { -1, -1, -1, -1 };
+  for (auto& h : heights)
+  {
+    h.resize(static_cast<std::size_t>(stride));
+  }
+  auto heightsOf = [&](int r) -> const double*
+  {
+    const int k = r & 3;
+    if (heightRow[k] != r)
+    {
+      const std::size_t row0 = rowStart(r);
+      double* h = heights[k].data();
+      for (int pi = 0; pi < stride; ++pi)
+      {
+        h[pi] = T[row0 + pi] + W[row0 + pi];
+      }
+      heightRow[k] = r;
+    }
+    return heights[k].data();
+  };
+  std::vector<double> cellOut(static_cast<std::size_t>(stride), 0.0);
+  std::vector<double> outletIn(static_cast<std::size_t>(stride), 0.0);
 
   // Fills `g` with the givers of padded row r (all zero on the border rows and columns).
   auto givers = [&](int r, GiverRow& g)
@@ -217,26 +396,24 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       CloseDiag[r - 1],
       CloseNS[r - 1],
       CloseDiag[r - 1] };
-    const std::ptrdiff_t s = stride;
-    const std::ptrdiff_t off[8] = { 1, s + 1, s, s - 1, -1, -s - 1, -s, -s + 1 };
-    const std::size_t row0 = static_cast<std::size_t>(r) * static_cast<std::size_t>(stride);
+    const std::size_t row0 = rowStart(r);
+    const double* hs = heightsOf(r - 1);
+    const double* hm = heightsOf(r);
+    const double* hn = heightsOf(r + 1);
+    kernels.giver(
+      NX, T + row0, W + row0, hs, hm, hn, close, g.level.data(), g.scale.data(), g.out.data());
     for (int pi = 1; pi <= NX; ++pi)
     {
-      const std::size_t c = row0 + static_cast<std::size_t>(pi);
-      WaterFlowGiver v;
-      if (W[c] > 0.0)
+      if (g.out[pi + 1] < 0.0)
       {
-        double h[8];
-        for (int k = 0; k < 8; ++k)
-        {
-          const std::size_t n = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + off[k]);
-          h[k] = T[n] + W[n];
-        }
-        v = WaterFlowEvacuation(T[c], W[c], h, close);
+        const double h[8] = {
+          hm[pi + 1], hn[pi + 1], hn[pi], hn[pi - 1], hm[pi - 1], hs[pi - 1], hs[pi], hs[pi + 1]
+        };
+        const WaterFlowGiver v = WaterFlowEvacuation(T[row0 + pi], W[row0 + pi], h, close);
+        g.level[pi + 1] = v.level;
+        g.scale[pi + 1] = v.scale;
+        g.out[pi + 1] = v.out;
       }
-      g.level[pi + 1] = v.level;
-      g.scale[pi + 1] = v.scale;
-      g.out[pi + 1] = v.out;
     }
   };
 
@@ -248,41 +425,40 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
                   double& moved,
                   double& outflow)
   {
-    const double cEW = CloseEW[r];
-    const double cN = CloseNS[r];
-    const double cNE = CloseDiag[r];
-    const double cS = r > 0 ? CloseNS[r - 1] : 0.0;
-    const double cSE = r > 0 ? CloseDiag[r - 1] : 0.0;
+    const std::size_t row0 = rowStart(r);
+    GatherRowConstants k;
+    k.cEW = CloseEW[r];
+    k.cN = CloseNS[r];
+    k.cNE = CloseDiag[r];
+    k.cS = r > 0 ? CloseNS[r - 1] : 0.0;
+    k.cSE = r > 0 ? CloseDiag[r - 1] : 0.0;
     // Volume sent from a neighbouring row becomes depth here through the area ratio.
-    const double fromNorth = r + 1 < NY + 2 ? Area[r + 1] / Area[r] : 0.0;
-    const double fromSouth = r > 0 ? Area[r - 1] / Area[r] : 0.0;
-    const std::size_t row0 = static_cast<std::size_t>(r) * static_cast<std::size_t>(stride);
-    const bool interior = r >= 1 && r <= NY;
+    k.fromNorth = r + 1 < NY + 2 ? Area[r + 1] / Area[r] : 0.0;
+    k.fromSouth = r > 0 ? Area[r - 1] / Area[r] : 0.0;
+    kernels.gather(stride,
+      r >= 1 && r <= NY,
+      k,
+      heightsOf(r),
+      W + row0,
+      isCell + row0,
+      south.level.data(),
+      south.scale.data(),
+      mid.level.data(),
+      mid.scale.data(),
+      mid.out.data(),
+      north.level.data(),
+      north.scale.data(),
+      next + row0,
+      discharge + row0,
+      cellOut.data(),
+      outletIn.data());
+    // The row's sums in column order (adding the zeros of the other kind changes nothing).
     double rowOut = 0.0;
     double rowIn = 0.0;
     for (int pi = 0; pi < stride; ++pi)
     {
-      const std::size_t c = row0 + static_cast<std::size_t>(pi);
-      const std::size_t s = static_cast<std::size_t>(pi) + 1; // slot of this column
-      const double h = T[c] + W[c];
-      const double inRow = Sent(mid, s - 1, cEW, h) + Sent(mid, s + 1, cEW, h);
-      const double inNorth =
-        Sent(north, s - 1, cNE, h) + Sent(north, s, cN, h) + Sent(north, s + 1, cNE, h);
-      const double inSouth =
-        Sent(south, s - 1, cSE, h) + Sent(south, s, cS, h) + Sent(south, s + 1, cSE, h);
-      const double in = inRow + fromNorth * inNorth + fromSouth * inSouth;
-      if (interior && isCell[c])
-      {
-        const double out = mid.out[s];
-        next[c] = std::max(0.0, W[c] - out + in);
-        discharge[c] += out;
-        rowOut += out;
-      }
-      else
-      {
-        next[c] = 0.0;
-        rowIn += in;
-      }
+      rowOut += cellOut[pi];
+      rowIn += outletIn[pi];
     }
     moved += rowOut * Area[r];
     outflow += rowIn * Area[r];
