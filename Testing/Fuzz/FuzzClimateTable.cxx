@@ -3,6 +3,7 @@
 // series present, or fail with a one-line message and a default table. A violated invariant
 // traps; sanitizers report the rest. Seeds: Testing/Fuzz/corpus/ClimateTable/.
 #include "ClimateTable.h"
+#include "FuzzCheck.h"
 
 #include <array>
 #include <cmath>
@@ -12,13 +13,7 @@
 
 namespace
 {
-void Check(bool condition)
-{
-  if (!condition)
-  {
-    __builtin_trap();
-  }
-}
+using terroir_fuzz::Check;
 
 /// The message is well-formed UTF-8 without any control character (one line, printable).
 bool Printable(const std::string& text)

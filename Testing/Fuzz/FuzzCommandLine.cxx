@@ -6,6 +6,7 @@
 //   mode, output names with a known extension), or prints
 //   help (exit status 0, text, no error), or refuses with exit status 2 and one line of error;
 // - it never exits, throws or prints by itself (a throw or exit would end the fuzzer).
+#include "FuzzCheck.h"
 #include "TerroirCommandLine.h"
 
 #include "SolarPosition.h"
@@ -20,13 +21,7 @@
 
 namespace
 {
-void Check(bool condition)
-{
-  if (!condition)
-  {
-    __builtin_trap();
-  }
-}
+using terroir_fuzz::Check;
 
 bool EndsWithRasterExtension(const std::string& name)
 {

@@ -17,6 +17,8 @@
 // with an empty output; a success has the raster's size, positive finite spacings (per row
 // too), a finite origin, valid cells exactly where elevations are finite and at most 1e30 m,
 // at least one of them, and a centre and convergence that are finite numbers.
+#include "FuzzCheck.h"
+#include "FuzzQuietGDAL.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkImageData.h"
@@ -41,13 +43,7 @@
 
 namespace
 {
-void Check(bool condition)
-{
-  if (!condition)
-  {
-    __builtin_trap();
-  }
-}
+using terroir_fuzz::Check;
 
 /// Reads the fuzz input front to back; zeros past its end.
 class Bytes
@@ -152,22 +148,12 @@ std::string MakeCRS(Bytes& in)
   return wkt;
 }
 
-struct Setup
-{
-  Setup()
-  {
-    GDALAllRegister();
-    CPLSetConfigOption("GDAL_PAM_ENABLED", "NO");
-    CPLSetErrorHandler(CPLQuietErrorHandler);
-    vtkObject::GlobalWarningDisplayOff();
-    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
-  }
-};
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
-  static Setup setup;
+  static const bool quiet = terroir_fuzz::QuietGDALAndVTK();
+  (void)quiet;
   static const char* const kFile = "/vsimem/terroir_fuzz.tif";
   static const GDALDataType kTypes[7] = {
     GDT_Byte, GDT_UInt16, GDT_Int16, GDT_UInt32, GDT_Int32, GDT_Float32, GDT_Float64

@@ -6,6 +6,7 @@
 // - WriteTerragen accepts what ReadTerragen returned (unless heights pass 1.6e11 m, where
 //   int16 units of at most 1e7 m no longer reach), and reading that back gives the same
 //   grid with heights within the writer's quantisation bound range / 131068 + dz / 65534 m.
+#include "FuzzCheck.h"
 #include "Terragen.h"
 
 #include <algorithm>
@@ -17,13 +18,7 @@
 
 namespace
 {
-void Check(bool condition)
-{
-  if (!condition)
-  {
-    __builtin_trap();
-  }
-}
+using terroir_fuzz::Check;
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)

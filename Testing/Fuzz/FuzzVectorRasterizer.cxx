@@ -15,6 +15,8 @@
 // value per cell, unsigned char exactly when documented, holding only the burn value and 0 (or
 // NaN) without an attribute, finite values on covered cells, and NumberOfCoveredCells equal to
 // the cells it marks.
+#include "FuzzCheck.h"
+#include "FuzzQuietGDAL.h"
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -37,13 +39,7 @@
 
 namespace
 {
-void Check(bool condition)
-{
-  if (!condition)
-  {
-    __builtin_trap();
-  }
-}
+using terroir_fuzz::Check;
 
 const char* const kUTM11N =
   "PROJCS[\"WGS 84 / UTM zone 11N\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\","
@@ -88,22 +84,12 @@ vtkSmartPointer<vtkImageData> Terrain(int nx, int ny, bool geographic)
   return image;
 }
 
-struct Setup
-{
-  Setup()
-  {
-    GDALAllRegister();
-    CPLSetConfigOption("GDAL_PAM_ENABLED", "NO");
-    CPLSetErrorHandler(CPLQuietErrorHandler);
-    vtkObject::GlobalWarningDisplayOff();
-    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
-  }
-};
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
-  static Setup setup;
+  static const bool quiet = terroir_fuzz::QuietGDALAndVTK();
+  (void)quiet;
   static const char* const kFile = "/vsimem/terroir_fuzz.json";
   static const double kBurn[4] = { 1.0, 7.0, 0.5, -3.0 };
   auto byte = [&](std::size_t k) -> int { return k < size ? data[k] : 0; };
