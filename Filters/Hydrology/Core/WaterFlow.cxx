@@ -38,13 +38,16 @@ struct GiverRow
 
 /// The giver row of padded row r (nx cells from column 1): terrain T and water W of the row,
 /// absolute heights H = T + W of the rows south, mid and north, the 8 closenesses in neighbour
-/// order; writes level, scale and out at slot = column + 1, out = -1 (never a real value) for
-/// the cells left to WaterFlowEvacuation.
+/// order; writes level, scale and out at slot = column + 1, and a negative out (never a real
+/// value) on the cells of the other cases: -1 for the "part" case (PartCellsBody), -2 for
+/// all = W exactly (left to WaterFlowEvacuation).
+// clang-format off
 #define TERROIR_GIVER_ROW_PARAMETERS                                                               \
-  int nx, const float *__restrict T, const double *__restrict W, const double *__restrict hs,      \
-    const double *__restrict hm, const double *__restrict hn, const double *__restrict close,      \
-    double *__restrict level, double *__restrict scale, double *__restrict out
+  int nx, const float* __restrict T, const double* __restrict W, const double* __restrict hs,      \
+    const double* __restrict hm, const double* __restrict hn, const double* __restrict close,      \
+    double* __restrict level, double* __restrict scale, double* __restrict out
 #define TERROIR_GIVER_ROW_ARGUMENTS nx, T, W, hs, hm, hn, close, level, scale, out
+// clang-format on
 
 /// The fast "none" and "all" cases of WaterFlowEvacuation for every cell of a row, as straight
 /// code (the same operations in the same order, so the same bits) that the compiler vectorises
@@ -73,7 +76,134 @@ inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAME
     const bool fast = wet & (all >= w) & (share < 1.0); // no branches: selects only
     level[pi + 1] = fast ? t : 0.0;
     scale[pi + 1] = fast ? share : 0.0;
-    out[pi + 1] = fast ? w : (wet ? -1.0 : 0.0);
+    // Flags for the other cases: -1 part (all < W), -2 all with share exactly 1.
+    out[pi + 1] = fast ? w : (wet ? (all < w ? -1.0 : -2.0) : 0.0);
+  }
+}
+
+/// The "part" case of WaterFlowEvacuation for m cells at once (structure of arrays: the cell's
+/// own absolute height hc[i] and its neighbours' H[k * m + i], k in neighbour order; the row's
+/// closenesses): the same receiver set, the same additions and subtractions in the same order
+/// and the same divisions as the scalar function, written as selects so that the compiler
+/// vectorises across cells. Each pass drops, in every cell at once, the receivers at or above
+/// the cell's current level; passes stop when no cell changed (at most 8 can change, one
+/// receiver at least each time). Writes level[i], out[i] and scale[i]; scratch: num, den,
+/// lowest, changed.
+// clang-format off
+#define TERROIR_PART_CELLS_PARAMETERS                                                              \
+  int m, const double* __restrict hc, const double* __restrict H, const double* __restrict close,  \
+    double* __restrict level, double* __restrict out, double* __restrict num,                      \
+    double* __restrict den, double* __restrict lowest, double* __restrict changed,                 \
+    double* __restrict scale
+#define TERROIR_PART_CELLS_ARGUMENTS m, hc, H, close, level, out, num, den, lowest, changed, scale
+// clang-format on
+
+inline __attribute__((always_inline)) void PartCellsBody(TERROIR_PART_CELLS_PARAMETERS)
+{
+  const double c0 = close[0], c1 = close[1], c2 = close[2], c3 = close[3];
+  const double c4 = close[4], c5 = close[5], c6 = close[6], c7 = close[7];
+  const double* __restrict H0 = H;
+  const double* __restrict H1 = H + m;
+  const double* __restrict H2 = H + 2 * m;
+  const double* __restrict H3 = H + 3 * m;
+  const double* __restrict H4 = H + 4 * m;
+  const double* __restrict H5 = H + 5 * m;
+  const double* __restrict H6 = H + 6 * m;
+  const double* __restrict H7 = H + 7 * m;
+  // The receivers are never stored: neighbour k still receives at a pass when H_k is below the
+  // cell's own height and below every level of the earlier passes, i.e. below lowest[i], the
+  // smallest of them (so a drop never depends on the levels decreasing in floating point).
+  // changed[i] is 1 when the last pass dropped a receiver of cell i. Flags are doubles: bytes
+  // among the doubles kept GCC 12 from vectorising.
+  for (int i = 0; i < m; ++i)
+  {
+    const double h = hc[i];
+    double nu = h;
+    double de = 1.0;
+    double any = 0.0;
+// clang-format off
+#define TERROIR_PART_ADD(K)                                                                        \
+  {                                                                                                \
+    const bool below = H##K[i] < h;                                                                \
+    nu = below ? nu + c##K * H##K[i] : nu;                                                         \
+    de = below ? de + c##K : de;                                                                   \
+    any = below ? 1.0 : any;                                                                       \
+  }
+    // clang-format on
+    TERROIR_PART_ADD(0)
+    TERROIR_PART_ADD(1)
+    TERROIR_PART_ADD(2)
+    TERROIR_PART_ADD(3)
+    TERROIR_PART_ADD(4)
+    TERROIR_PART_ADD(5)
+    TERROIR_PART_ADD(6)
+    TERROIR_PART_ADD(7)
+#undef TERROIR_PART_ADD
+    num[i] = nu;
+    den[i] = de;
+    lowest[i] = h;
+    changed[i] = any;
+    scale[i] = any; // 1 with a receiver; without one the scalar function leaves scale 0
+    level[i] = any != 0.0 ? nu / de : h;
+  }
+  for (int pass = 0; pass < 9; ++pass)
+  {
+    for (int i = 0; i < m; ++i)
+    {
+      const double lv = level[i];
+      const double low = lowest[i];
+      double nu = num[i];
+      double de = den[i];
+      double dropped = 0.0;
+// clang-format off
+#define TERROIR_PART_DROP(K)                                                                       \
+  {                                                                                                \
+    const double hk = H##K[i];                                                                     \
+    const bool d = (hk < low) & (hk >= lv);                                                        \
+    nu = d ? nu - c##K * hk : nu;                                                                  \
+    de = d ? de - c##K : de;                                                                       \
+    dropped = d ? 1.0 : dropped;                                                                   \
+  }
+      // clang-format on
+      TERROIR_PART_DROP(0)
+      TERROIR_PART_DROP(1)
+      TERROIR_PART_DROP(2)
+      TERROIR_PART_DROP(3)
+      TERROIR_PART_DROP(4)
+      TERROIR_PART_DROP(5)
+      TERROIR_PART_DROP(6)
+      TERROIR_PART_DROP(7)
+#undef TERROIR_PART_DROP
+      lowest[i] = std::min(low, lv);
+      level[i] = dropped != 0.0 ? nu / de : lv;
+      num[i] = nu;
+      den[i] = de;
+      changed[i] = dropped;
+    }
+    bool any = false;
+    for (int i = 0; i < m; ++i)
+    {
+      any = any || changed[i] != 0.0;
+    }
+    if (!any)
+    {
+      break;
+    }
+  }
+  // What the cell gives: sum over all neighbours of c_k max(0, L - H_k) (nothing without a
+  // receiver: the level stays H_i and no neighbour is lower).
+  for (int i = 0; i < m; ++i)
+  {
+    const double lv = level[i];
+    double o = c0 * std::max(0.0, lv - H0[i]);
+    o += c1 * std::max(0.0, lv - H1[i]);
+    o += c2 * std::max(0.0, lv - H2[i]);
+    o += c3 * std::max(0.0, lv - H3[i]);
+    o += c4 * std::max(0.0, lv - H4[i]);
+    o += c5 * std::max(0.0, lv - H5[i]);
+    o += c6 * std::max(0.0, lv - H6[i]);
+    o += c7 * std::max(0.0, lv - H7[i]);
+    out[i] = o;
   }
 }
 
@@ -86,15 +216,17 @@ struct GatherRowConstants
 {
   double cEW, cN, cNE, cS, cSE, fromNorth, fromSouth;
 };
+// clang-format off
 #define TERROIR_GATHER_ROW_PARAMETERS                                                              \
-  int columns, bool interior, const GatherRowConstants &k, const double *__restrict H,             \
-    const double *__restrict W, const std::uint8_t *__restrict isCell,                             \
-    const double *__restrict sl, const double *__restrict ss, const double *__restrict ml,         \
-    const double *__restrict ms, const double *__restrict mo, const double *__restrict nl,         \
-    const double *__restrict ns, double *__restrict next, double *__restrict discharge,            \
-    double *__restrict cellOut, double *__restrict outletIn
+  int columns, bool interior, const GatherRowConstants& k, const double* __restrict H,             \
+    const double* __restrict W, const std::uint8_t* __restrict isCell,                             \
+    const double* __restrict sl, const double* __restrict ss, const double* __restrict ml,         \
+    const double* __restrict ms, const double* __restrict mo, const double* __restrict nl,         \
+    const double* __restrict ns, double* __restrict next, double* __restrict discharge,            \
+    double* __restrict cellOut, double* __restrict outletIn
 #define TERROIR_GATHER_ROW_ARGUMENTS                                                               \
   columns, interior, k, H, W, isCell, sl, ss, ml, ms, mo, nl, ns, next, discharge, cellOut, outletIn
+// clang-format on
 
 inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARAMETERS)
 {
@@ -134,6 +266,10 @@ void GatherRowBase(TERROIR_GATHER_ROW_PARAMETERS)
 {
   GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
 }
+void PartCellsBase(TERROIR_PART_CELLS_PARAMETERS)
+{
+  PartCellsBody(TERROIR_PART_CELLS_ARGUMENTS);
+}
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 __attribute__((target("avx2"))) void GiverRowAVX2(TERROIR_GIVER_ROW_PARAMETERS)
 {
@@ -142,6 +278,10 @@ __attribute__((target("avx2"))) void GiverRowAVX2(TERROIR_GIVER_ROW_PARAMETERS)
 __attribute__((target("avx2"))) void GatherRowAVX2(TERROIR_GATHER_ROW_PARAMETERS)
 {
   GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx2"))) void PartCellsAVX2(TERROIR_PART_CELLS_PARAMETERS)
+{
+  PartCellsBody(TERROIR_PART_CELLS_ARGUMENTS);
 }
 __attribute__((target("avx512f,avx512vl,avx512bw"))) void GiverRowAVX512(
   TERROIR_GIVER_ROW_PARAMETERS)
@@ -153,12 +293,39 @@ __attribute__((target("avx512f,avx512vl,avx512bw"))) void GatherRowAVX512(
 {
   GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
 }
+__attribute__((target("avx512f,avx512vl,avx512bw"))) void PartCellsAVX512(
+  TERROIR_PART_CELLS_PARAMETERS)
+{
+  PartCellsBody(TERROIR_PART_CELLS_ARGUMENTS);
+}
 #endif
+
+/// Sum of x[0 .. n) in a fixed order that does not depend on the instruction set: eight
+/// running sums (x[i] goes to sum i mod 8, in column order), then added pairwise. The compiler
+/// vectorises the eight lanes; one running sum would be a chain of n dependent additions.
+double RowSum(const double* x, int n)
+{
+  double lane[8] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+  int i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    for (int l = 0; l < 8; ++l)
+    {
+      lane[l] += x[i + l];
+    }
+  }
+  for (int l = 0; i + l < n; ++l)
+  {
+    lane[l] += x[i + l];
+  }
+  return ((lane[0] + lane[1]) + (lane[2] + lane[3])) + ((lane[4] + lane[5]) + (lane[6] + lane[7]));
+}
 
 struct RowKernels
 {
   void (*giver)(TERROIR_GIVER_ROW_PARAMETERS) = GiverRowBase;
   void (*gather)(TERROIR_GATHER_ROW_PARAMETERS) = GatherRowBase;
+  void (*part)(TERROIR_PART_CELLS_PARAMETERS) = PartCellsBase;
 };
 
 /// The widest kernels this CPU runs (TERROIR_WATERFLOW_ISA=base|avx2|avx512 narrows the
@@ -178,11 +345,13 @@ RowKernels ChooseRowKernels()
   {
     k.giver = GiverRowAVX512;
     k.gather = GatherRowAVX512;
+    k.part = PartCellsAVX512;
   }
   else if (__builtin_cpu_supports("avx2"))
   {
     k.giver = GiverRowAVX2;
     k.gather = GatherRowAVX2;
+    k.part = PartCellsAVX2;
   }
 #endif
   return k;
@@ -378,6 +547,18 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
   std::vector<double> cellOut(static_cast<std::size_t>(stride), 0.0);
   std::vector<double> outletIn(static_cast<std::size_t>(stride), 0.0);
 
+  // Scratch of the part cells of one row.
+  std::vector<int> partColumn(static_cast<std::size_t>(stride));
+  std::vector<double> partSelf(static_cast<std::size_t>(stride));
+  std::vector<double> partHeights(8 * static_cast<std::size_t>(stride));
+  std::vector<double> partLevel(static_cast<std::size_t>(stride));
+  std::vector<double> partOut(static_cast<std::size_t>(stride));
+  std::vector<double> partNum(static_cast<std::size_t>(stride));
+  std::vector<double> partDen(static_cast<std::size_t>(stride));
+  std::vector<double> partLowest(static_cast<std::size_t>(stride));
+  std::vector<double> partChanged(static_cast<std::size_t>(stride));
+  std::vector<double> partScale(static_cast<std::size_t>(stride));
+
   // Fills `g` with the givers of padded row r (all zero on the border rows and columns).
   auto givers = [&](int r, GiverRow& g)
   {
@@ -402,9 +583,21 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     const double* hn = heightsOf(r + 1);
     kernels.giver(
       NX, T + row0, W + row0, hs, hm, hn, close, g.level.data(), g.scale.data(), g.out.data());
+    // The part cells, gathered into a structure of arrays for the vectorised kernel; the rare
+    // all = W cells through the scalar function.
+    int m = 0;
+    bool rare = false;
     for (int pi = 1; pi <= NX; ++pi)
     {
-      if (g.out[pi + 1] < 0.0)
+      // Branch-free compaction: the column is always written, kept only for a part cell.
+      const double o = g.out[pi + 1];
+      partColumn[m] = pi;
+      m += o == -1.0 ? 1 : 0;
+      rare = rare || o == -2.0;
+    }
+    for (int pi = 1; rare && pi <= NX; ++pi)
+    {
+      if (g.out[pi + 1] == -2.0)
       {
         const double h[8] = {
           hm[pi + 1], hn[pi + 1], hn[pi], hn[pi - 1], hm[pi - 1], hs[pi - 1], hs[pi], hs[pi + 1]
@@ -414,6 +607,42 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
         g.scale[pi + 1] = v.scale;
         g.out[pi + 1] = v.out;
       }
+    }
+    if (m == 0)
+    {
+      return;
+    }
+    double* H = partHeights.data();
+    for (int i = 0; i < m; ++i)
+    {
+      const int pi = partColumn[i];
+      partSelf[i] = hm[pi];
+      H[0 * m + i] = hm[pi + 1];
+      H[1 * m + i] = hn[pi + 1];
+      H[2 * m + i] = hn[pi];
+      H[3 * m + i] = hn[pi - 1];
+      H[4 * m + i] = hm[pi - 1];
+      H[5 * m + i] = hs[pi - 1];
+      H[6 * m + i] = hs[pi];
+      H[7 * m + i] = hs[pi + 1];
+    }
+    kernels.part(m,
+      partSelf.data(),
+      H,
+      close,
+      partLevel.data(),
+      partOut.data(),
+      partNum.data(),
+      partDen.data(),
+      partLowest.data(),
+      partChanged.data(),
+      partScale.data());
+    for (int i = 0; i < m; ++i)
+    {
+      const int pi = partColumn[i];
+      g.level[pi + 1] = partLevel[i];
+      g.scale[pi + 1] = partScale[i];
+      g.out[pi + 1] = partOut[i];
     }
   };
 
@@ -452,16 +681,8 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       discharge + row0,
       cellOut.data(),
       outletIn.data());
-    // The row's sums in column order (adding the zeros of the other kind changes nothing).
-    double rowOut = 0.0;
-    double rowIn = 0.0;
-    for (int pi = 0; pi < stride; ++pi)
-    {
-      rowOut += cellOut[pi];
-      rowIn += outletIn[pi];
-    }
-    moved += rowOut * Area[r];
-    outflow += rowIn * Area[r];
+    moved += RowSum(cellOut.data(), stride) * Area[r];
+    outflow += RowSum(outletIn.data(), stride) * Area[r];
   };
 
   // Ring of three giver rows: padded rows r - 1, r, r + 1 for interior row r = j + 1.
