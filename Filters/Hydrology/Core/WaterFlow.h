@@ -49,13 +49,20 @@
  * Cost: O(n) per iteration, rows in parallel through the ParallelFor callback (each block of
  * rows computes its givers' (L, s) for its rows plus one halo row on each side, in a ring of
  * three row buffers, then gathers: 36 bytes of memory traffic per cell and iteration: terrain
- * 4, water 8 + 8, discharge 8 + 8).
+ * 4, water 8 + 8, discharge 8 + 8). Each row is a few straight loops that the compiler
+ * vectorises, built for SSE2, AVX2 and AVX-512 and chosen at run time (TERROIR_WATERFLOW_ISA =
+ * base, avx2 or avx512 narrows the choice): absolute heights once per row; the "none" and "all"
+ * cases; the "part" cases gathered into a structure of arrays and solved together in passes
+ * (a neighbour still receives while it is below the cell and every earlier level); the gather;
+ * the row's sums in eight fixed lanes. The same operations in the same order on every path (no
+ * FMA contraction), so the same bits as WaterFlowEvacuation and the GPU kernel.
  *
  * @par Correctness
  * Testing/Unit/TestWaterFlow.cxx: the seed's three 1-D cases on worked examples; conservation on
  * closed and open terrains (1e-6 relative, double sums); a tilted plane drains completely; a
  * closed bowl fills to one flat level; symmetric terrain gives a symmetric result; water never
- * moves uphill; the auto-stop rule; thread count independence. Testing/GPU/TestWaterFlowGPU.cxx:
+ * moves uphill; the auto-stop rule; thread count independence; the same bits on every
+ * instruction set. Testing/GPU/TestWaterFlowGPU.cxx:
  * the GPU kernel against this code.
  *
  * @par Reference
