@@ -200,6 +200,7 @@ private:
   std::string Message;
   bool Computing = false;
   unsigned long WaterShown = 0; ///< water version on screen
+  bool QuitRequested = false;   ///< Q or Escape was pressed
 };
 
 //------------------------------------------------------------------------------
@@ -890,6 +891,7 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
   }
   else if (sym == "q" || sym == "Escape")
   {
+    this->QuitRequested = true; // a script's `key q` ends the session too
     rwi->TerminateApp();
   }
   else
@@ -1159,13 +1161,13 @@ int ViewerWindow::Run(TerroirViewerRequest* request)
       {
         return 1;
       }
-      if (quit)
+      if (quit || this->QuitRequested)
       {
         break;
       }
     }
   }
-  if (!quit)
+  if (!quit && !this->QuitRequested)
   {
     this->Interactor->CreateRepeatingTimer(100);
     this->Interactor->Start();
