@@ -5,7 +5,8 @@ find_package(nlohmann_json 3 REQUIRED)
 
 # The command-line parser alone (CLI11, no VTK): unit tests and the fuzz harness link it too.
 # It checks dates with the terrain core's calendar (TerroirTerrainCore, plain C++, no VTK).
-add_library(TerroirCommandLine STATIC TerroirCommandLine.cxx TerroirCommandLine.h)
+add_library(TerroirCommandLine STATIC TerroirCommandLine.cxx TerroirCommandLine.h
+  TerroirViewerScript.cxx TerroirViewerScript.h)
 target_include_directories(TerroirCommandLine PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
   PRIVATE "${CLI11_INCLUDE_DIR}")
 target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore)
@@ -37,3 +38,28 @@ target_link_libraries(terroir-overlay PRIVATE ${_terroir_overlay_modules})
 vtk_module_autoinit(TARGETS terroir-overlay MODULES ${_terroir_overlay_modules})
 add_dependencies(terroir terroir-overlay)
 install(TARGETS terroir-overlay LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")
+
+# `terroir view`: the window-free model (unit-tested by Testing/Pipeline/TestViewerSession.cxx)
+# and the window module, loaded with dlopen like the overlay module.
+add_library(TerroirViewerSession STATIC TerroirViewerSession.cxx TerroirViewerSession.h)
+set_target_properties(TerroirViewerSession PROPERTIES POSITION_INDEPENDENT_CODE ON)
+target_include_directories(TerroirViewerSession PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}")
+target_compile_options(TerroirViewerSession PRIVATE -Wall -Wextra)
+find_package(Threads REQUIRED)
+target_link_libraries(TerroirViewerSession PUBLIC TerroirCommandLine VTK::CommonCore
+  VTK::CommonDataModel VTK::CommonExecutionModel Terroir::Common Terroir::FiltersTerrain
+  Terroir::FiltersHydrology Terroir::FiltersClustering
+  PRIVATE TerroirTerrainCore Threads::Threads)
+set_target_properties(TerroirCommandLine PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+add_library(terroir-viewer MODULE TerroirViewerWindow.cxx TerroirViewerPlugin.h)
+set_target_properties(terroir-viewer PROPERTIES PREFIX "" OUTPUT_NAME "terroir-viewer"
+  CXX_VISIBILITY_PRESET hidden)
+target_compile_options(terroir-viewer PRIVATE -Wall -Wextra)
+set(_terroir_viewer_modules Terroir::Rendering Terroir::Common VTK::CommonCore
+  VTK::CommonDataModel VTK::RenderingCore VTK::RenderingOpenGL2 VTK::RenderingFreeType
+  VTK::RenderingAnnotation VTK::InteractionStyle VTK::InteractionWidgets VTK::IOImage)
+target_link_libraries(terroir-viewer PRIVATE TerroirViewerSession ${_terroir_viewer_modules})
+vtk_module_autoinit(TARGETS terroir-viewer MODULES ${_terroir_viewer_modules})
+add_dependencies(terroir terroir-viewer)
+install(TARGETS terroir-viewer LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")

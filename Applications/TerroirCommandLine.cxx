@@ -1019,6 +1019,60 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     ->check(EndsWith({ ".png" }));
   addCommon(kmeans);
 
+  // view
+  CLI::App* view = app.add_subcommand(
+    "view", "Interactive window: relief, overlays, sliders, lakes (default: bundled Sagehen DEM)");
+  std::string viewSize;
+  view->add_option("DEM", line.Input, "DEM file (default: the bundled Sagehen Creek DEM)");
+  view->add_option("--script", line.View.Script, "Replay the actions of FILE (one per line)");
+  view->add_option("--size", viewSize, "Window size WxH (default 1024x768)");
+  view
+    ->add_option("--overlay",
+      line.View.Overlay,
+      "First overlay: none, slope, illumination, sun-hours, temperature, humidity, water, "
+      "clusters")
+    ->check(CLI::IsMember({ "none",
+      "slope",
+      "illumination",
+      "sun-hours",
+      "temperature",
+      "humidity",
+      "water",
+      "clusters" }))
+    ->capture_default_str();
+  view->add_option("--style", line.View.Style, "Navigation: terrain (drag) or first-person (WASD)")
+    ->check(CLI::IsMember({ "terrain", "first-person" }))
+    ->capture_default_str();
+  view->add_option("--screenshot-dir",
+    line.View.ScreenshotDir,
+    "Folder of the screenshot key's PNGs (default: .)");
+  view->add_option("--sensitivity", line.View.Sensitivity, "Mouse sensitivity (pan, rotate, zoom)")
+    ->check(FiniteIn(0.01, 100.0))
+    ->capture_default_str();
+  view->add_option("--move-speed", line.View.MoveSpeed, "First-person step multiplier")
+    ->check(FiniteIn(0.01, 100.0))
+    ->capture_default_str();
+  AddLocationOptions(view, line.Illumination);
+  view->add_option("--month", line.View.Month, "Month of the sun, temperature, humidity")
+    ->check(CLI::Range(1, 12))
+    ->capture_default_str();
+  view->add_option("--hour", line.View.Hour, "Local solar time, hours")
+    ->check(FiniteIn(0.0, 24.0))
+    ->capture_default_str();
+  view
+    ->add_option("--orientation",
+      line.View.Orientation,
+      "Bearing of grid north from true north, degrees (default: the CRS's, else 0)")
+    ->check(FiniteIn(-360.0, 360.0));
+  view->add_option("--clusters", line.View.Clusters, "K of the clusters overlay")
+    ->check(CLI::Range(1, 64))
+    ->capture_default_str();
+  view->add_option("--lake-depth", line.View.LakeDepth, "Lake level above a clicked cell, m")
+    ->check(FiniteIn(0.0, 10000.0))
+    ->capture_default_str();
+  view->add_flag(
+    "--allow-network-paths", line.AllowNetwork, "Allow GDAL network and archive paths");
+
   // bench
   CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
   std::string backends = "cpu,gpu";
@@ -1083,7 +1137,8 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
            kmeans,
            bench,
            info,
-           fractal })
+           fractal,
+           view })
     {
       if (*sub)
       {
@@ -1222,6 +1277,26 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
         }
       }
     }
+    if (*view && !viewSize.empty())
+    {
+      int w = 0, h = 0;
+      char x = 0, tail = 0;
+      const bool digits = std::all_of(viewSize.begin(),
+        viewSize.end(),
+        [](char c) { return c == 'x' || std::isdigit(static_cast<unsigned char>(c)); });
+      if (!digits || viewSize.size() > 11 ||
+        std::sscanf(viewSize.c_str(), "%d%c%d%c", &w, &x, &h, &tail) != 3 || x != 'x')
+      {
+        throw std::invalid_argument(
+          "--size: '" + viewSize + "' is not WIDTHxHEIGHT (e.g. 1024x768)");
+      }
+      if (w < 320 || w > 7680 || h < 240 || h > 4320)
+      {
+        throw std::invalid_argument("--size: " + viewSize + " is outside 320x240 to 7680x4320");
+      }
+      line.View.Width = w;
+      line.View.Height = h;
+    }
     if ((*slope || *temp || *illum || *infil || *humid || *flood || *info) && line.Input.empty())
     {
       throw std::invalid_argument("the input file name is empty");
@@ -1235,7 +1310,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   catch (const CLI::CallForHelp&)
   {
     const CLI::App* sub = nullptr;
-    for (CLI::App* s : { run, slope, temp, illum, infil, humid, flood, bench, info, fractal })
+    for (CLI::App* s : { run, slope, temp, illum, infil, humid, flood, bench, info, fractal, view })
     {
       if (*s)
       {

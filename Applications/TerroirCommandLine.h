@@ -148,12 +148,30 @@ struct KMeansSettings
   std::string Png;                  ///< --png FILE: the cluster overlay
 };
 
+/// Options of `view` (the interactive window; Documentation/Viewer.md).
+struct ViewSettings
+{
+  std::string Script;            ///< --script FILE: actions to replay (checked before any work)
+  int Width = 1024;              ///< --size WxH, [320, 7680]
+  int Height = 768;              ///< --size WxH, [240, 4320]
+  std::string Overlay = "none";  ///< --overlay NAME (see TerroirViewerScript.h)
+  std::string Style = "terrain"; ///< --style terrain or first-person
+  std::string ScreenshotDir;     ///< --screenshot-dir DIR (empty: the current folder)
+  double Sensitivity = 1.0;      ///< --sensitivity F, mouse, [0.01, 100]
+  double MoveSpeed = 1.0;        ///< --move-speed F, first-person keys, [0.01, 100]
+  int Month = 6;                 ///< --month M, 1..12
+  double Hour = 10.0;            ///< --hour H, [0, 24]
+  double Orientation = std::numeric_limits<double>::quiet_NaN(); ///< --orientation DEG
+  int Clusters = 5;                                              ///< --clusters K, 1..64
+  double LakeDepth = 5.0;                                        ///< --lake-depth M, [0, 10000]
+};
+
 /// Everything the command line says.
 struct CommandLine
 {
   std::string Command; ///< run, slope, temperature, illumination, infiltration, humidity,
-                       ///< floodfill, waterflow, flowacc, validate, kmeans, bench, info
-                       ///< or fractal
+                       ///< floodfill, waterflow, flowacc, validate, kmeans, bench, info,
+                       ///< fractal or view
   bool Verbose = false;
   std::string Backend = "auto"; ///< auto, cpu or gpu
   bool Overwrite = false;
@@ -181,6 +199,8 @@ struct CommandLine
   double FlowRiverThreshold = 1e5; ///< flowacc --river-threshold, m2
 
   KMeansSettings KMeans; ///< kmeans (run: Clusters)
+
+  ViewSettings View; ///< view (and Illumination.Latitude/Longitude: --lat, --lon)
 
   int BenchSize = 2048;
   int BenchRepeat = 3;

@@ -14,6 +14,7 @@
 //   terroir bench [--size N]            time per stage and backend, per million cells
 //   terroir info IN                     grid and georeference of a DEM
 //   terroir fractal OUT --size N        a seeded synthetic DEM (GeoTIFF or .vti)
+//   terroir view [DEM] [--script F]     the interactive window (Documentation/Viewer.md)
 //
 // Errors are one line on stderr ("terroir: error: ...") and exit code 1 (2 for a bad command
 // line, found before any work: TerroirCommandLine.h); outputs are written
@@ -24,6 +25,8 @@
 #include "TerroirFlowCommands.h"
 #include "TerroirOverlayPlugin.h"
 #include "TerroirSafeOutput.h"
+#include "TerroirViewerPlugin.h"
+#include "TerroirViewerScript.h"
 #include "TerroirWaterCommands.h"
 
 #include "vtkDataArray.h"
@@ -223,16 +226,12 @@ bool HaveDisplay()
   return d && *d;
 }
 
-/// Loads the overlay module (see TerroirOverlayPlugin.cxx) once; throws when it is missing.
-TerroirWriteOverlayFunction OverlayWriter()
+/// Loads `symbol` of the module `name` (beside the program's libraries, or
+/// TERROIR_<envName>_PLUGIN); throws naming `what` when it cannot.
+void* LoadPluginSymbol(const char* name, const char* symbol, const char* envName, const char* what)
 {
-  static TerroirWriteOverlayFunction writer = nullptr;
-  if (writer)
-  {
-    return writer;
-  }
   std::vector<std::string> candidates;
-  if (const char* env = std::getenv("TERROIR_OVERLAY_PLUGIN"))
+  if (const char* env = std::getenv(envName))
   {
     candidates.emplace_back(env);
   }
@@ -242,7 +241,7 @@ TerroirWriteOverlayFunction OverlayWriter()
   {
     for (const char* rel : { "../lib", "../" TERROIR_INSTALL_LIBDIR })
     {
-      candidates.push_back((exeDir / rel / TERROIR_OVERLAY_PLUGIN_NAME).string());
+      candidates.push_back((exeDir / rel / name).string());
     }
   }
   std::string failures;
@@ -250,18 +249,30 @@ TerroirWriteOverlayFunction OverlayWriter()
   {
     if (void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL))
     {
-      writer = reinterpret_cast<TerroirWriteOverlayFunction>(
-        ::dlsym(handle, TERROIR_OVERLAY_PLUGIN_SYMBOL));
-      if (writer)
+      if (void* found = ::dlsym(handle, symbol))
       {
-        return writer;
+        return found;
       }
     }
     const char* why = ::dlerror();
     failures += (failures.empty() ? "" : "; ") + (why ? std::string(why) : path);
   }
-  throw Failure(
-    "PNG overlays unavailable: cannot load " TERROIR_OVERLAY_PLUGIN_NAME " (" + failures + ")");
+  throw Failure(std::string(what) + " unavailable: cannot load " + name + " (" + failures + ")");
+}
+
+/// Loads the overlay module (see TerroirOverlayPlugin.cxx) once; throws when it is missing.
+TerroirWriteOverlayFunction OverlayWriter()
+{
+  static TerroirWriteOverlayFunction writer = nullptr;
+  if (!writer)
+  {
+    writer =
+      reinterpret_cast<TerroirWriteOverlayFunction>(LoadPluginSymbol(TERROIR_OVERLAY_PLUGIN_NAME,
+        TERROIR_OVERLAY_PLUGIN_SYMBOL,
+        "TERROIR_OVERLAY_PLUGIN",
+        "PNG overlays"));
+  }
+  return writer;
 }
 
 void WriteOverlay(vtkImageData* image,
@@ -1471,6 +1482,51 @@ int CommandFractal(const std::string& outPath, int size, int seed, double spacin
   WriteStageResult(source->GetOutput(), "Elevation", outPath, overwrite);
   return 0;
 }
+/// `terroir view`: checks the script (one line naming FILE:LINE and the problem) before any
+/// other work, reads the DEM, and hands both to the window module (TerroirViewerWindow.cxx).
+int CommandView(const terroir::app::CommandLine& c)
+{
+  std::vector<terroir::viewer::ViewerAction> actions;
+  if (!c.View.Script.empty())
+  {
+    std::string error;
+    if (!terroir::viewer::ReadViewerScript(
+          c.View.Script, c.View.Width, c.View.Height, actions, error))
+    {
+      throw Failure(error);
+    }
+  }
+  std::error_code ec;
+  if (!c.View.ScreenshotDir.empty() && !fs::is_directory(c.View.ScreenshotDir, ec))
+  {
+    throw Failure(c.View.ScreenshotDir + ": screenshot folder does not exist");
+  }
+  if (!HaveDisplay())
+  {
+    throw Failure("terroir view needs an X display (DISPLAY unset); run under 'xvfb-run -a'");
+  }
+  const std::string dem = c.Input.empty() ? terroir::app::DefaultDEM() : c.Input;
+  if (c.Input.empty())
+  {
+    std::cerr << "terroir view: no DEM given; opening the bundled Sagehen Creek DEM (" << dem
+              << ")\n";
+  }
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, c.AllowNetwork);
+  auto run = reinterpret_cast<TerroirRunViewerFunction>(LoadPluginSymbol(TERROIR_VIEWER_PLUGIN_NAME,
+    TERROIR_VIEWER_PLUGIN_SYMBOL,
+    "TERROIR_VIEWER_PLUGIN",
+    "terroir view"));
+  TerroirViewerRequest request;
+  request.Terrain = terrain;
+  request.TerrainName = dem;
+  request.Line = &c;
+  request.Actions = c.View.Script.empty() ? nullptr : &actions;
+  if (run(&request) != 0)
+  {
+    throw Failure(request.Error.empty() ? "terroir view failed" : request.Error);
+  }
+  return 0;
+}
 } // namespace
 
 int main(int argc, char** argv)
@@ -1594,6 +1650,10 @@ int main(int argc, char** argv)
     if (c.Command == "info")
     {
       return CommandInfo(c.Input, c.AllowNetwork, c.ZUnit);
+    }
+    if (c.Command == "view")
+    {
+      return CommandView(c);
     }
     if (c.Command == "fractal")
     {

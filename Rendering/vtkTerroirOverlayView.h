@@ -80,8 +80,6 @@
 #include <string> // For std::string
 
 class vtkImageData;
-class vtkLookupTable;
-class vtkRenderer;
 
 class VTKTERROIRRENDERING_EXPORT vtkTerroirOverlayView : public vtkObject
 {
@@ -231,16 +229,6 @@ protected:
   ~vtkTerroirOverlayView() override;
 
   bool Fail(const std::string& message);
-  void AddScalarBar(vtkRenderer* legendRenderer,
-    vtkLookupTable* lut,
-    const char* preset,
-    int fontSize,
-    double grey);
-  void AddCategoricalLegend(vtkRenderer* legendRenderer,
-    vtkLookupTable* lut,
-    const std::string& title,
-    int fontSize,
-    double grey);
 
   char* ArrayName = nullptr;
   int ArrayComponent = 0;

@@ -221,6 +221,10 @@ def make_climate_negative_rain(d):
           '{"precipitation_mm": [80, 70, -5, 60, 50, 40, 20, 20, 40, 60, 70, 80]}\n')
 
 
+def make_view_script(d):
+    write(os.path.join(d, "s.txt"), "overlay slope\nmonth 13\nquit\n")
+
+
 def make_nothing(d):
     pass
 

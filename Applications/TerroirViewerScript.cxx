@@ -1,0 +1,455 @@
+#include "TerroirViewerScript.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace terroir
+{
+namespace viewer
+{
+namespace
+{
+struct OverlayInfo
+{
+  const char* Name;
+  const char* Title;
+};
+
+const OverlayInfo Overlays[] = {
+  { "none", "No overlay" },
+  { "slope", "Slope" },
+  { "illumination", "Sun and shadow" },
+  { "sun-hours", "Hours of sun" },
+  { "temperature", "Temperature" },
+  { "humidity", "Soil humidity" },
+  { "water", "Water" },
+  { "clusters", "Clusters" },
+};
+
+/// Key names accepted besides single printable characters (X key symbols).
+const char* const NamedKeys[] = { "space",
+  "Return",
+  "Escape",
+  "Tab",
+  "BackSpace",
+  "Delete",
+  "Left",
+  "Right",
+  "Up",
+  "Down",
+  "Prior",
+  "Next",
+  "Home",
+  "End",
+  "plus",
+  "minus",
+  "bracketleft",
+  "bracketright",
+  "F1",
+  "F2",
+  "F3",
+  "F4",
+  "F5",
+  "F6",
+  "F7",
+  "F8",
+  "F9",
+  "F10",
+  "F11",
+  "F12" };
+
+/// A verb with a fixed number of numbers in [lo, hi] (integers when `integer`).
+struct NumericVerb
+{
+  const char* Verb;
+  double Lo;
+  double Hi;
+  bool Integer;
+};
+
+const NumericVerb NumericVerbs[] = {
+  { "latitude", -90.0, 90.0, false },
+  { "longitude", -180.0, 180.0, false },
+  { "month", 1.0, 12.0, true },
+  { "hour", 0.0, 24.0, false },
+  { "orientation", -360.0, 360.0, false },
+  { "clusters", 1.0, 64.0, true },
+  { "lake-depth", 0.0, 10000.0, false },
+  { "brush-size", 0.0, 1000.0, false },
+  { "brush-rate", 0.0, 1000.0, false },
+  { "sensitivity", 0.01, 100.0, false },
+};
+
+/// A whole token as a finite number; false otherwise.
+bool ToNumber(const std::string& token, double& value)
+{
+  if (token.empty())
+  {
+    return false;
+  }
+  errno = 0;
+  char* end = nullptr;
+  value = std::strtod(token.c_str(), &end);
+  return end == token.c_str() + token.size() && errno == 0 && std::isfinite(value);
+}
+
+std::string FormatNumber(double v)
+{
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+} // namespace
+
+const char* OverlayName(ViewerOverlay overlay)
+{
+  const int k = static_cast<int>(overlay);
+  return k >= 0 && k < static_cast<int>(ViewerOverlay::Count) ? Overlays[k].Name : "";
+}
+
+const char* OverlayTitle(ViewerOverlay overlay)
+{
+  const int k = static_cast<int>(overlay);
+  return k >= 0 && k < static_cast<int>(ViewerOverlay::Count) ? Overlays[k].Title : "";
+}
+
+bool OverlayFromName(const std::string& name, ViewerOverlay& overlay)
+{
+  for (int k = 0; k < static_cast<int>(ViewerOverlay::Count); ++k)
+  {
+    if (name == Overlays[k].Name)
+    {
+      overlay = static_cast<ViewerOverlay>(k);
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string OverlayNameList()
+{
+  std::string list;
+  for (const OverlayInfo& o : Overlays)
+  {
+    list += (list.empty() ? "" : ", ") + std::string(o.Name);
+  }
+  return list;
+}
+
+bool ParseKeySpec(const std::string& text, KeySpec& key, std::string& why)
+{
+  key = KeySpec();
+  std::string rest = text;
+  for (;;)
+  {
+    if (rest.rfind("ctrl+", 0) == 0 && rest.size() > 5)
+    {
+      key.Control = true;
+      rest = rest.substr(5);
+    }
+    else if (rest.rfind("shift+", 0) == 0 && rest.size() > 6)
+    {
+      key.Shift = true;
+      rest = rest.substr(6);
+    }
+    else
+    {
+      break;
+    }
+  }
+  const bool printable =
+    rest.size() == 1 && std::isgraph(static_cast<unsigned char>(rest[0])) && rest[0] != '#';
+  const bool named = std::find_if(std::begin(NamedKeys),
+                       std::end(NamedKeys),
+                       [&rest](const char* k) { return rest == k; }) != std::end(NamedKeys);
+  if (!printable && !named)
+  {
+    why = "unknown key '" + text +
+      "' (a character, or space, Return, Escape, Tab, Left, Right, Up, Down, F1..F12, with "
+      "optional ctrl+ and shift+)";
+    return false;
+  }
+  key.Symbol = rest;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool ParseViewerScript(const std::string& text,
+  const std::string& name,
+  int width,
+  int height,
+  std::vector<ViewerAction>& actions,
+  std::string& error)
+{
+  actions.clear();
+  std::istringstream lines(text);
+  std::string line;
+  int number = 0;
+  while (std::getline(lines, line))
+  {
+    ++number;
+    const auto fail = [&](const std::string& problem)
+    {
+      error = name + ":" + std::to_string(number) + ": " + problem;
+      actions.clear();
+      return false;
+    };
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos)
+    {
+      line.resize(hash);
+    }
+    std::istringstream words(line);
+    std::vector<std::string> w;
+    for (std::string word; words >> word;)
+    {
+      w.push_back(word);
+    }
+    if (w.empty())
+    {
+      continue;
+    }
+    ViewerAction a;
+    a.Verb = w[0];
+    a.Line = number;
+    const std::size_t args = w.size() - 1;
+    const auto wantArgs = [&](std::size_t lo, std::size_t hi, const char* usage) -> bool
+    {
+      if (args < lo || args > hi)
+      {
+        return fail("'" + a.Verb + "' takes " + usage + ", got " + std::to_string(args) +
+          " argument" + (args == 1 ? "" : "s"));
+      }
+      return true;
+    };
+    // Numbers at w[first .. first+count), each in [lo, hi].
+    const auto numbers = [&](std::size_t first,
+                           std::size_t count,
+                           double lo,
+                           double hi,
+                           bool integer,
+                           const char* what) -> bool
+    {
+      for (std::size_t k = first; k < first + count; ++k)
+      {
+        double v = 0.0;
+        if (!ToNumber(w[k], v))
+        {
+          return fail("'" + a.Verb + "': " + what + " '" + w[k] + "' is not a finite number");
+        }
+        if (integer && v != std::floor(v))
+        {
+          return fail("'" + a.Verb + "': " + what + " " + w[k] + " is not a whole number");
+        }
+        const double top = std::strcmp(what, "x") == 0 ? width - 1
+          : std::strcmp(what, "y") == 0                ? height - 1
+                                                       : hi;
+        if (v < lo || v > top)
+        {
+          return fail("'" + a.Verb + "': " + what + " " + w[k] + " is outside [" +
+            FormatNumber(lo) + ", " + FormatNumber(top) + "]");
+        }
+        a.Numbers.push_back(v);
+      }
+      return true;
+    };
+    // Trailing modifiers of click and drag.
+    const auto modifiers = [&](std::size_t first) -> bool
+    {
+      for (std::size_t k = first; k < w.size(); ++k)
+      {
+        if (w[k] == "ctrl")
+        {
+          a.Control = true;
+        }
+        else if (w[k] == "shift")
+        {
+          a.Shift = true;
+        }
+        else
+        {
+          return fail("'" + a.Verb + "': unknown modifier '" + w[k] + "' (ctrl or shift)");
+        }
+      }
+      return true;
+    };
+
+    const NumericVerb* numeric = nullptr;
+    for (const NumericVerb& v : NumericVerbs)
+    {
+      if (a.Verb == v.Verb)
+      {
+        numeric = &v;
+      }
+    }
+    if (numeric)
+    {
+      if (!wantArgs(1, 1, "one number") ||
+        !numbers(1, 1, numeric->Lo, numeric->Hi, numeric->Integer, "value"))
+      {
+        return false;
+      }
+    }
+    else if (a.Verb == "overlay")
+    {
+      ViewerOverlay overlay;
+      if (!wantArgs(1, 1, "one overlay name"))
+      {
+        return false;
+      }
+      if (!OverlayFromName(w[1], overlay))
+      {
+        return fail("unknown overlay '" + w[1] + "' (" + OverlayNameList() + ")");
+      }
+      a.Text = w[1];
+    }
+    else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view")
+    {
+      const std::vector<std::string> allowed = a.Verb == "style"
+        ? std::vector<std::string>{ "terrain", "first-person" }
+        : a.Verb == "tool" ? std::vector<std::string>{ "navigate", "lake", "brush" }
+                           : std::vector<std::string>{ "relief", "map" };
+      const std::string list =
+        allowed[0] + ", " + allowed[1] + (allowed.size() > 2 ? ", " + allowed[2] : std::string());
+      if (!wantArgs(1, 1, ("one of " + list).c_str()))
+      {
+        return false;
+      }
+      if (std::find(allowed.begin(), allowed.end(), w[1]) == allowed.end())
+      {
+        return fail("'" + a.Verb + "': unknown value '" + w[1] + "' (" + list + ")");
+      }
+      a.Text = w[1];
+    }
+    else if (a.Verb == "click")
+    {
+      if (args < 2)
+      {
+        return fail("'click' takes X Y [ctrl] [shift]");
+      }
+      if (!numbers(1, 1, 0.0, 0.0, true, "x") || !numbers(2, 1, 0.0, 0.0, true, "y") ||
+        !modifiers(3))
+      {
+        return false;
+      }
+    }
+    else if (a.Verb == "drag")
+    {
+      if (args < 4)
+      {
+        return fail("'drag' takes X0 Y0 X1 Y1 [ctrl] [shift]");
+      }
+      if (!numbers(1, 1, 0.0, 0.0, true, "x") || !numbers(2, 1, 0.0, 0.0, true, "y") ||
+        !numbers(3, 1, 0.0, 0.0, true, "x") || !numbers(4, 1, 0.0, 0.0, true, "y") || !modifiers(5))
+      {
+        return false;
+      }
+    }
+    else if (a.Verb == "wheel")
+    {
+      if (!wantArgs(1, 1, "one whole number of notches (negative: backward)") ||
+        !numbers(1, 1, -100.0, 100.0, true, "notches"))
+      {
+        return false;
+      }
+      if (a.Numbers[0] == 0.0)
+      {
+        return fail("'wheel': 0 notches does nothing");
+      }
+    }
+    else if (a.Verb == "key")
+    {
+      KeySpec key;
+      std::string why;
+      if (!wantArgs(1, 1, "one key (e.g. ctrl+z)"))
+      {
+        return false;
+      }
+      if (!ParseKeySpec(w[1], key, why))
+      {
+        return fail(why);
+      }
+      a.Text = key.Symbol;
+      a.Control = key.Control;
+      a.Shift = key.Shift;
+    }
+    else if (a.Verb == "screenshot")
+    {
+      if (!wantArgs(1, 1, "one file name ending in .png"))
+      {
+        return false;
+      }
+      const std::string& f = w[1];
+      std::string lower = f;
+      std::transform(lower.begin(),
+        lower.end(),
+        lower.begin(),
+        [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); });
+      if (lower.size() <= 4 || lower.compare(lower.size() - 4, 4, ".png") != 0)
+      {
+        return fail("'screenshot': '" + f + "' does not end in .png");
+      }
+      a.Text = f;
+    }
+    else if (a.Verb == "wait" || a.Verb == "quit" || a.Verb == "flow" || a.Verb == "undo" ||
+      a.Verb == "camera")
+    {
+      if (!wantArgs(0, 0, "no argument"))
+      {
+        return false;
+      }
+    }
+    else
+    {
+      return fail("unknown action '" + a.Verb +
+        "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
+        "brush-size, brush-rate, sensitivity, style, tool, view, click, drag, wheel, key, flow, "
+        "undo, wait, camera, screenshot, quit)");
+    }
+    actions.push_back(a);
+  }
+  return true;
+}
+
+bool ReadViewerScript(const std::string& path,
+  int width,
+  int height,
+  std::vector<ViewerAction>& actions,
+  std::string& error)
+{
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+  {
+    error = path + ": is a folder, not a script";
+    return false;
+  }
+  std::ifstream file(path, std::ios::binary);
+  if (!file)
+  {
+    error = path + ": cannot read (" + std::strerror(errno) + ")";
+    return false;
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad())
+  {
+    error = path + ": cannot read (" + std::strerror(errno) + ")";
+    return false;
+  }
+  const std::string content = text.str();
+  if (content.find('\0') != std::string::npos)
+  {
+    error = path + ": not a text file";
+    return false;
+  }
+  return ParseViewerScript(content, path, width, height, actions, error);
+}
+
+} // namespace viewer
+} // namespace terroir

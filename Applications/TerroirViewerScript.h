@@ -1,0 +1,87 @@
+/**
+ * @file TerroirViewerScript.h
+ * @brief The action scripts of `terroir view --script FILE` and the viewer's overlay names,
+ * parsed without VTK (so that a bad script is refused before any window opens, and the parser
+ * can be unit-tested: Testing/Unit/TestViewerScript.cxx).
+ *
+ * One action per line; `#` starts a comment; blank lines are skipped; words are separated by
+ * blanks. Display positions are pixels from the top-left corner of the window (as in the
+ * screenshots), checked against the window size. See Documentation/Viewer.md for the verbs.
+ */
+#ifndef TerroirViewerScript_h
+#define TerroirViewerScript_h
+
+#include <string>
+#include <vector>
+
+namespace terroir
+{
+namespace viewer
+{
+
+/// The overlays of the viewer, in the order of the number keys 0..7.
+enum class ViewerOverlay
+{
+  None = 0,
+  Slope,
+  Illumination,
+  SunHours,
+  Temperature,
+  Humidity,
+  Water,
+  Clusters,
+  Count
+};
+
+/// Script and command-line name of an overlay ("none", "slope", "illumination", "sun-hours",
+/// "temperature", "humidity", "water", "clusters").
+const char* OverlayName(ViewerOverlay overlay);
+/// Title shown in the window's list ("Slope", "Sun and shadow", ...).
+const char* OverlayTitle(ViewerOverlay overlay);
+/// Parses a name of OverlayName; false when unknown.
+bool OverlayFromName(const std::string& name, ViewerOverlay& overlay);
+/// "none, slope, ..." for messages.
+std::string OverlayNameList();
+
+/// One parsed line of a script.
+struct ViewerAction
+{
+  std::string Verb;            ///< overlay, latitude, click, key, ... (Documentation/Viewer.md)
+  std::vector<double> Numbers; ///< numeric arguments, checked
+  std::string Text;            ///< overlay name, key, file, style, tool, view
+  bool Control = false;        ///< click, drag: `ctrl` given; key: `ctrl+`
+  bool Shift = false;          ///< click, drag: `shift` given; key: `shift+`
+  int Line = 0;                ///< 1-based line in the file
+};
+
+/// A key as the script names it: modifiers and the X key symbol ("z", "1", "space", "Escape").
+struct KeySpec
+{
+  bool Control = false;
+  bool Shift = false;
+  std::string Symbol;
+};
+
+/// Parses "ctrl+shift+z", "w", "F1", "space"... False with a reason when the key is unknown.
+bool ParseKeySpec(const std::string& text, KeySpec& key, std::string& why);
+
+/// Parses a whole script. `name` prefixes the error ("FILE:LINE: problem"); positions must lie
+/// in [0, width) x [0, height). Returns false with `error` at the first bad line.
+bool ParseViewerScript(const std::string& text,
+  const std::string& name,
+  int width,
+  int height,
+  std::vector<ViewerAction>& actions,
+  std::string& error);
+
+/// Reads and parses FILE. A file that cannot be read gives "FILE: cannot read (reason)".
+bool ReadViewerScript(const std::string& path,
+  int width,
+  int height,
+  std::vector<ViewerAction>& actions,
+  std::string& error);
+
+} // namespace viewer
+} // namespace terroir
+
+#endif

@@ -1,0 +1,814 @@
+#include "TerroirViewerSession.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+
+#include "vtkTerroirFloodFill.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirInfiltration.h"
+#include "vtkTerroirKMeans.h"
+#include "vtkTerroirSlope.h"
+#include "vtkTerroirSoilHumidity.h"
+#include "vtkTerroirSolarIllumination.h"
+#include "vtkTerroirTemperature.h"
+#include "vtkTerroirWaterFlow.h"
+
+#include "SolarPosition.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <condition_variable>
+#include <cstring>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+namespace terroir
+{
+namespace viewer
+{
+namespace
+{
+/// Progress and errors of the filters of one job.
+struct JobMonitor
+{
+  std::atomic<double>* Progress = nullptr;
+  double Start = 0.0; ///< share of the job done before this filter
+  double Share = 1.0; ///< share of the job this filter takes
+  std::string Error;
+};
+
+void OnFilterProgress(vtkObject*, unsigned long, void* clientData, void* callData)
+{
+  auto* monitor = static_cast<JobMonitor*>(clientData);
+  const double p = callData ? *static_cast<double*>(callData) : 0.0;
+  if (monitor->Progress)
+  {
+    monitor->Progress->store(monitor->Start + monitor->Share * std::max(0.0, std::min(1.0, p)));
+  }
+}
+
+void OnFilterError(vtkObject*, unsigned long, void* clientData, void* callData)
+{
+  auto* monitor = static_cast<JobMonitor*>(clientData);
+  if (monitor->Error.empty() && callData)
+  {
+    monitor->Error = static_cast<const char*>(callData);
+  }
+}
+
+/// Updates `filter` while reporting progress in [start, start + share] of the job and keeping
+/// its first error (observed, so that it is not printed from the worker thread). Returns false
+/// on failure, with `monitor.Error` set.
+bool RunFilter(vtkAlgorithm* filter, JobMonitor& monitor, double start, double share)
+{
+  monitor.Start = start;
+  monitor.Share = share;
+  vtkNew<vtkCallbackCommand> progress;
+  progress->SetCallback(OnFilterProgress);
+  progress->SetClientData(&monitor);
+  vtkNew<vtkCallbackCommand> error;
+  error->SetCallback(OnFilterError);
+  error->SetClientData(&monitor);
+  const unsigned long p = filter->AddObserver(vtkCommand::ProgressEvent, progress);
+  const unsigned long e = filter->AddObserver(vtkCommand::ErrorEvent, error);
+  filter->Update();
+  filter->RemoveObserver(p);
+  filter->RemoveObserver(e);
+  if (monitor.Error.empty() && filter->GetErrorCode() != 0)
+  {
+    monitor.Error = std::string(filter->GetClassName()) + " failed";
+  }
+  return monitor.Error.empty();
+}
+
+/// Hemisphere of the temperature model from a latitude.
+int HemisphereOf(double latitude)
+{
+  return latitude < 0.0 ? vtkTerroirTemperature::South : vtkTerroirTemperature::North;
+}
+
+/// Sets the place and time of a solar filter from the parameters (clock = local mean time).
+void ConfigureSun(vtkTerroirSolarIllumination* sun, const ViewerParameters& p)
+{
+  sun->SetLatitude(p.Latitude);
+  sun->SetLongitude(p.Longitude);
+  sun->SetOrientation(p.Orientation);
+  sun->SetYear(2025);
+  sun->SetMonth(p.Month);
+  sun->SetDay(15);
+  sun->SetMonthlyDay(15);
+  sun->SetTime(p.Hour);
+  sun->SetUTCOffset(std::max(-14.0, std::min(14.0, p.Longitude / 15.0)));
+}
+} // namespace
+
+vtkDataArray* OverlayResult::GetValues() const
+{
+  return this->Output && !this->ArrayName.empty()
+    ? this->Output->GetPointData()->GetArray(this->ArrayName.c_str())
+    : nullptr;
+}
+
+//------------------------------------------------------------------------------
+struct ViewerSession::Internals
+{
+  vtkSmartPointer<vtkImageData> Terrain;
+  bool Georeferenced = false;
+  ViewerParameters Params;
+  ViewerOverlay Current = ViewerOverlay::None;
+  vtkSmartPointer<vtkFloatArray> Water;
+  std::vector<std::vector<float>> UndoStack;
+  unsigned long WaterVersion = 0;
+  vtkSmartPointer<vtkFloatArray> Infiltration;
+
+  // ---- worker ----------------------------------------------------------------------------
+  /// A job's result, handed from the worker to the window's thread.
+  struct JobResult
+  {
+    bool IsWaterFlow = false;
+    OverlayResult Overlay;
+    vtkSmartPointer<vtkFloatArray> Water; ///< water flow: the new state
+    std::string Error;
+  };
+  using Job = std::function<JobResult(std::atomic<double>&)>;
+  struct QueuedJob
+  {
+    Job Work;
+    std::string Label;
+  };
+  std::thread Worker;
+  bool Running = false;                ///< a Worker thread exists (joined by Pump)
+  std::atomic<bool> Finished{ false }; ///< the worker's job returned
+  std::mutex Mutex;
+  std::condition_variable Done;
+  JobResult Result; ///< written by the worker before Finished
+  std::atomic<double> Progress{ 0.0 };
+  std::string Label;
+  std::unique_ptr<QueuedJob> PendingOverlay;
+  std::unique_ptr<QueuedJob> PendingFlow;
+  unsigned long Generation = 0; ///< of the latest overlay request
+  bool HaveOverlay = false;
+  OverlayResult Latest;
+  std::string LastError;
+
+  void Start(std::unique_ptr<QueuedJob> job)
+  {
+    this->Running = true;
+    this->Finished = false;
+    this->Progress = 0.0;
+    this->Label = job->Label;
+    this->Worker = std::thread(
+      [this, work = std::move(job->Work)]()
+      {
+        JobResult r = work(this->Progress);
+        {
+          std::lock_guard<std::mutex> lock(this->Mutex);
+          this->Result = std::move(r);
+          this->Finished = true;
+        }
+        this->Done.notify_all();
+      });
+  }
+
+  /// Starts `job` now, or keeps it in `slot` (replacing an older one) while the worker runs.
+  void Enqueue(std::unique_ptr<QueuedJob> job, std::unique_ptr<QueuedJob>& slot)
+  {
+    if (this->Running)
+    {
+      slot = std::move(job);
+    }
+    else
+    {
+      this->Start(std::move(job));
+    }
+  }
+
+  /// An input for a job: the terrain's arrays shared (never written), the water and
+  /// infiltration arrays copied (the window's thread changes them in place).
+  vtkSmartPointer<vtkImageData> Snapshot() const
+  {
+    auto copy = vtkSmartPointer<vtkImageData>::New();
+    copy->ShallowCopy(this->Terrain);
+    for (vtkFloatArray* a : { this->Water.Get(), this->Infiltration.Get() })
+    {
+      vtkNew<vtkFloatArray> own;
+      own->DeepCopy(a);
+      copy->GetPointData()->AddArray(own);
+    }
+    return copy;
+  }
+
+  void PushWater()
+  {
+    const float* w = this->Water->GetPointer(0);
+    this->UndoStack.emplace_back(w, w + this->Water->GetNumberOfValues());
+  }
+};
+
+ViewerSession::ViewerSession()
+  : Impl(new Internals)
+{
+}
+
+ViewerSession::~ViewerSession()
+{
+  if (this->Impl->Running)
+  {
+    this->Impl->Worker.join();
+  }
+}
+
+ViewerParameters& ViewerSession::Parameters()
+{
+  return this->Impl->Params;
+}
+
+const ViewerParameters& ViewerSession::Parameters() const
+{
+  return this->Impl->Params;
+}
+
+vtkImageData* ViewerSession::GetTerrain() const
+{
+  return this->Impl->Terrain;
+}
+
+bool ViewerSession::IsGeoreferenced() const
+{
+  return this->Impl->Georeferenced;
+}
+
+void ViewerSession::SetCurrentOverlay(ViewerOverlay overlay)
+{
+  this->Impl->Current = overlay;
+}
+
+ViewerOverlay ViewerSession::GetCurrentOverlay() const
+{
+  return this->Impl->Current;
+}
+
+vtkFloatArray* ViewerSession::GetWater() const
+{
+  return this->Impl->Water;
+}
+
+vtkFloatArray* ViewerSession::GetInfiltration() const
+{
+  return this->Impl->Infiltration;
+}
+
+std::size_t ViewerSession::GetUndoDepth() const
+{
+  return this->Impl->UndoStack.size();
+}
+
+unsigned long ViewerSession::GetWaterVersion() const
+{
+  return this->Impl->WaterVersion;
+}
+
+//------------------------------------------------------------------------------
+bool ViewerSession::SetTerrain(vtkImageData* terrain, std::string& error)
+{
+  Internals& in = *this->Impl;
+  this->Wait();
+  int dims[3] = { 0, 0, 0 };
+  if (terrain)
+  {
+    terrain->GetDimensions(dims);
+  }
+  if (!terrain || dims[2] != 1 || dims[0] < 2 || dims[1] < 2)
+  {
+    error = "the terrain must be a 2-D image of at least 2x2 points";
+    return false;
+  }
+  vtkDataArray* elevation =
+    terrain->GetPointData()->GetArray(vtkTerroirGeoreference::ElevationName());
+  if (!elevation || elevation->GetNumberOfComponents() != 1)
+  {
+    error = "the terrain has no one-component 'Elevation' point array";
+    return false;
+  }
+  in.Terrain = vtkSmartPointer<vtkImageData>::New();
+  in.Terrain->ShallowCopy(terrain);
+  // Our own arrays replace any of the same name the file had.
+  in.Terrain->GetPointData()->RemoveArray(vtkTerroirWaterFlow::WaterHeightName());
+  in.Terrain->GetPointData()->RemoveArray(vtkTerroirInfiltration::InfiltrationRateName());
+  double latLon[2];
+  in.Georeferenced = vtkTerroirGeoreference::GetCenterLatLon(in.Terrain, latLon);
+  if (in.Georeferenced)
+  {
+    in.Params.Latitude = latLon[0];
+    in.Params.Longitude = latLon[1];
+  }
+  const vtkIdType n = in.Terrain->GetNumberOfPoints();
+  in.Water = vtkSmartPointer<vtkFloatArray>::New();
+  in.Water->SetName(vtkTerroirWaterFlow::WaterHeightName());
+  in.Water->SetNumberOfValues(n);
+  in.Water->FillValue(0.0f);
+  in.UndoStack.clear();
+
+  vtkNew<vtkTerroirInfiltration> recipe; // no operation: the default recipe
+  recipe->SetInputData(in.Terrain);
+  JobMonitor monitor;
+  if (!RunFilter(recipe, monitor, 0.0, 1.0))
+  {
+    error = monitor.Error;
+    return false;
+  }
+  in.Infiltration = vtkSmartPointer<vtkFloatArray>::New();
+  in.Infiltration->DeepCopy(
+    recipe->GetOutput()->GetPointData()->GetArray(vtkTerroirInfiltration::InfiltrationRateName()));
+  in.Infiltration->SetName(vtkTerroirInfiltration::InfiltrationRateName());
+  return true;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// The overlay's filters on `input` (a snapshot: terrain, WaterHeight, InfiltrationRate).
+OverlayResult ComputeOverlayOn(vtkImageData* input,
+  ViewerOverlay overlay,
+  const ViewerParameters& p,
+  std::atomic<double>& progress)
+{
+  OverlayResult r;
+  r.Overlay = overlay;
+  JobMonitor monitor;
+  monitor.Progress = &progress;
+  const int month = std::max(1, std::min(12, p.Month));
+  switch (overlay)
+  {
+    case ViewerOverlay::None:
+      r.Output = input;
+      return r;
+    case ViewerOverlay::Water:
+      r.ArrayName = vtkTerroirWaterFlow::WaterHeightName();
+      r.Preset = "Water";
+      r.Output = input;
+      return r;
+    case ViewerOverlay::Slope:
+    {
+      vtkNew<vtkTerroirSlope> slope;
+      slope->SetInputData(input);
+      if (RunFilter(slope, monitor, 0.0, 1.0))
+      {
+        r.Output = slope->GetOutput();
+      }
+      r.ArrayName = vtkTerroirSlope::SlopeName();
+      r.Preset = "Slope";
+      break;
+    }
+    case ViewerOverlay::Illumination:
+    case ViewerOverlay::SunHours:
+    {
+      vtkNew<vtkTerroirSolarIllumination> sun;
+      sun->SetInputData(input);
+      ConfigureSun(sun, p);
+      const bool instant = overlay == ViewerOverlay::Illumination;
+      if (instant)
+      {
+        sun->SetModeToInstant();
+      }
+      else
+      {
+        sun->SetModeToDaily();
+      }
+      if (RunFilter(sun, monitor, 0.0, 1.0))
+      {
+        r.Output = sun->GetOutput();
+      }
+      r.ArrayName = instant ? vtkTerroirSolarIllumination::IlluminatedName()
+                            : vtkTerroirSolarIllumination::IlluminationHoursName();
+      r.Preset = instant ? "Sunlit" : "Illumination";
+      break;
+    }
+    case ViewerOverlay::Temperature:
+    {
+      vtkNew<vtkTerroirTemperature> temperature;
+      temperature->SetInputData(input);
+      temperature->SetHemisphere(HemisphereOf(p.Latitude));
+      if (RunFilter(temperature, monitor, 0.0, 1.0))
+      {
+        r.Output = temperature->GetOutput();
+      }
+      r.ArrayName = vtkTerroirTemperature::TemperatureName();
+      r.Component = month - 1;
+      r.Preset = "Temperature";
+      break;
+    }
+    case ViewerOverlay::Humidity:
+    {
+      vtkNew<vtkTerroirSoilHumidity> humidity;
+      humidity->SetInputData(input);
+      humidity->ComputeWeightedSoilHumidityOff();
+      humidity->ComputeStandingWaterOff();
+      if (RunFilter(humidity, monitor, 0.0, 1.0))
+      {
+        r.Output = humidity->GetOutput();
+      }
+      r.ArrayName = vtkTerroirSoilHumidity::SoilHumidityName();
+      r.Component = month - 1;
+      r.Preset = "Humidity";
+      break;
+    }
+    case ViewerOverlay::Clusters:
+    {
+      vtkNew<vtkTerroirSlope> slope;
+      slope->SetInputData(input);
+      vtkNew<vtkTerroirTemperature> temperature;
+      temperature->SetInputConnection(slope->GetOutputPort());
+      temperature->SetHemisphere(HemisphereOf(p.Latitude));
+      vtkNew<vtkTerroirSolarIllumination> sun;
+      sun->SetInputConnection(temperature->GetOutputPort());
+      ConfigureSun(sun, p);
+      sun->SetModeToMonthly();
+      vtkNew<vtkTerroirKMeans> kmeans;
+      kmeans->SetInputConnection(sun->GetOutputPort());
+      kmeans->SetNumberOfClusters(std::max(1, std::min(64, p.Clusters)));
+      if (RunFilter(slope, monitor, 0.0, 0.05) && RunFilter(temperature, monitor, 0.05, 0.05) &&
+        RunFilter(sun, monitor, 0.1, 0.8) && RunFilter(kmeans, monitor, 0.9, 0.1))
+      {
+        r.Output = kmeans->GetOutput();
+      }
+      r.ArrayName = vtkTerroirKMeans::ClusterIdName();
+      r.Preset = "Clusters";
+      break;
+    }
+    case ViewerOverlay::Count:
+      break;
+  }
+  r.Error = monitor.Error;
+  if (r.Error.empty() && !r.GetValues())
+  {
+    r.Error = std::string("the ") + OverlayName(overlay) + " overlay produced no '" + r.ArrayName +
+      "' array";
+  }
+  return r;
+}
+} // namespace
+
+OverlayResult ViewerSession::ComputeOverlay(ViewerOverlay overlay, const ViewerParameters& p) const
+{
+  if (!this->Impl->Terrain)
+  {
+    OverlayResult r;
+    r.Overlay = overlay;
+    r.Error = "no terrain";
+    return r;
+  }
+  std::atomic<double> progress{ 0.0 };
+  return ComputeOverlayOn(this->Impl->Snapshot(), overlay, p, progress);
+}
+
+//------------------------------------------------------------------------------
+void ViewerSession::SunDirection(const ViewerParameters& p,
+  double& gridAzimuth,
+  double& elevation) const
+{
+  terroir::terrain::UTCInstant when;
+  when.year = 2025;
+  when.month = std::max(1, std::min(12, p.Month));
+  when.day = 15;
+  when.hours = p.Hour - std::max(-14.0, std::min(14.0, p.Longitude / 15.0));
+  terroir::terrain::Observer where;
+  where.latitudeDeg = p.Latitude;
+  where.longitudeDeg = p.Longitude;
+  const terroir::terrain::SolarPosition sun = terroir::terrain::SolarPositionNREL2004(when, where);
+  double gridNorth = p.Orientation;
+  if (!std::isfinite(gridNorth))
+  {
+    gridNorth =
+      this->Impl->Terrain && vtkTerroirGeoreference::HasMeridianConvergence(this->Impl->Terrain)
+      ? vtkTerroirGeoreference::GetMeridianConvergence(this->Impl->Terrain)
+      : 0.0;
+  }
+  // True azimuth = grid azimuth + bearing of grid north.
+  gridAzimuth = std::fmod(sun.azimuthDeg - gridNorth + 720.0, 360.0);
+  elevation = sun.elevationDeg;
+}
+
+//------------------------------------------------------------------------------
+void ViewerSession::RequestOverlay()
+{
+  Internals& in = *this->Impl;
+  const ViewerOverlay overlay = in.Current;
+  const ViewerParameters params = in.Params;
+  const unsigned long generation = ++in.Generation;
+  auto job = std::make_unique<Internals::QueuedJob>();
+  job->Label = std::string("Computing ") + OverlayTitle(overlay);
+  std::transform(job->Label.begin() + 10,
+    job->Label.end(),
+    job->Label.begin() + 10,
+    [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); });
+  if (overlay == ViewerOverlay::None || overlay == ViewerOverlay::Water)
+  {
+    // Nothing to compute: answer at once, on this thread.
+    in.PendingOverlay.reset();
+    in.Latest = this->ComputeOverlay(overlay, params);
+    in.Latest.Generation = generation;
+    in.HaveOverlay = true;
+    return;
+  }
+  // The filters read a snapshot taken now, not the state when the job starts.
+  vtkSmartPointer<vtkImageData> input = in.Snapshot();
+  job->Work = [overlay, params, generation, input](std::atomic<double>& progress)
+  {
+    Internals::JobResult result;
+    result.Overlay = ComputeOverlayOn(input, overlay, params, progress);
+    result.Overlay.Generation = generation;
+    result.Error = result.Overlay.Error;
+    return result;
+  };
+  in.Enqueue(std::move(job), in.PendingOverlay);
+}
+
+void ViewerSession::RequestWaterFlow()
+{
+  Internals& in = *this->Impl;
+  vtkSmartPointer<vtkImageData> input = in.Snapshot();
+  const ViewerParameters params = in.Params;
+  auto job = std::make_unique<Internals::QueuedJob>();
+  job->Label = "Computing water flow";
+  job->Work = [input, params](std::atomic<double>& progress)
+  {
+    Internals::JobResult result;
+    result.IsWaterFlow = true;
+    JobMonitor monitor;
+    monitor.Progress = &progress;
+    const int month = std::max(1, std::min(12, params.Month));
+    vtkNew<vtkTerroirSoilHumidity> humidity;
+    humidity->SetInputData(input);
+    humidity->ComputeWeightedSoilHumidityOff();
+    if (!RunFilter(humidity, monitor, 0.0, 0.1))
+    {
+      result.Error = monitor.Error;
+      return result;
+    }
+    // The month's rain that the soil did not take, plus the lakes already there (m -> mm).
+    auto start = vtkSmartPointer<vtkImageData>::New();
+    start->ShallowCopy(humidity->GetOutput());
+    vtkDataArray* standing =
+      start->GetPointData()->GetArray(vtkTerroirSoilHumidity::StandingWaterName());
+    vtkDataArray* lakes = input->GetPointData()->GetArray(vtkTerroirWaterFlow::WaterHeightName());
+    vtkNew<vtkFloatArray> water;
+    water->DeepCopy(standing);
+    water->SetName(vtkTerroirSoilHumidity::StandingWaterName());
+    for (vtkIdType k = 0; k < water->GetNumberOfTuples(); ++k)
+    {
+      const double v = water->GetComponent(k, month - 1);
+      if (std::isfinite(v))
+      {
+        water->SetComponent(k, month - 1, v + 1000.0 * lakes->GetComponent(k, 0));
+      }
+    }
+    start->GetPointData()->AddArray(water);
+    vtkNew<vtkTerroirWaterFlow> flow;
+    flow->SetInputData(start);
+    flow->SetWaterSourceToStandingWaterMonth();
+    flow->SetMonth(month);
+    flow->SetMaximumIterations(std::max(1, params.FlowIterations));
+    if (!RunFilter(flow, monitor, 0.1, 0.9))
+    {
+      result.Error = monitor.Error;
+      return result;
+    }
+    result.Water = vtkSmartPointer<vtkFloatArray>::New();
+    result.Water->DeepCopy(
+      flow->GetOutput()->GetPointData()->GetArray(vtkTerroirWaterFlow::WaterHeightName()));
+    // No-data cells hold no water.
+    for (vtkIdType k = 0; k < result.Water->GetNumberOfValues(); ++k)
+    {
+      if (!std::isfinite(result.Water->GetValue(k)))
+      {
+        result.Water->SetValue(k, 0.0f);
+      }
+    }
+    result.Water->SetName(vtkTerroirWaterFlow::WaterHeightName());
+    return result;
+  };
+  in.Enqueue(std::move(job), in.PendingFlow);
+}
+
+bool ViewerSession::Pump()
+{
+  Internals& in = *this->Impl;
+  bool changed = false;
+  if (in.Running && in.Finished)
+  {
+    in.Worker.join();
+    in.Running = false;
+    Internals::JobResult result;
+    {
+      std::lock_guard<std::mutex> lock(in.Mutex);
+      result = std::move(in.Result);
+    }
+    if (!result.Error.empty())
+    {
+      in.LastError = result.Error;
+    }
+    if (result.IsWaterFlow)
+    {
+      if (result.Water && result.Water->GetNumberOfValues() == in.Water->GetNumberOfValues())
+      {
+        in.PushWater();
+        in.Water->DeepCopy(result.Water);
+        in.Water->SetName(vtkTerroirWaterFlow::WaterHeightName());
+        ++in.WaterVersion;
+        changed = true;
+      }
+    }
+    else if (result.Overlay.Generation == in.Generation)
+    {
+      // Older requests are superseded by a newer one that is queued or answered.
+      in.Latest = std::move(result.Overlay);
+      in.HaveOverlay = true;
+      changed = true;
+    }
+  }
+  if (!in.Running)
+  {
+    // Water first: an overlay asked after it should see its result... but the overlay's
+    // snapshot is already taken, so order them as they were asked: flow jobs are rarer and
+    // the overlay of the new water is asked again by the window when the flow lands.
+    if (in.PendingOverlay)
+    {
+      in.Start(std::move(in.PendingOverlay));
+    }
+    else if (in.PendingFlow)
+    {
+      in.Start(std::move(in.PendingFlow));
+    }
+  }
+  return changed;
+}
+
+bool ViewerSession::TakeOverlay(OverlayResult& result)
+{
+  Internals& in = *this->Impl;
+  if (!in.HaveOverlay)
+  {
+    return false;
+  }
+  result = in.Latest;
+  in.HaveOverlay = false;
+  return true;
+}
+
+bool ViewerSession::IsIdle() const
+{
+  const Internals& in = *this->Impl;
+  return !in.Running && !in.PendingOverlay && !in.PendingFlow;
+}
+
+void ViewerSession::Wait()
+{
+  Internals& in = *this->Impl;
+  while (!this->IsIdle())
+  {
+    if (in.Running)
+    {
+      std::unique_lock<std::mutex> lock(in.Mutex);
+      in.Done.wait(lock, [&in]() { return in.Finished.load(); });
+    }
+    this->Pump();
+  }
+}
+
+double ViewerSession::GetProgress() const
+{
+  return this->Impl->Running ? this->Impl->Progress.load() : 1.0;
+}
+
+std::string ViewerSession::GetProgressLabel() const
+{
+  return this->Impl->Running ? this->Impl->Label : std::string();
+}
+
+std::string ViewerSession::TakeError()
+{
+  std::string e;
+  e.swap(this->Impl->LastError);
+  return e;
+}
+
+//------------------------------------------------------------------------------
+bool ViewerSession::FloodFillAt(int i, int j, std::string& error)
+{
+  Internals& in = *this->Impl;
+  if (!in.Terrain)
+  {
+    error = "no terrain";
+    return false;
+  }
+  int dims[3];
+  in.Terrain->GetDimensions(dims);
+  if (i < 0 || j < 0 || i >= dims[0] || j >= dims[1])
+  {
+    error = "cell (" + std::to_string(i) + ", " + std::to_string(j) + ") lies outside the terrain";
+    return false;
+  }
+  const vtkIdType k = static_cast<vtkIdType>(j) * dims[0] + i;
+  vtkPointData* pd = in.Terrain->GetPointData();
+  const double z = pd->GetArray(vtkTerroirGeoreference::ElevationName())->GetComponent(k, 0);
+  vtkDataArray* mask = pd->GetArray(vtkTerroirGeoreference::ValidMaskName());
+  if (!std::isfinite(z) || (mask && mask->GetComponent(k, 0) == 0.0))
+  {
+    error = "cell (" + std::to_string(i) + ", " + std::to_string(j) + ") has no data";
+    return false;
+  }
+  vtkNew<vtkTerroirFloodFill> flood;
+  auto input = vtkSmartPointer<vtkImageData>::New();
+  input->ShallowCopy(in.Terrain);
+  flood->SetInputData(input);
+  flood->SetModeToSeeds();
+  flood->AddSeedCell(i, j, z + in.Params.LakeDepth);
+  JobMonitor monitor;
+  if (!RunFilter(flood, monitor, 0.0, 1.0))
+  {
+    error = monitor.Error;
+    return false;
+  }
+  vtkDataArray* depth =
+    flood->GetOutput()->GetPointData()->GetArray(vtkTerroirFloodFill::WaterDepthName());
+  if (!depth || depth->GetNumberOfTuples() != in.Water->GetNumberOfTuples())
+  {
+    error = "the flood fill gave no WaterDepth";
+    return false;
+  }
+  in.PushWater();
+  float* w = in.Water->GetPointer(0);
+  for (vtkIdType m = 0; m < in.Water->GetNumberOfValues(); ++m)
+  {
+    const double d = depth->GetComponent(m, 0);
+    if (std::isfinite(d) && d > w[m])
+    {
+      w[m] = static_cast<float>(d);
+    }
+  }
+  in.Water->Modified();
+  ++in.WaterVersion;
+  return true;
+}
+
+bool ViewerSession::Undo()
+{
+  Internals& in = *this->Impl;
+  if (in.UndoStack.empty())
+  {
+    return false;
+  }
+  const std::vector<float>& previous = in.UndoStack.back();
+  std::memcpy(in.Water->GetPointer(0), previous.data(), previous.size() * sizeof(float));
+  in.UndoStack.pop_back();
+  in.Water->Modified();
+  ++in.WaterVersion;
+  return true;
+}
+
+int ViewerSession::PaintInfiltration(int i, int j)
+{
+  Internals& in = *this->Impl;
+  if (!in.Terrain)
+  {
+    return 0;
+  }
+  int dims[3];
+  in.Terrain->GetDimensions(dims);
+  const double r = std::max(0.0, in.Params.BrushRadius);
+  const int reach = static_cast<int>(std::floor(r));
+  const float rate = static_cast<float>(std::max(0.0, std::min(1000.0, in.Params.BrushRate)));
+  vtkDataArray* elevation =
+    in.Terrain->GetPointData()->GetArray(vtkTerroirGeoreference::ElevationName());
+  int painted = 0;
+  for (int jj = std::max(0, j - reach); jj <= std::min(dims[1] - 1, j + reach); ++jj)
+  {
+    for (int ii = std::max(0, i - reach); ii <= std::min(dims[0] - 1, i + reach); ++ii)
+    {
+      const double di = ii - i;
+      const double dj = jj - j;
+      const vtkIdType k = static_cast<vtkIdType>(jj) * dims[0] + ii;
+      if (di * di + dj * dj <= r * r && std::isfinite(elevation->GetComponent(k, 0)))
+      {
+        in.Infiltration->SetValue(k, rate);
+        ++painted;
+      }
+    }
+  }
+  in.Infiltration->Modified();
+  return painted;
+}
+
+} // namespace viewer
+} // namespace terroir

@@ -1,0 +1,169 @@
+/**
+ * @file TerroirViewerSession.h
+ * @brief The model of `terroir view`, without any window: the terrain, the parameters, the
+ * current overlay, the water state with its undo stack, the infiltration map, and a worker
+ * thread that runs the filters off the render thread.
+ *
+ * A ViewerSession holds
+ * - the terrain (a vtkImageData from our readers, `Elevation` in metres; shared read-only with
+ *   the worker thread and the window);
+ * - the parameters (ViewerParameters: latitude, longitude, month 1..12, hour of day, grid
+ *   orientation, clusters K, lake depth, brush);
+ * - the water state: a float array `WaterHeight` (metres, one value per point, 0 dry), changed
+ *   by flood fills and by the water flow; each change first pushes the previous state on an
+ *   undo stack, and Undo() restores it exactly (the same bytes), as many steps as there are;
+ * - the infiltration map `InfiltrationRate` (mm/h), vtkTerroirInfiltration's default recipe
+ *   (15 mm/h, 0 above 30°) until painted with the brush.
+ *
+ * Overlays (ViewerOverlay) come from our filters: Slope (vtkTerroirSlope), Illumination
+ * (vtkTerroirSolarIllumination, Instant at the hour on the 15th of the month, `Illuminated`),
+ * SunHours (Daily on the 15th, `IlluminationHours`), Temperature (vtkTerroirTemperature, the
+ * month's component), Humidity (vtkTerroirInfiltration's map into vtkTerroirSoilHumidity, the
+ * month's `SoilHumidity`), Water (the water state itself) and Clusters (vtkTerroirSlope,
+ * vtkTerroirTemperature and vtkTerroirSolarIllumination Monthly into vtkTerroirKMeans, K
+ * clusters). ComputeOverlay() runs one synchronously; RequestOverlay() runs it on the worker
+ * thread on a copy of the inputs (the terrain shallow, the water and infiltration arrays deep),
+ * so that the window keeps drawing; Pump() (called from the window's timer) collects finished
+ * work and starts the next request; Wait() blocks until nothing is left to do (scripts).
+ * Only the latest request of a kind is kept while the worker is busy.
+ *
+ * Everything but the worker's filter runs is meant for one (the window's) thread.
+ */
+#ifndef TerroirViewerSession_h
+#define TerroirViewerSession_h
+
+#include "TerroirViewerScript.h" // For ViewerOverlay
+#include "vtkSmartPointer.h"     // For vtkSmartPointer
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+class vtkDataArray;
+class vtkFloatArray;
+class vtkImageData;
+
+namespace terroir
+{
+namespace viewer
+{
+
+/// The parameters the sliders, keys and script set.
+struct ViewerParameters
+{
+  double Latitude = 45.0; ///< degrees north, [-90, 90]
+  double Longitude = 0.0; ///< degrees east, [-180, 180]; sets the clock (local mean time)
+  int Month = 6;          ///< 1..12 (the 15th of the month is used)
+  double Hour = 10.0;     ///< local mean solar time, hours [0, 24]
+  /// Bearing of grid north clockwise from true north, degrees (the compass); NaN: the
+  /// terrain's meridian convergence, else 0.
+  double Orientation = std::numeric_limits<double>::quiet_NaN();
+  int Clusters = 5;         ///< K of the clusters overlay, 1..64
+  double LakeDepth = 5.0;   ///< a click's lake level above the clicked cell, metres
+  double BrushRadius = 5.0; ///< cells
+  double BrushRate = 0.0;   ///< mm/h painted by the brush
+  int FlowIterations = 500; ///< most iterations of one water-flow run
+};
+
+/// One overlay, ready to colour the terrain.
+struct OverlayResult
+{
+  ViewerOverlay Overlay = ViewerOverlay::None;
+  std::string ArrayName;                ///< e.g. "Slope"; empty for None
+  int Component = 0;                    ///< component shown (the month's for monthly arrays)
+  std::string Preset;                   ///< vtkTerroirColorPresets name
+  vtkSmartPointer<vtkImageData> Output; ///< the filters' output (for legends: cluster shares)
+  vtkDataArray* GetValues() const;      ///< the array in Output, or nullptr
+  std::string Error;                    ///< non-empty when the filters failed
+  unsigned long Generation = 0;         ///< request it answers
+};
+
+class ViewerSession
+{
+public:
+  ViewerSession();
+  ~ViewerSession(); ///< waits for the worker thread
+  ViewerSession(const ViewerSession&) = delete;
+  ViewerSession& operator=(const ViewerSession&) = delete;
+
+  /// Takes the terrain (shallow copy), resets the water (all dry, empty undo stack) and the
+  /// infiltration map (default recipe), and takes latitude, longitude from its georeference
+  /// when it has one. False with `error` when it has no one-component `Elevation` or is not a
+  /// 2-D image of at least 2 × 2 points.
+  bool SetTerrain(vtkImageData* terrain, std::string& error);
+  vtkImageData* GetTerrain() const;
+  /// True when the terrain came with a georeference (CRS or centre latitude/longitude).
+  bool IsGeoreferenced() const;
+
+  ViewerParameters& Parameters();
+  const ViewerParameters& Parameters() const;
+
+  ///@{
+  /// The overlay the window shows (bookkeeping only: RequestOverlay computes).
+  void SetCurrentOverlay(ViewerOverlay overlay);
+  ViewerOverlay GetCurrentOverlay() const;
+  ///@}
+
+  /// Runs the filters of `overlay` with `parameters` now, on the calling thread.
+  OverlayResult ComputeOverlay(ViewerOverlay overlay, const ViewerParameters& parameters) const;
+
+  /// The sun's grid azimuth (degrees clockwise from grid north) and elevation (degrees) at the
+  /// parameters' date and hour, as the instant illumination overlay uses them.
+  void SunDirection(const ViewerParameters& parameters,
+    double& gridAzimuth,
+    double& elevation) const;
+
+  ///@{
+  /// Asynchronous work. RequestOverlay computes the current overlay with the current
+  /// parameters on the worker thread. Pump() collects finished work (a water-flow result
+  /// replaces the water state, pushing the previous one) and starts what is queued; it returns
+  /// true when something finished. TakeOverlay() hands out the newest finished overlay once.
+  void RequestOverlay();
+  void RequestWaterFlow();
+  bool Pump();
+  bool TakeOverlay(OverlayResult& result);
+  bool IsIdle() const;
+  /// Blocks until the worker is idle and nothing is queued (Pump() included).
+  void Wait();
+  /// Progress of the running job in [0, 1] and its label ("Computing illumination").
+  double GetProgress() const;
+  std::string GetProgressLabel() const;
+  /// The last error of a job (then cleared).
+  std::string TakeError();
+  ///@}
+
+  ///@{
+  /// Water. FloodFillAt fills the lake of cell (i, j) (i east, j north, from the first cell)
+  /// with vtkTerroirFloodFill, level = the cell's elevation + LakeDepth; the new state is the
+  /// larger depth of the old state and the lake on each cell. It pushes the previous state
+  /// first. False with `error` (and no change) for a cell outside the terrain or without data.
+  bool FloodFillAt(int i, int j, std::string& error);
+  /// Restores the state before the last change; false (and no change) when there is none.
+  bool Undo();
+  std::size_t GetUndoDepth() const;
+  /// Counts the changes of the water state (fills, undos, water-flow results), so that a
+  /// window can tell that it must redraw the water.
+  unsigned long GetWaterVersion() const;
+  /// The current water state (`WaterHeight`, metres). Changes in place; do not keep it
+  /// across a change if you need the old values.
+  vtkFloatArray* GetWater() const;
+  ///@}
+
+  ///@{
+  /// Infiltration (`InfiltrationRate`, mm/h). Paint sets BrushRate on every cell within
+  /// BrushRadius cells of (i, j); returns the number of cells painted.
+  vtkFloatArray* GetInfiltration() const;
+  int PaintInfiltration(int i, int j);
+  ///@}
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+} // namespace viewer
+} // namespace terroir
+
+#endif

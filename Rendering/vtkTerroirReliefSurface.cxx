@@ -1,0 +1,474 @@
+#include "vtkTerroirReliefSurface.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkLight.h"
+#include "vtkLookupTable.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkShaderProperty.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkUniforms.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+vtkStandardNewMacro(vtkTerroirReliefSurface);
+
+namespace
+{
+// Blinn-Phong lighting, appended after VTK's own light code (which uses Phong's reflection
+// vector) and overwriting its result. Uses VTK's declarations for lighting complexity 2 (one
+// directional scene light): normalVCVSOutput, vertexVC, lightDirectionVC0, lightColor0,
+// ambientColor/diffuseColor (= coefficient x vertex colour), specularColor, specularPower.
+const char* BlinnPhongImpl = R"(//VTK::Light::Impl
+  {
+    vec3 tN = normalize(normalVCVSOutput);
+    vec3 tL = normalize(-lightDirectionVC0);
+    vec3 tV = (terroirParallel != 0) ? vec3(0.0, 0.0, 1.0) : normalize(-vertexVC.xyz);
+    vec3 tH = normalize(tL + tV);
+    float tDf = max(0.0, dot(tN, tL));
+    float tSf = (tDf > 0.0) ? pow(max(0.0, dot(tN, tH)), specularPower) : 0.0;
+    gl_FragData[0] = vec4(ambientColor + tDf * lightColor0 * diffuseColor +
+      tSf * lightColor0 * specularColor, opacity);
+  }
+)";
+
+/// Centre and extents of `bounds`; returns the radius of the bounding sphere.
+double CentreAndSize(const double bounds[6], double center[3], double size[3])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    center[a] = 0.5 * (bounds[2 * a] + bounds[2 * a + 1]);
+    size[a] = std::abs(bounds[2 * a + 1] - bounds[2 * a]);
+  }
+  return 0.5 * std::sqrt(size[0] * size[0] + size[1] * size[1] + size[2] * size[2]);
+}
+}
+
+struct vtkTerroirReliefSurface::Internals
+{
+  vtkSmartPointer<vtkImageData> Input;
+  std::vector<unsigned char> Valid;
+  double Bounds[6] = { 0, 1, 0, 1, 0, 1 };
+  vtkNew<vtkPolyData> Surface;
+  vtkNew<vtkPolyData> Holes;
+  vtkNew<vtkUnsignedCharArray> Colors;
+  vtkNew<vtkActor> SurfaceActor;
+  vtkNew<vtkActor> HoleActor;
+};
+
+//------------------------------------------------------------------------------
+vtkTerroirReliefSurface::vtkTerroirReliefSurface()
+  : Internal(new Internals)
+{
+  Internals& in = *this->Internal;
+  in.Colors->SetName("OverlayColors");
+  in.Colors->SetNumberOfComponents(3);
+  vtkNew<vtkPolyDataMapper> surfaceMapper;
+  surfaceMapper->SetInputData(in.Surface);
+  surfaceMapper->SetColorModeToDirectScalars();
+  surfaceMapper->SetScalarModeToUsePointData();
+  surfaceMapper->ScalarVisibilityOn();
+  in.SurfaceActor->SetMapper(surfaceMapper);
+  in.SurfaceActor->GetShaderProperty()->AddFragmentShaderReplacement(
+    "//VTK::Light::Impl", false, BlinnPhongImpl, false);
+  vtkNew<vtkPolyDataMapper> holeMapper;
+  holeMapper->SetInputData(in.Holes);
+  holeMapper->ScalarVisibilityOff();
+  in.HoleActor->SetMapper(holeMapper);
+  in.HoleActor->GetProperty()->LightingOff();
+}
+
+vtkTerroirReliefSurface::~vtkTerroirReliefSurface() = default;
+
+void vtkTerroirReliefSurface::SetInputData(vtkImageData* terrain)
+{
+  if (this->Internal->Input != terrain)
+  {
+    this->Internal->Input = terrain;
+    this->Modified();
+  }
+}
+
+vtkImageData* vtkTerroirReliefSurface::GetInputData()
+{
+  return this->Internal->Input;
+}
+
+vtkActor* vtkTerroirReliefSurface::GetSurfaceActor()
+{
+  return this->Internal->SurfaceActor;
+}
+
+vtkActor* vtkTerroirReliefSurface::GetHoleActor()
+{
+  return this->Internal->HoleActor;
+}
+
+void vtkTerroirReliefSurface::GetBounds(double bounds[6])
+{
+  std::copy(this->Internal->Bounds, this->Internal->Bounds + 6, bounds);
+}
+
+bool vtkTerroirReliefSurface::IsValidPoint(vtkIdType k)
+{
+  const auto& valid = this->Internal->Valid;
+  return k >= 0 && static_cast<std::size_t>(k) < valid.size() && valid[k] != 0;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
+{
+  Internals& in = *this->Internal;
+  vtkImageData* image = in.Input;
+  if (!image)
+  {
+    error = "no input terrain (call SetInputData)";
+    return false;
+  }
+  int dims[3];
+  image->GetDimensions(dims);
+  if (dims[2] != 1 || dims[0] < 2 || dims[1] < 2)
+  {
+    error = "the terrain must be a 2-D image of at least 2x2 points, got " +
+      std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]);
+    return false;
+  }
+  vtkPointData* pd = image->GetPointData();
+  vtkDataArray* elevation = pd->GetArray(vtkTerroirGeoreference::ElevationName());
+  if (!elevation || elevation->GetNumberOfComponents() != 1)
+  {
+    error = "the terrain has no one-component 'Elevation' point array";
+    return false;
+  }
+  vtkDataArray* mask = pd->GetArray(vtkTerroirGeoreference::ValidMaskName());
+
+  const int nx = dims[0];
+  const int ny = dims[1];
+  const vtkIdType n = static_cast<vtkIdType>(nx) * ny;
+  double spacing[3], origin[3];
+  image->GetSpacing(spacing);
+  image->GetOrigin(origin);
+  const double ve = this->VerticalExaggeration;
+
+  std::vector<unsigned char> valid(n);
+  std::vector<double> z(n);
+  double zFill = std::numeric_limits<double>::infinity();
+  double zMax = -std::numeric_limits<double>::infinity();
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    const double e = elevation->GetComponent(k, 0);
+    const bool ok = std::isfinite(e) && (!mask || mask->GetComponent(k, 0) != 0.0);
+    valid[k] = ok ? 1 : 0;
+    z[k] = e * ve;
+    if (ok)
+    {
+      zFill = std::min(zFill, z[k]);
+      zMax = std::max(zMax, z[k]);
+    }
+  }
+  if (!std::isfinite(zFill))
+  {
+    error = "the terrain has no valid elevation";
+    return false;
+  }
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    if (!valid[k])
+    {
+      z[k] = zFill;
+    }
+  }
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(n);
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const vtkIdType k = static_cast<vtkIdType>(j) * nx + i;
+      points->SetPoint(k, origin[0] + i * spacing[0], origin[1] + j * spacing[1], z[k]);
+      // Central differences where both neighbours are valid, else one-sided, else flat.
+      auto derivative =
+        [&](vtkIdType kMinus, bool hasMinus, vtkIdType kPlus, bool hasPlus, double h) -> double
+      {
+        hasMinus = hasMinus && valid[kMinus];
+        hasPlus = hasPlus && valid[kPlus];
+        if (!valid[k])
+        {
+          return 0.0;
+        }
+        if (hasMinus && hasPlus)
+        {
+          return (z[kPlus] - z[kMinus]) / (2.0 * h);
+        }
+        if (hasPlus)
+        {
+          return (z[kPlus] - z[k]) / h;
+        }
+        if (hasMinus)
+        {
+          return (z[k] - z[kMinus]) / h;
+        }
+        return 0.0;
+      };
+      const double dzdx = derivative(k - 1, i > 0, k + 1, i < nx - 1, spacing[0]);
+      const double dzdy = derivative(k - nx, j > 0, k + nx, j < ny - 1, spacing[1]);
+      double nrm[3] = { -dzdx, -dzdy, 1.0 };
+      vtkMath::Normalize(nrm);
+      normals->SetTuple(k, nrm);
+    }
+  }
+
+  // Valid quads are shaded, the others drawn flat in the NaN colour.
+  vtkNew<vtkCellArray> surfaceCells;
+  vtkNew<vtkCellArray> holeCells;
+  for (int j = 0; j + 1 < ny; ++j)
+  {
+    for (int i = 0; i + 1 < nx; ++i)
+    {
+      const vtkIdType k = static_cast<vtkIdType>(j) * nx + i;
+      const vtkIdType quad[4] = { k, k + 1, k + 1 + nx, k + nx };
+      const bool ok = valid[quad[0]] && valid[quad[1]] && valid[quad[2]] && valid[quad[3]];
+      (ok ? surfaceCells : holeCells)->InsertNextCell(4, quad);
+    }
+  }
+
+  in.Valid.swap(valid);
+  in.Colors->SetNumberOfTuples(n);
+  in.Surface->Initialize();
+  in.Surface->SetPoints(points);
+  in.Surface->SetPolys(surfaceCells);
+  in.Surface->GetPointData()->SetNormals(normals);
+  in.Surface->GetPointData()->SetScalars(in.Colors);
+  in.Holes->Initialize();
+  in.Holes->SetPoints(points);
+  in.Holes->SetPolys(holeCells);
+
+  in.Bounds[0] = origin[0];
+  in.Bounds[1] = origin[0] + (nx - 1) * spacing[0];
+  in.Bounds[2] = origin[1];
+  in.Bounds[3] = origin[1] + (ny - 1) * spacing[1];
+  in.Bounds[4] = zFill;
+  in.Bounds[5] = zMax;
+
+  vtkProperty* prop = in.SurfaceActor->GetProperty();
+  prop->SetInterpolationToPhong();
+  prop->SetAmbient(this->Ambient);
+  prop->SetDiffuse(this->Diffuse);
+  prop->SetSpecular(this->Specular);
+  prop->SetSpecularPower(this->SpecularPower);
+  prop->SetSpecularColor(1.0, 1.0, 1.0);
+  in.SurfaceActor->GetShaderProperty()->GetFragmentCustomUniforms()->SetUniformi(
+    "terroirParallel", this->ParallelView ? 1 : 0);
+  in.HoleActor->GetProperty()->SetColor(this->NanColor[0], this->NanColor[1], this->NanColor[2]);
+  in.HoleActor->GetProperty()->SetOpacity(this->NanColor[3]);
+  in.HoleActor->SetVisibility(holeCells->GetNumberOfCells() > 0 && this->NanColor[3] > 0.0);
+  this->SetUniformColor();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirReliefSurface::ComputeDataRange(vtkDataArray* values,
+  int component,
+  vtkDataArray* mask,
+  double range[2])
+{
+  const auto& valid = this->Internal->Valid;
+  if (!values || component < 0 || component >= values->GetNumberOfComponents())
+  {
+    return false;
+  }
+  const vtkIdType n =
+    std::min<vtkIdType>(values->GetNumberOfTuples(), static_cast<vtkIdType>(valid.size()));
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    const double v = values->GetComponent(k, component);
+    if (valid[k] && std::isfinite(v) && (!mask || mask->GetComponent(k, 0) != 0.0))
+    {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  if (!std::isfinite(lo))
+  {
+    return false;
+  }
+  range[0] = lo;
+  range[1] = hi;
+  return true;
+}
+
+void vtkTerroirReliefSurface::SetColors(vtkDataArray* values,
+  int component,
+  vtkLookupTable* lut,
+  vtkDataArray* mask,
+  bool overCurrent)
+{
+  Internals& in = *this->Internal;
+  const vtkIdType n = in.Colors->GetNumberOfTuples();
+  if (!values || !lut || values->GetNumberOfTuples() != n || component < 0 ||
+    component >= values->GetNumberOfComponents())
+  {
+    if (!overCurrent)
+    {
+      this->SetUniformColor();
+    }
+    return;
+  }
+  if (mask && (mask->GetNumberOfComponents() != 1 || mask->GetNumberOfTuples() != n))
+  {
+    mask = nullptr;
+  }
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    const double v = values->GetComponent(k, component);
+    const unsigned char* rgba = lut->MapValue(v);
+    const bool coloured = !mask || mask->GetComponent(k, 0) != 0.0;
+    const double a = coloured ? rgba[3] / 255.0 : 0.0;
+    if (overCurrent && a <= 0.0)
+    {
+      continue;
+    }
+    unsigned char out[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      const double under =
+        overCurrent ? in.Colors->GetTypedComponent(k, c) : 255.0 * this->BaseColor[c];
+      const double blended = a * rgba[c] + (1.0 - a) * under;
+      out[c] = static_cast<unsigned char>(std::lround(std::min(255.0, std::max(0.0, blended))));
+    }
+    in.Colors->SetTypedTuple(k, out);
+  }
+  in.Colors->Modified();
+}
+
+void vtkTerroirReliefSurface::SetUniformColor()
+{
+  Internals& in = *this->Internal;
+  unsigned char base[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    base[c] = static_cast<unsigned char>(
+      std::lround(std::min(255.0, std::max(0.0, 255.0 * this->BaseColor[c]))));
+  }
+  for (vtkIdType k = 0; k < in.Colors->GetNumberOfTuples(); ++k)
+  {
+    in.Colors->SetTypedTuple(k, base);
+  }
+  in.Colors->Modified();
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirReliefSurface::ConfigureLight(vtkLight* light,
+  double azimuth,
+  double elevation,
+  const double bounds[6])
+{
+  double center[3], size[3];
+  const double radius = CentreAndSize(bounds, center, size);
+  const double az = vtkMath::RadiansFromDegrees(azimuth);
+  const double el = vtkMath::RadiansFromDegrees(elevation);
+  const double toLight[3] = {
+    std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)
+  };
+  light->SetLightTypeToSceneLight();
+  light->PositionalOff();
+  light->SetColor(1.0, 1.0, 1.0);
+  light->SetIntensity(1.0);
+  light->SetFocalPoint(center[0], center[1], center[2]);
+  light->SetPosition(center[0] + toLight[0] * 10.0 * radius,
+    center[1] + toLight[1] * 10.0 * radius,
+    center[2] + toLight[2] * 10.0 * radius);
+}
+
+void vtkTerroirReliefSurface::FitMapCamera(vtkCamera* camera, const double bounds[6], double aspect)
+{
+  double center[3], size[3];
+  const double radius = CentreAndSize(bounds, center, size);
+  const double sizeX = size[0];
+  const double sizeY = size[1];
+  camera->ParallelProjectionOn();
+  camera->SetFocalPoint(center[0], center[1], center[2]);
+  camera->SetPosition(center[0], center[1], bounds[5] + 2.0 * radius + 1.0);
+  camera->SetViewUp(0.0, 1.0, 0.0);
+  camera->SetParallelScale(std::max(0.5 * sizeY, 0.5 * sizeX / aspect));
+}
+
+void vtkTerroirReliefSurface::FitReliefCamera(vtkCamera* camera,
+  const double bounds[6],
+  double aspect,
+  double azimuth,
+  double elevation,
+  double viewAngle)
+{
+  double center[3], size[3];
+  const double radius = CentreAndSize(bounds, center, size);
+  const double sizeX = size[0];
+  const double sizeY = size[1];
+  // Fixed direction; the distance is the smallest one at which all 8 corners of the bounding
+  // box project inside the frame (tighter than fitting the bounding sphere).
+  const double caz = vtkMath::RadiansFromDegrees(azimuth);
+  const double cel = vtkMath::RadiansFromDegrees(elevation);
+  const double tanV = std::tan(vtkMath::RadiansFromDegrees(0.5 * viewAngle));
+  const double tanH = tanV * aspect;
+  // Unit vectors: toward the camera (back), screen right and screen up.
+  const double back[3] = {
+    std::sin(caz) * std::cos(cel), std::cos(caz) * std::cos(cel), std::sin(cel)
+  };
+  double right[3];
+  const double zUp[3] = { 0.0, 0.0, 1.0 };
+  vtkMath::Cross(zUp, back, right);
+  vtkMath::Normalize(right);
+  double up[3];
+  vtkMath::Cross(back, right, up);
+  double distance = 0.0;
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    const double p[3] = { bounds[corner & 1] - center[0],
+      bounds[2 + ((corner >> 1) & 1)] - center[1],
+      bounds[4 + ((corner >> 2) & 1)] - center[2] };
+    const double w = vtkMath::Dot(p, back);
+    distance = std::max(distance, w + std::abs(vtkMath::Dot(p, right)) / tanH);
+    distance = std::max(distance, w + std::abs(vtkMath::Dot(p, up)) / tanV);
+  }
+  distance = std::max(distance * 1.03, 1e-6 + radius * 0.1);
+  camera->ParallelProjectionOff();
+  camera->SetViewAngle(viewAngle);
+  camera->SetFocalPoint(center[0], center[1], center[2]);
+  camera->SetPosition(
+    center[0] + distance * back[0], center[1] + distance * back[1], center[2] + distance * back[2]);
+  camera->SetViewUp(0.0, 0.0, 1.0);
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirReliefSurface::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "VerticalExaggeration: " << this->VerticalExaggeration << "\n";
+  os << indent << "Ambient/Diffuse/Specular/Power: " << this->Ambient << " " << this->Diffuse << " "
+     << this->Specular << " " << this->SpecularPower << "\n";
+  os << indent << "ParallelView: " << this->ParallelView << "\n";
+}

@@ -1,0 +1,183 @@
+#!/usr/bin/python3
+"""`terroir view` driven by --script: screenshots against Testing/Baselines/TerroirViewer_*.png
+(VTK's legacy image comparison, threshold 0.15, as the C++ image tests), a lake clicked then
+undone gives the same picture as no click, navigation events move the camera the right way,
+and a bad script is refused before any window work.
+
+The scripts generate real interactor events (clicks, drags, wheel turns, keys), so the
+interaction code of the window is what runs. Needs an X display (run the suite under
+xvfb-run -a): skipped without DISPLAY unless TERROIR_REQUIRE_GPU=1, as the other image tests.
+"""
+import math
+import os
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.vtkTestingRendering import vtkTesting
+
+BIN = os.path.join(os.environ.get("TERROIR_BIN_DIR", "build/bin"), "terroir")
+DATA = os.environ.get("TERROIR_DATA_DIR", "Data")
+TEMP = os.environ.get("TERROIR_TEMP_DIR", tempfile.gettempdir())
+DEM = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
+BASELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Baselines")
+SIZE = (640, 480)
+# A cell of the valley floor in the default relief view at 640 x 480 (pixels from the top left).
+VALLEY = (200, 250)
+
+
+def need_display(test):
+    if os.environ.get("DISPLAY"):
+        return
+    if os.environ.get("TERROIR_REQUIRE_GPU") == "1":
+        test.fail("TERROIR_REQUIRE_GPU=1 but DISPLAY is unset")
+    test.skipTest("no X display")
+
+
+def run_view(name, lines, env=None):
+    """Writes the script `lines` and runs `terroir view` on the bundled DEM with it."""
+    folder = os.path.join(TEMP, "viewer_" + name)
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    script = os.path.join(folder, "script.txt")
+    with open(script, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    proc = subprocess.run([BIN, "view", DEM, "--size", "%dx%d" % SIZE, "--script", script],
+                          cwd=folder, capture_output=True, text=True, timeout=600, env=env)
+    return proc, folder, script
+
+
+def pixels(path):
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    return image.GetDimensions(), vtk_to_numpy(image.GetPointData().GetScalars()).copy()
+
+
+def cameras(stdout):
+    """(position, focal point) of each `camera` line, as numpy vectors."""
+    out = []
+    for line in stdout.splitlines():
+        if line.startswith("camera position"):
+            v = [float(x) for x in line.split()[2:5] + line.split()[6:9]]
+            out.append((np.array(v[:3]), np.array(v[3:])))
+    return out
+
+
+class TerroirViewer(unittest.TestCase):
+    def check_baseline(self, png, name):
+        """VTK's regression comparison of `png` with Testing/Baselines/<name>.png (0.15)."""
+        rendered = os.path.join(TEMP, name + ".png")
+        shutil.copyfile(png, rendered)
+        baseline = os.path.join(BASELINES, name + ".png")
+        self.assertTrue(os.path.exists(baseline),
+                        "no baseline %s; look at %s and copy it in with "
+                        "Testing/Rendering/CompactBaseline.py" % (baseline, rendered))
+        reader = vtkPNGReader()
+        reader.SetFileName(rendered)
+        testing = vtkTesting()
+        for arg in ("-V", baseline, "-T", TEMP):
+            testing.AddArgument(arg)
+        result = testing.RegressionTest(reader, 0.15)
+        self.assertEqual(result, vtkTesting.PASSED,
+                         "%s differs from %s (see %s)" % (rendered, baseline,
+                                                          os.path.join(TEMP, name + ".diff.png")))
+
+    def test_screenshots_match_the_baselines(self):
+        need_display(self)
+        proc, folder, _ = run_view("baselines", [
+            "overlay slope", "wait", "screenshot slope.png",
+            # Overlay key 2 (sun and shadow), a June evening through the hour slider value.
+            "key 2", "month 6", "hour 18", "wait", "screenshot shadows.png",
+            # A lake clicked on the valley floor, over the bare relief at 13:00.
+            "overlay none", "hour 13", "tool lake",
+            "click %d %d" % VALLEY, "wait", "screenshot lake.png",
+            "quit"])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.check_baseline(os.path.join(folder, "slope.png"), "TerroirViewer_SlopeRelief")
+        self.check_baseline(os.path.join(folder, "shadows.png"),
+                            "TerroirViewer_ShadowsJuneEvening")
+        self.check_baseline(os.path.join(folder, "lake.png"), "TerroirViewer_LakeOverRelief")
+
+    def test_a_lake_clicked_then_undone_leaves_the_same_picture_as_no_click(self):
+        need_display(self)
+        common = ["overlay slope", "tool lake", "wait"]
+        proc, plain, _ = run_view("no_click", common + [
+            "key ctrl+z",  # nothing to undo: the same status line as below
+            "screenshot plain.png", "quit"])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        proc, undone, _ = run_view("click_undo", common + [
+            "click %d %d" % VALLEY, "screenshot lake.png",
+            "key ctrl+z", "key ctrl+z", "screenshot undone.png", "quit"])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        size_a, a = pixels(os.path.join(plain, "plain.png"))
+        size_l, lake = pixels(os.path.join(undone, "lake.png"))
+        size_b, b = pixels(os.path.join(undone, "undone.png"))
+        self.assertEqual(size_a, (SIZE[0], SIZE[1], 1))
+        self.assertEqual(size_a, size_b)
+        # The click made a lake (many pixels changed), and Ctrl+Z gave back every pixel.
+        self.assertGreater(int(np.count_nonzero(np.any(lake != a, axis=1))), 5000)
+        self.assertTrue(np.array_equal(a, b),
+                        "%d pixels differ" % np.count_nonzero(np.any(a != b, axis=1)))
+
+    def test_navigation_events_move_the_camera_the_expected_way(self):
+        need_display(self)
+        proc, _, _ = run_view("navigation", [
+            "camera",
+            "drag 250 200 350 200", "camera",         # pan: the terrain follows the pointer
+            "wheel 3", "camera",                      # zoom in
+            "drag 250 200 350 200 ctrl", "camera",    # rotate about the focal point
+            "style first-person", "key w", "camera",  # one step forward
+            "quit"])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        c = cameras(proc.stdout)
+        self.assertEqual(len(c), 5, proc.stdout)
+        (p0, f0), (p1, f1), (p2, f2), (p3, f3), (p4, f4) = c
+        # Pan: camera and focal point move together, against the drag (screen right).
+        forward = (f0 - p0) / np.linalg.norm(f0 - p0)
+        right = np.cross(forward, [0.0, 0.0, 1.0])
+        right /= np.linalg.norm(right)
+        move = p1 - p0
+        self.assertTrue(np.allclose(f1 - f0, move, atol=1e-6))
+        self.assertLess(np.dot(move, right), -0.9 * np.linalg.norm(move))
+        self.assertGreater(np.linalg.norm(move), 100.0)
+        # Wheel forward 3 notches: 1.1^3 closer, same focal point.
+        self.assertTrue(np.allclose(f2, f1))
+        self.assertAlmostEqual(np.linalg.norm(p1 - f1) / np.linalg.norm(p2 - f2), 1.1 ** 3,
+                               places=6)
+        # Ctrl+drag 100 pixels right: 40 degrees about the vertical through the focal point,
+        # same distance and height.
+        self.assertTrue(np.allclose(f3, f2))
+        self.assertAlmostEqual(np.linalg.norm(p3 - f3), np.linalg.norm(p2 - f2), places=3)
+        self.assertAlmostEqual(p3[2], p2[2], places=3)
+        a2 = math.degrees(math.atan2(p2[0] - f2[0], p2[1] - f2[1]))
+        a3 = math.degrees(math.atan2(p3[0] - f3[0], p3[1] - f3[1]))
+        self.assertAlmostEqual((a3 - a2 + 540.0) % 360.0 - 180.0, -40.0, places=4)
+        # First person, W: one step (1 % of the DEM's diagonal) along the horizontal view.
+        step = p4 - p3
+        ahead = (f3 - p3)[:2] / np.linalg.norm((f3 - p3)[:2])
+        self.assertAlmostEqual(step[2], 0.0, places=6)
+        self.assertTrue(np.allclose(f4 - f3, step, atol=1e-6))
+        self.assertAlmostEqual(float(np.dot(step[:2], ahead)), float(np.linalg.norm(step)),
+                               places=3)
+        diagonal = math.hypot(785 * 10.0, 719 * 10.0)
+        self.assertAlmostEqual(float(np.linalg.norm(step)), 0.01 * diagonal, delta=0.5)
+
+    def test_a_bad_script_line_is_refused_before_any_window(self):
+        # No DISPLAY: the script is checked first, so the display is never needed.
+        env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+        proc, folder, script = run_view("bad_script", ["overlay slope", "# fine", "month 13",
+                                                       "quit"], env=env)
+        self.assertEqual(proc.returncode, 1)
+        self.assertEqual(proc.stderr,
+                         "terroir: error: %s:3: 'month': value 13 is outside [1, 12]\n" % script)
+        self.assertEqual(sorted(os.listdir(folder)), ["script.txt"])
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,101 @@
+// The --script format of `terroir view` (Applications/TerroirViewerScript.h): every verb, and
+// bad lines refused with "FILE:LINE: problem" before any window opens.
+#include "TerroirViewerScript.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+using terroir::viewer::ParseViewerScript;
+using terroir::viewer::ViewerAction;
+
+namespace
+{
+std::string ErrorOf(const std::string& script)
+{
+  std::vector<ViewerAction> actions;
+  std::string error;
+  EXPECT_FALSE(ParseViewerScript(script, "s.txt", 800, 600, actions, error)) << script;
+  EXPECT_TRUE(actions.empty());
+  return error;
+}
+} // namespace
+
+TEST(TerroirViewerScript, ParsesEveryVerbWithItsArguments)
+{
+  const std::string script = "# a demo\n"
+                             "overlay slope\n"
+                             "\n"
+                             "latitude 45   # comment\n"
+                             "month 7\n"
+                             "hour 15.5\n"
+                             "click 10 20\n"
+                             "drag 1 2 3 4 ctrl\n"
+                             "wheel -2\n"
+                             "key ctrl+z\n"
+                             "tool lake\n"
+                             "style first-person\n"
+                             "wait\n"
+                             "screenshot out/a.PNG\n"
+                             "quit\n";
+  std::vector<ViewerAction> a;
+  std::string error;
+  ASSERT_TRUE(ParseViewerScript(script, "s.txt", 800, 600, a, error)) << error;
+  ASSERT_EQ(a.size(), 13u);
+  EXPECT_EQ(a[0].Verb, "overlay");
+  EXPECT_EQ(a[0].Text, "slope");
+  EXPECT_EQ(a[0].Line, 2);
+  EXPECT_EQ(a[1].Numbers, std::vector<double>{ 45.0 });
+  EXPECT_EQ(a[1].Line, 4);
+  EXPECT_EQ(a[3].Numbers, std::vector<double>{ 15.5 });
+  EXPECT_EQ(a[4].Numbers, (std::vector<double>{ 10.0, 20.0 }));
+  EXPECT_FALSE(a[4].Control);
+  EXPECT_EQ(a[5].Numbers, (std::vector<double>{ 1.0, 2.0, 3.0, 4.0 }));
+  EXPECT_TRUE(a[5].Control);
+  EXPECT_EQ(a[6].Numbers, std::vector<double>{ -2.0 });
+  EXPECT_EQ(a[7].Text, "z");
+  EXPECT_TRUE(a[7].Control);
+  EXPECT_EQ(a[8].Text, "lake");
+  EXPECT_EQ(a[9].Text, "first-person");
+  EXPECT_EQ(a[11].Text, "out/a.PNG");
+  EXPECT_EQ(a[12].Verb, "quit");
+}
+
+TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
+{
+  EXPECT_EQ(ErrorOf("wait\nfly 3\n"),
+    "s.txt:2: unknown action 'fly' (overlay, latitude, longitude, month, hour, orientation, "
+    "clusters, lake-depth, brush-size, brush-rate, sensitivity, style, tool, view, click, drag, "
+    "wheel, key, flow, undo, wait, camera, screenshot, quit)");
+  EXPECT_EQ(ErrorOf("overlay rivers"),
+    "s.txt:1: unknown overlay 'rivers' (none, slope, illumination, sun-hours, temperature, "
+    "humidity, water, clusters)");
+  EXPECT_EQ(ErrorOf("latitude 91"), "s.txt:1: 'latitude': value 91 is outside [-90, 90]");
+  EXPECT_EQ(ErrorOf("month 6.5"), "s.txt:1: 'month': value 6.5 is not a whole number");
+  EXPECT_EQ(ErrorOf("hour nan"), "s.txt:1: 'hour': value 'nan' is not a finite number");
+  EXPECT_EQ(ErrorOf("hour 1e400"), "s.txt:1: 'hour': value '1e400' is not a finite number");
+  EXPECT_EQ(ErrorOf("hour"), "s.txt:1: 'hour' takes one number, got 0 arguments");
+  EXPECT_EQ(ErrorOf("click 800 10"), "s.txt:1: 'click': x 800 is outside [0, 799]");
+  EXPECT_EQ(ErrorOf("click 10 -1"), "s.txt:1: 'click': y -1 is outside [0, 599]");
+  EXPECT_EQ(ErrorOf("click 10"), "s.txt:1: 'click' takes X Y [ctrl] [shift]");
+  EXPECT_EQ(ErrorOf("drag 1 2 3 4 alt"), "s.txt:1: 'drag': unknown modifier 'alt' (ctrl or shift)");
+  EXPECT_EQ(ErrorOf("wheel 0"), "s.txt:1: 'wheel': 0 notches does nothing");
+  EXPECT_EQ(ErrorOf("key ctrl+"),
+    "s.txt:1: unknown key 'ctrl+' (a character, or space, Return, Escape, Tab, Left, Right, Up, "
+    "Down, F1..F12, with optional ctrl+ and shift+)");
+  EXPECT_EQ(ErrorOf("screenshot a.jpg"), "s.txt:1: 'screenshot': 'a.jpg' does not end in .png");
+  EXPECT_EQ(ErrorOf("quit now"), "s.txt:1: 'quit' takes no argument, got 1 argument");
+  EXPECT_EQ(
+    ErrorOf("tool pencil"), "s.txt:1: 'tool': unknown value 'pencil' (navigate, lake, brush)");
+}
+
+TEST(TerroirViewerScript, UnreadableFilesAreOneLine)
+{
+  std::vector<ViewerAction> a;
+  std::string error;
+  EXPECT_FALSE(terroir::viewer::ReadViewerScript("/nonexistent/s.txt", 800, 600, a, error));
+  EXPECT_EQ(error, "/nonexistent/s.txt: cannot read (No such file or directory)");
+  EXPECT_FALSE(terroir::viewer::ReadViewerScript("/tmp", 800, 600, a, error));
+  EXPECT_EQ(error, "/tmp: is a folder, not a script");
+}
