@@ -1072,6 +1072,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     ->capture_default_str();
   view->add_flag(
     "--allow-network-paths", line.AllowNetwork, "Allow GDAL network and archive paths");
+  addZUnit(view);
 
   // bench
   CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");

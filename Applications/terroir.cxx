@@ -1511,7 +1511,7 @@ int CommandView(const terroir::app::CommandLine& c)
     std::cerr << "terroir view: no DEM given; opening the bundled Sagehen Creek DEM (" << dem
               << ")\n";
   }
-  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, c.AllowNetwork);
+  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, c.AllowNetwork, c.ZUnit);
   auto run = reinterpret_cast<TerroirRunViewerFunction>(LoadPluginSymbol(TERROIR_VIEWER_PLUGIN_NAME,
     TERROIR_VIEWER_PLUGIN_SYMBOL,
     "TERROIR_VIEWER_PLUGIN",
