@@ -118,8 +118,9 @@ public:
   ///@}
 
   ///@{
-  /// Colour range. When `UseCustomRange` is off (default), the preset's default range is used
-  /// (Slope 0–60°), else the range of the finite values of the array component at valid points.
+  /// Colour range. `UseCustomRange` on: `Range` is used. Off (default): the preset's default
+  /// range (Slope 0–60°), or for a preset without one the range of the finite values of the
+  /// array component at valid points.
   vtkSetVector2Macro(Range, double);
   vtkGetVector2Macro(Range, double);
   vtkSetMacro(UseCustomRange, bool);
