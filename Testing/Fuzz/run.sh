@@ -33,7 +33,7 @@ cmake --build "$build" -j "$jobs" --target "${harnesses[@]/#/Fuzz}" >/dev/null
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:check_initialization_order=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 failed=0
-printf '%-13s %8s %12s %9s %10s %s\n' harness seconds executions exec/s "new units" result
+printf '%-17s %8s %12s %9s %10s %s\n' harness seconds executions exec/s "new units" result
 for name in "${harnesses[@]}"; do
   work="$build/Testing/Fuzz/$name"
   mkdir -p "$work/corpus" "$work/artifacts"
@@ -51,7 +51,7 @@ for name in "${harnesses[@]}"; do
     result="FOUND: $(ls "$work/artifacts" | tr '\n' ' ')(log: $log)"
     failed=1
   fi
-  printf '%-13s %8s %12s %9s %10s %s\n' "$name" "$seconds" "$(stat number_of_executed_units)" \
+  printf '%-17s %8s %12s %9s %10s %s\n' "$name" "$seconds" "$(stat number_of_executed_units)" \
     "$(stat average_exec_per_sec)" "$(stat new_units_added)" "$result"
 done
 exit $failed
