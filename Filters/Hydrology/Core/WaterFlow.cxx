@@ -51,9 +51,9 @@ struct GiverRow
 
 /// The fast "none" and "all" cases of WaterFlowEvacuation for every cell of a row, as straight
 /// code (the same operations in the same order, so the same bits) that the compiler vectorises
-/// across cells; cells in the "part" case (or exactly at all = W) are flagged for the scalar
-/// function. (A flag array of bytes next to the float and double arrays kept GCC 12 from
-/// vectorising the loop, hence the flag in `out`.)
+/// across cells; cells in the "part" case (for PartCellsBody) and at all = W exactly (for the
+/// scalar function) are flagged in `out`. (A flag array of bytes next to the float and double
+/// arrays kept GCC 12 from vectorising the loop.)
 inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAMETERS)
 {
   const double c0 = close[0], c1 = close[1], c2 = close[2], c3 = close[3];
