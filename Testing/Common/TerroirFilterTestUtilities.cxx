@@ -1,10 +1,16 @@
 #include "TerroirFilterTestUtilities.h"
 
+#include "vtkAlgorithm.h"
+#include "vtkCallbackCommand.h"
 #include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirGPU.h"
 #include "vtkTerroirGeoreference.h"
+#include "vtkTrivialProducer.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
@@ -187,6 +193,35 @@ vtkSmartPointer<vtkImageData> ReadDEM(const std::string& path)
   auto copy = vtkSmartPointer<vtkImageData>::New();
   copy->ShallowCopy(out);
   return copy;
+}
+
+std::array<int, 6> RequestedInputExtent(vtkAlgorithm* filter,
+  vtkImageData* input,
+  const std::array<int, 6>& request)
+{
+  vtkNew<vtkTrivialProducer> producer;
+  producer->SetOutput(input);
+  filter->SetInputConnection(producer->GetOutputPort());
+  filter->UpdateInformation();
+  std::array<int, 6> asked = request;
+  filter->UpdateExtent(asked.data());
+  std::array<int, 6> got{};
+  filter->GetInputInformation(0, 0)->Get(
+    vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), got.data());
+  return got;
+}
+
+std::vector<double> UpdateWithProgress(vtkAlgorithm* filter)
+{
+  std::vector<double> progress;
+  vtkNew<vtkCallbackCommand> cb;
+  cb->SetClientData(&progress);
+  cb->SetCallback([](vtkObject*, unsigned long, void* client, void* data)
+    { static_cast<std::vector<double>*>(client)->push_back(*static_cast<double*>(data)); });
+  const unsigned long tag = filter->AddObserver(vtkCommand::ProgressEvent, cb);
+  filter->Update();
+  filter->RemoveObserver(tag);
+  return progress;
 }
 
 void ErrorObserver::Execute(vtkObject*, unsigned long event, void* data)

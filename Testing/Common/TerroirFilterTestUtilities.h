@@ -7,9 +7,12 @@
 #include "vtkImageData.h"
 #include "vtkSmartPointer.h"
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
+
+class vtkAlgorithm;
 
 namespace terroir_test
 {
@@ -60,6 +63,16 @@ struct AlgorithmClass
 /// is an algorithm, reader, writer or source (read from the headers, so that a new filter cannot
 /// escape the tests that must cover every filter).
 std::vector<AlgorithmClass> ProjectAlgorithmClasses();
+
+/// The input extent `filter` asks for when `request` is asked of its output: the filter's input
+/// becomes `input` through a vtkTrivialProducer, then the filter is updated for `request`
+/// (vtkAlgorithm::UpdateExtent).
+std::array<int, 6> RequestedInputExtent(vtkAlgorithm* filter,
+  vtkImageData* input,
+  const std::array<int, 6>& request);
+
+/// Runs filter->Update() and returns every progress value it reported, in order.
+std::vector<double> UpdateWithProgress(vtkAlgorithm* filter);
 
 /// Collects vtkErrorMacro / vtkWarningMacro messages of the objects it observes.
 class ErrorObserver : public vtkCommand

@@ -4,22 +4,21 @@
 // bad inputs; and a timing print on a 2048 x 2048 fractal terrain (for the filter's page).
 #include "TerroirFilterTestUtilities.h"
 
-#include "vtkCallbackCommand.h"
 #include "vtkDataArray.h"
+#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
 #include "vtkPointData.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoreference.h"
-#include "vtkTrivialProducer.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -415,32 +414,15 @@ TEST(TerroirFloodFill, RunsOnTheCPUOnly)
 TEST(TerroirFloodFill, AsksForTheWholeExtentAndReportsProgress)
 {
   auto in = MakeTerrain(20, 20, 1.0, 1.0, [](int i, int j) { return i + j; });
-  auto producer = vtkSmartPointer<vtkTrivialProducer>::New();
-  producer->SetOutput(in);
   vtkNew<vtkTerroirFloodFill> f;
   f->SetModeToFillDepressions();
-  f->SetInputConnection(producer->GetOutputPort());
-  f->UpdateInformation();
-  int request[6] = { 2, 5, 3, 6, 0, 0 };
-  f->UpdateExtent(request);
-  int got[6];
-  f->GetInputInformation(0, 0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), got);
-  const int whole[6] = { 0, 19, 0, 19, 0, 0 };
-  for (int a = 0; a < 6; ++a)
-  {
-    EXPECT_EQ(got[a], whole[a]) << a;
-  }
+  const std::array<int, 6> whole = { 0, 19, 0, 19, 0, 0 };
+  EXPECT_EQ(terroir_test::RequestedInputExtent(f, in, { 2, 5, 3, 6, 0, 0 }), whole);
 
-  std::vector<double> progress;
-  vtkNew<vtkCallbackCommand> cb;
-  cb->SetClientData(&progress);
-  cb->SetCallback([](vtkObject*, unsigned long, void* client, void* data)
-    { static_cast<std::vector<double>*>(client)->push_back(*static_cast<double*>(data)); });
   vtkNew<vtkTerroirFloodFill> g;
-  g->AddObserver(vtkCommand::ProgressEvent, cb);
   g->AddSeedCell(3, 3, 10.0);
   g->SetInputData(in);
-  g->Update();
+  const std::vector<double> progress = terroir_test::UpdateWithProgress(g);
   ASSERT_GE(progress.size(), 3u);
   EXPECT_EQ(progress.back(), 1.0);
 }

@@ -5,25 +5,24 @@
 // filter's page; not assertions).
 #include "TerroirFilterTestUtilities.h"
 
-#include "vtkCallbackCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
 #include "vtkPointData.h"
 #include "vtkSignedCharArray.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirFlowAccumulation.h"
 #include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoreference.h"
-#include "vtkTrivialProducer.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -400,30 +399,13 @@ TEST(TerroirFlowAccumulation, RunsOnTheCPUOnly)
 TEST(TerroirFlowAccumulation, AsksForTheWholeExtentAndReportsProgress)
 {
   auto in = MakeTerrain(20, 20, 1.0, 1.0, [](int i, int j) { return i + j; });
-  auto producer = vtkSmartPointer<vtkTrivialProducer>::New();
-  producer->SetOutput(in);
   vtkNew<vtkTerroirFlowAccumulation> f;
-  f->SetInputConnection(producer->GetOutputPort());
-  f->UpdateInformation();
-  int request[6] = { 2, 5, 3, 6, 0, 0 };
-  f->UpdateExtent(request);
-  int got[6];
-  f->GetInputInformation(0, 0)->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), got);
-  const int whole[6] = { 0, 19, 0, 19, 0, 0 };
-  for (int a = 0; a < 6; ++a)
-  {
-    EXPECT_EQ(got[a], whole[a]) << a;
-  }
+  const std::array<int, 6> whole = { 0, 19, 0, 19, 0, 0 };
+  EXPECT_EQ(terroir_test::RequestedInputExtent(f, in, { 2, 5, 3, 6, 0, 0 }), whole);
 
-  std::vector<double> progress;
-  vtkNew<vtkCallbackCommand> cb;
-  cb->SetClientData(&progress);
-  cb->SetCallback([](vtkObject*, unsigned long, void* client, void* data)
-    { static_cast<std::vector<double>*>(client)->push_back(*static_cast<double*>(data)); });
   vtkNew<vtkTerroirFlowAccumulation> g;
-  g->AddObserver(vtkCommand::ProgressEvent, cb);
   g->SetInputData(in);
-  g->Update();
+  const std::vector<double> progress = terroir_test::UpdateWithProgress(g);
   ASSERT_GE(progress.size(), 3u);
   for (std::size_t p = 1; p < progress.size(); ++p)
   {
