@@ -427,9 +427,7 @@ void vtkTerroirDEMReader::PrintSelf(ostream& os, vtkIndent indent)
 
 void vtkTerroirDEMReader::Fail(const std::string& problem)
 {
-  this->ErrorMessage =
-    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
-    problem;
+  this->ErrorMessage = terroir::io::detail::FileError(this->FileName, problem);
   vtkErrorMacro(<< this->ErrorMessage);
 }
 
@@ -678,7 +676,7 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   }
   for (const std::string& w : d.warnings)
   {
-    vtkWarningMacro(<< this->FileName << ": " << w);
+    vtkWarningMacro(<< terroir::io::detail::FileError(this->FileName, w));
   }
 
   output->SetExtent(0, d.nx - 1, 0, d.ny - 1, 0, 0);

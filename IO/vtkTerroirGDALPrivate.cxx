@@ -1,4 +1,5 @@
 #include "vtkTerroirGDALPrivate.h"
+#include "vtkTerroirIOPrivate.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -82,8 +83,7 @@ void GDALErrorCapture::Handler(int level, int, const char* message)
   if (self && level >= CE_Failure)
   {
     self->Failure = true;
-    self->LastMessage = message ? message : "";
-    std::replace(self->LastMessage.begin(), self->LastMessage.end(), '\n', ' ');
+    self->LastMessage = OneLine(message ? message : "");
   }
 }
 

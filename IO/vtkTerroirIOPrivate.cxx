@@ -17,6 +17,24 @@ namespace io
 namespace detail
 {
 
+std::string OneLine(std::string text)
+{
+  for (char& c : text)
+  {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f)
+    {
+      c = ' ';
+    }
+  }
+  return text;
+}
+
+std::string FileError(const char* fileName, const std::string& problem)
+{
+  return OneLine(std::string(fileName && *fileName ? fileName : "(no file name)") + ": " + problem);
+}
+
 std::string DirectoryOf(const std::string& path)
 {
   const std::size_t slash = path.find_last_of('/');

@@ -18,6 +18,14 @@ namespace io
 namespace detail
 {
 
+/// `text` with every control character (a line break in a file's own layer or field name, in
+/// GDAL's message or in the file name) as a space, so that an error stays on one line.
+std::string OneLine(std::string text);
+
+/// The error line of a reader or writer: "<fileName>: <problem>" ("(no file name)" when the
+/// name is null or empty), through OneLine.
+std::string FileError(const char* fileName, const std::string& problem);
+
 /// Folder part of a path ("." when there is none).
 std::string DirectoryOf(const std::string& path);
 

@@ -35,9 +35,7 @@ int vtkTerroirImageWriter::FillInputPortInformation(int, vtkInformation* info)
 
 void vtkTerroirImageWriter::Fail(const std::string& problem)
 {
-  this->ErrorMessage =
-    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
-    problem;
+  this->ErrorMessage = terroir::io::detail::FileError(this->FileName, problem);
   this->SetErrorCode(vtkErrorCode::UserError);
   vtkErrorMacro(<< this->ErrorMessage);
 }

@@ -42,9 +42,7 @@ void vtkTerroirTerragenReader::PrintSelf(ostream& os, vtkIndent indent)
 
 void vtkTerroirTerragenReader::Fail(const std::string& problem)
 {
-  this->ErrorMessage =
-    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
-    problem;
+  this->ErrorMessage = terroir::io::detail::FileError(this->FileName, problem);
   vtkErrorMacro(<< this->ErrorMessage);
 }
 

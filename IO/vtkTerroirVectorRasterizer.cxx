@@ -69,6 +69,166 @@ struct GeometryDeleter
 };
 using GeometryPtr = std::unique_ptr<void, GeometryDeleter>;
 
+/// Line vertices farther than this many cells outside the raster are moved onto that margin
+/// before GDAL burns the line. GDAL's Bresenham walk (AllTouched off) visits every cell from one
+/// vertex to the next, inside the raster or not, and casts the cell numbers to int: a segment
+/// reaching 1e9 cells away takes seconds and one reaching 2^31 overflows. With the margin no
+/// walk is longer than the raster plus twice the margin.
+const double kLineMarginCells = 1024.0;
+
+/// The raster's footprint, grown by kLineMarginCells, in the terrain's CRS.
+struct ClipBox
+{
+  double X0, X1, Y0, Y1;
+};
+
+/// Liang-Barsky: the parameters t0 <= t1 of the part of a + t (b - a), t in [0, 1], inside the
+/// box; false when no part is (or a coordinate is not finite).
+bool ClipSegment(const ClipBox& box, const double a[2], const double b[2], double& t0, double& t1)
+{
+  if (!std::isfinite(a[0]) || !std::isfinite(a[1]) || !std::isfinite(b[0]) || !std::isfinite(b[1]))
+  {
+    return false;
+  }
+  t0 = 0.0;
+  t1 = 1.0;
+  const double d[2] = { b[0] - a[0], b[1] - a[1] };
+  const double lo[2] = { box.X0, box.Y0 };
+  const double hi[2] = { box.X1, box.Y1 };
+  for (int axis = 0; axis < 2; ++axis)
+  {
+    if (d[axis] == 0.0)
+    {
+      if (a[axis] < lo[axis] || a[axis] > hi[axis])
+      {
+        return false;
+      }
+      continue;
+    }
+    double ta = (lo[axis] - a[axis]) / d[axis];
+    double tb = (hi[axis] - a[axis]) / d[axis];
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+bool Inside(const ClipBox& box, const double p[2])
+{
+  return p[0] >= box.X0 && p[0] <= box.X1 && p[1] >= box.Y0 && p[1] <= box.Y1;
+}
+
+/// A LineString cut to the box: a MultiLineString of the parts inside, vertices inside the box
+/// kept bit for bit. Null when every vertex is inside already (nothing to change).
+GeometryPtr ClipLineString(OGRGeometryH line, const ClipBox& box)
+{
+  const int n = OGR_G_GetPointCount(line);
+  std::vector<double> xy(2 * static_cast<std::size_t>(std::max(n, 0)));
+  bool allInside = true;
+  for (int k = 0; k < n; ++k)
+  {
+    OGR_G_GetPointZM(line, k, &xy[2 * k], &xy[2 * k + 1], nullptr, nullptr);
+    allInside = allInside && Inside(box, &xy[2 * k]);
+  }
+  if (allInside)
+  {
+    return nullptr;
+  }
+  GeometryPtr parts(OGR_G_CreateGeometry(wkbMultiLineString));
+  OGRGeometryH part = nullptr;
+  auto flush = [&]()
+  {
+    if (part)
+    {
+      OGR_G_AddGeometryDirectly(static_cast<OGRGeometryH>(parts.get()), part);
+      part = nullptr;
+    }
+  };
+  for (int k = 1; k < n; ++k)
+  {
+    const double* a = &xy[2 * (k - 1)];
+    const double* b = &xy[2 * k];
+    double t0 = 0.0;
+    double t1 = 1.0;
+    if (!ClipSegment(box, a, b, t0, t1))
+    {
+      flush();
+      continue;
+    }
+    if (!part || t0 > 0.0)
+    {
+      flush();
+      part = OGR_G_CreateGeometry(wkbLineString);
+      OGR_G_AddPoint_2D(part,
+        t0 > 0.0 ? a[0] + t0 * (b[0] - a[0]) : a[0],
+        t0 > 0.0 ? a[1] + t0 * (b[1] - a[1]) : a[1]);
+    }
+    OGR_G_AddPoint_2D(part,
+      t1 < 1.0 ? a[0] + t1 * (b[0] - a[0]) : b[0],
+      t1 < 1.0 ? a[1] + t1 * (b[1] - a[1]) : b[1]);
+    if (t1 < 1.0)
+    {
+      flush();
+    }
+  }
+  flush();
+  return parts;
+}
+
+/// `geometry` with every line in it cut to the box (ClipLineString), as a new geometry of the
+/// same kind; null when nothing changes. Points and polygons are left to GDAL, whose polygon
+/// fill and ALL_TOUCHED outline only visit the raster's own rows and columns.
+GeometryPtr ClipLines(OGRGeometryH geometry, const ClipBox& box)
+{
+  const OGRwkbGeometryType type = wkbFlatten(OGR_G_GetGeometryType(geometry));
+  if (type == wkbLineString)
+  {
+    return ClipLineString(geometry, box);
+  }
+  if (type != wkbMultiLineString && type != wkbGeometryCollection)
+  {
+    return nullptr;
+  }
+  const int n = OGR_G_GetGeometryCount(geometry);
+  std::vector<GeometryPtr> clipped(static_cast<std::size_t>(std::max(n, 0)));
+  bool changed = false;
+  for (int k = 0; k < n; ++k)
+  {
+    clipped[k] = ClipLines(OGR_G_GetGeometryRef(geometry, k), box);
+    changed = changed || clipped[k] != nullptr;
+  }
+  if (!changed)
+  {
+    return nullptr;
+  }
+  GeometryPtr out(OGR_G_CreateGeometry(type));
+  auto collection = static_cast<OGRGeometryH>(out.get());
+  for (int k = 0; k < n; ++k)
+  {
+    auto piece = static_cast<OGRGeometryH>(clipped[k].get());
+    if (!piece)
+    {
+      OGR_G_AddGeometry(collection, OGR_G_GetGeometryRef(geometry, k));
+    }
+    else if (type == wkbMultiLineString)
+    {
+      for (int p = 0; p < OGR_G_GetGeometryCount(piece); ++p)
+      {
+        OGR_G_AddGeometry(collection, OGR_G_GetGeometryRef(piece, p));
+      }
+    }
+    else
+    {
+      OGR_G_AddGeometryDirectly(collection, static_cast<OGRGeometryH>(clipped[k].release()));
+    }
+  }
+  return out;
+}
+
 /// Short names of the OGR drivers that read from servers or databases by design.
 bool IsVectorServerDriver(const std::string& shortName)
 {
@@ -396,15 +556,13 @@ void vtkTerroirVectorRasterizer::PrintSelf(ostream& os, vtkIndent indent)
 
 void vtkTerroirVectorRasterizer::Fail(const std::string& problem)
 {
-  this->ErrorMessage =
-    std::string(this->FileName && *this->FileName ? this->FileName : "(no file name)") + ": " +
-    problem;
+  this->ErrorMessage = terroir::io::detail::FileError(this->FileName, problem);
   vtkErrorMacro(<< this->ErrorMessage);
 }
 
 void vtkTerroirVectorRasterizer::Warn(const std::string& problem)
 {
-  vtkWarningMacro(<< (this->FileName ? this->FileName : "(no file name)") << ": " << problem);
+  vtkWarningMacro(<< terroir::io::detail::FileError(this->FileName, problem));
 }
 
 int vtkTerroirVectorRasterizer::RequestData(vtkInformation*,
@@ -685,6 +843,19 @@ int vtkTerroirVectorRasterizer::RequestData(vtkInformation*,
   GDALFillRaster(band, background, 0.0);
   if (!geometries.empty())
   {
+    const double m = kLineMarginCells;
+    const double xa = memGT[0] - m * memGT[1];
+    const double xb = memGT[0] + (nx + m) * memGT[1];
+    const double ya = memGT[3] - m * memGT[5];
+    const double yb = memGT[3] + (ny + m) * memGT[5];
+    const ClipBox box{ std::min(xa, xb), std::max(xa, xb), std::min(ya, yb), std::max(ya, yb) };
+    for (GeometryPtr& g : geometries)
+    {
+      if (GeometryPtr clipped = ClipLines(static_cast<OGRGeometryH>(g.get()), box))
+      {
+        g = std::move(clipped);
+      }
+    }
     std::vector<OGRGeometryH> handles(geometries.size());
     std::transform(geometries.begin(),
       geometries.end(),

@@ -19,6 +19,9 @@
  *   of their Bresenham path from the cell holding one vertex to the cell holding the next;
  *   points the cell that holds them.
  * - AllTouched on (GDAL's ALL_TOUCHED=TRUE): every cell a polygon or a line touches at all.
+ * Lines are first cut 1024 cells outside the terrain (GDAL's Bresenham walk visits every cell
+ * between two vertices; a vertex 1e9 cells away took seconds); vertices within that margin are
+ * kept exactly, so real data burns as gdal_rasterize burns it.
  * Where features overlap, the later one in the layer wins (GDAL's MERGE_ALG=REPLACE).
  * Features whose attribute is null are left out (with a warning).
  *

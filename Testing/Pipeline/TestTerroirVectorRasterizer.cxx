@@ -313,6 +313,36 @@ TEST(TerroirVectorRasterizer, LineAlongARowCoversThatRow)
   }
 }
 
+// Lines whose vertices lie 1e12 m away: GDAL's Bresenham walk (AllTouched off) would step
+// through every cell in between and overflow int; the filter cuts lines 1024 cells outside the
+// terrain first. A horizontal line at y = 4360013 covers row j = 1; a vertical one at x = 500065
+// (in a MultiLineString inside a GeometryCollection, beside a small square in the north-west
+// cell) covers column 6, whichever way cells are chosen.
+TEST(TerroirVectorRasterizer, LinesReachingFarBeyondTheTerrainCoverTheirCells)
+{
+  const std::string dir = Scratch();
+  const std::string vertical = "{\"type\":\"MultiLineString\",\"coordinates\":[" +
+    Coordinates({ { 500065, -1e12 }, { 500065, 4360030 }, { 500065, 1e12 } }) + "]}";
+  const std::string path = WriteGeoJSON(dir + "/far_lines.geojson",
+    kEPSG32611,
+    { Feature("\"id\":1", Line({ { -1e12, 4360013 }, { 500040, 4360013 }, { 1e12, 4360013 } })),
+      Feature("\"id\":2",
+        "{\"type\":\"GeometryCollection\",\"geometries\":[" + vertical + "," +
+          Rectangle(500001, 4360051, 500009, 4360059) + "]}") });
+  for (bool allTouched : { false, true })
+  {
+    vtkNew<vtkTerroirVectorRasterizer> f;
+    f->SetFileName(path.c_str());
+    f->SetAllTouched(allTouched);
+    Result r = Rasterize(f, SmallTerrain());
+    ASSERT_EQ(r.ErrorCount, 0) << r.Errors;
+    EXPECT_EQ(Picture(r.Image, "Mask"),
+      Rows({ "1.....1.", "......1.", "......1.", "......1.", "11111111", "......1." }))
+      << "AllTouched " << allTouched;
+    EXPECT_EQ(f->GetNumberOfCoveredCells(), 14);
+  }
+}
+
 // A diagonal from (500004, 4360004) to (500036, 4360026): in cell units u = (x - 500000) / 10,
 // v = (y - 4360000) / 10 it runs from (0.4, 0.4) to (3.6, 2.6), slope 2.2 / 3.2 = 0.6875.
 // Bresenham between the end cells (0, 0) and (3, 2) steps once per column, v = 2u/3 rounded:
@@ -583,6 +613,10 @@ TEST(TerroirVectorRasterizer, ErrorsAreOneLineNamingTheFileWithAnEmptyOutput)
     { Feature("\"soil\":2", Rectangle(10, 10, 11, 11)) });
   const std::string notes = dir + "/notes.geojson";
   ASSERT_TRUE(terroir::testing::WriteTextFile(notes, "these are not features\n"));
+  // A layer name with a line break and a tab (JSON escapes): the error stays on one line.
+  const std::string brokenName = dir + "/broken_name.geojson";
+  ASSERT_TRUE(terroir::testing::WriteTextFile(brokenName,
+    "{\"type\":\"FeatureCollection\",\"name\":\"soils\\nof\\tthe valley\",\"features\":[]}\n"));
   const std::string dem = kSagehen + "sagehen_dem_utm11n_10m.tif";
   // Local files that name remote data: an OGR VRT source (read lazily, listed nowhere but in
   // its XML) and a WFS service description. Port 9 (discard) on the loopback: nothing answers.
@@ -653,6 +687,10 @@ TEST(TerroirVectorRasterizer, ErrorsAreOneLineNamingTheFileWithAnEmptyOutput)
       [](vtkTerroirVectorRasterizer* f) { f->SetLayerName("rivers"); },
       SmallTerrain(),
       ": no layer 'rivers' (layers: 'soils')" },
+    { brokenName,
+      [](vtkTerroirVectorRasterizer* f) { f->SetLayerName("rivers"); },
+      SmallTerrain(),
+      ": no layer 'rivers' (layers: 'soils of the valley')" },
     { soils,
       [](vtkTerroirVectorRasterizer* f) { f->SetAttributeName("ph"); },
       SmallTerrain(),
