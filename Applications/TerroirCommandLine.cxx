@@ -1086,7 +1086,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   bench->add_option("--backends", backends, "Comma-separated backends")->capture_default_str();
   bench->add_flag("--bandwidth",
     line.BenchBandwidth,
-    "Also measure memory bandwidth and the slope and soil-humidity kernels' share");
+    "Also measure memory bandwidth and the slope, soil-humidity and water-flow kernels' share");
   bench->add_option("--json", line.BenchJson, "Also write the results as JSON here");
   std::string stages;
   {

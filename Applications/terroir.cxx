@@ -58,6 +58,7 @@
 #include "MemoryBudget.h"
 #include "SlopeHorn1981.h"
 #include "SoilWater.h"
+#include "WaterFlow.h"
 
 #include <nlohmann/json.hpp>
 
@@ -958,6 +959,49 @@ double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
   return best;
 }
 
+/// Seconds per iteration of the water-flow CPU kernel alone (core WaterFlowSimulation, rows in
+/// parallel as the filter runs them): the seed's benchmark, 100 mm on every cell run to the
+/// automatic stop, timed without setting up the state; the best of `repeat` runs.
+double TimeWaterFlowKernel(vtkImageData* terrain, int repeat)
+{
+  int dims[3];
+  terrain->GetDimensions(dims);
+  auto* z = vtkFloatArray::SafeDownCast(terrain->GetPointData()->GetArray("Elevation"));
+  if (!z)
+  {
+    throw Failure("bench: the synthetic DEM has no float Elevation array");
+  }
+  terroir::GridView<float> view;
+  view.data = z->GetPointer(0);
+  view.nx = dims[0];
+  view.ny = dims[1];
+  double spacing[3];
+  terrain->GetSpacing(spacing);
+  view.dx = spacing[0];
+  view.dy = spacing[1];
+  const std::vector<double> water(view.Size(), 0.1);
+  double best = 1e300;
+  for (int r = 0; r < repeat; ++r)
+  {
+    terroir::hydrology::WaterFlowSimulation sim(view, water.data());
+    sim.SetParallelFor(
+      [](int begin, int end, const std::function<void(int, int)>& body)
+      {
+        const int grain = terroir::hydrology::WaterFlowSimulation::BlockRows(
+          end - begin, vtkSMPTools::GetEstimatedNumberOfThreads());
+        vtkSMPTools::For(begin, end, grain, [&body](int b, int e) { body(b, e); });
+      });
+    const double t0 = terroir::app::Now();
+    sim.Run(terroir::hydrology::WaterFlowStopRule{});
+    const double dt = terroir::app::Now() - t0;
+    if (sim.Iterations() > 0)
+    {
+      best = std::min(best, dt / static_cast<double>(sim.Iterations()));
+    }
+  }
+  return best;
+}
+
 /// Best time of the soil-humidity kernel alone (core SoilHumidityLong2016 over blocks of cells
 /// with vtkSMPTools, outputs allocated and touched beforehand, the default climate), seconds.
 double TimeHumidityKernel(vtkImageData* withRates, bool allOutputs, int repeat)
@@ -1453,6 +1497,21 @@ int CommandBench(int size,
         doc[all ? "humidity_kernel_all_fraction_of_bandwidth"
                 : "humidity_kernel_fraction_of_bandwidth"] = bytes / sec / bw;
       }
+    }
+    if (std::find(stages.begin(), stages.end(), "waterflow") != stages.end())
+    {
+      // Water flow, per iteration: terrain 4 B and water 8 B read, new water 8 B written,
+      // discharge 8 B read and written (WaterFlow.h).
+      const double sec = TimeWaterFlowKernel(terrain, std::max(3, repeat));
+      const double bytes = 36.0 * mcells * 1e6;
+      std::cout << "water-flow kernel (per iteration, run to the automatic stop): "
+                << std::setprecision(3) << sec * 1e3 << " ms, " << std::setprecision(0)
+                << mcells / sec << " Mcells/s, " << std::setprecision(2) << bytes / sec / 1e9
+                << " GB/s = " << std::setprecision(0) << 100.0 * bytes / sec / bw
+                << " % of copy bandwidth\n"
+                << std::setprecision(2);
+      doc["waterflow_kernel_ms_per_iteration"] = sec * 1e3;
+      doc["waterflow_kernel_fraction_of_bandwidth"] = bytes / sec / bw;
     }
     if (slopeCpuSeconds > 0)
     {

@@ -254,8 +254,13 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     cache.FilterTime = this->GetMTime();
   }
   hy::WaterFlowSimulation& sim = *cache.Sim;
-  sim.SetParallelFor([](int begin, int end, const std::function<void(int, int)>& body)
-    { vtkSMPTools::For(begin, end, 16, [&body](int b, int e) { body(b, e); }); });
+  sim.SetParallelFor(
+    [](int begin, int end, const std::function<void(int, int)>& body)
+    {
+      const int grain =
+        hy::WaterFlowSimulation::BlockRows(end - begin, vtkSMPTools::GetEstimatedNumberOfThreads());
+      vtkSMPTools::For(begin, end, grain, [&body](int b, int e) { body(b, e); });
+    });
 
   // What to compute: a requested time step, or a run under the stop rules.
   vtkInformation* outInfo = this->GetOutputInformation(0);

@@ -348,6 +348,20 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual([x["stage"] for x in some["results"]], ["horizon", "monthly"])
         self.assertEqual(some["stages"], ["horizon", "monthly"])
         self.assertNotIn("slope", r.stdout)
+        # --bandwidth with the waterflow stage: the kernel's time per iteration and its share
+        # of the copy bandwidth at 36 bytes per cell, recomputed here from the reported numbers.
+        r = terroir("bench", "--size", "64", "--repeat", "1", "--backends", "cpu", "--stages",
+                    "waterflow", "--bandwidth", "--json", os.path.join(self.work, "bw.json"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.work, "bw.json")) as f:
+            bw = json.load(f)
+        ms = bw["waterflow_kernel_ms_per_iteration"]
+        self.assertGreater(ms, 0)
+        self.assertGreater(bw["copy_bandwidth_GBps"], 0)
+        self.assertAlmostEqual(bw["waterflow_kernel_fraction_of_bandwidth"],
+                               36 * 64 * 64 / (ms * 1e-3) / (bw["copy_bandwidth_GBps"] * 1e9),
+                               delta=1e-9)
+        self.assertIn("water-flow kernel (per iteration, run to the automatic stop)", r.stdout)
         r = terroir("bench", "--stages", "shadows")
         self.assertEqual(r.returncode, 2)
         self.assertEqual(r.stderr, "terroir: error: --stages: 'shadows' is not one of slope, "
