@@ -4,6 +4,7 @@
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
@@ -728,20 +729,62 @@ bool ViewerSession::FloodFillAt(int i, int j, std::string& error)
     error = "cell (" + std::to_string(i) + ", " + std::to_string(j) + ") has no data";
     return false;
   }
-  vtkNew<vtkTerroirFloodFill> flood;
   auto input = vtkSmartPointer<vtkImageData>::New();
   input->ShallowCopy(in.Terrain);
-  flood->SetInputData(input);
-  flood->SetModeToSeeds();
-  flood->AddSeedCell(i, j, z + in.Params.LakeDepth);
+  // The depression that holds the cell, filled to its spill level: water poured in rises no
+  // higher (above it, it runs out over the pass), and none on a slope stays.
+  vtkNew<vtkTerroirFloodFill> depressions;
+  depressions->SetInputData(input);
+  depressions->SetModeToFillDepressions();
+  depressions->SetIncludeFlatSurfaces(false);
+  depressions->SetMinimumArea(0.0);
   JobMonitor monitor;
-  if (!RunFilter(flood, monitor, 0.0, 1.0))
+  if (!RunFilter(depressions, monitor, 0.0, 0.5))
   {
     error = monitor.Error;
     return false;
   }
-  vtkDataArray* depth =
-    flood->GetOutput()->GetPointData()->GetArray(vtkTerroirFloodFill::WaterDepthName());
+  vtkImageData* filled = depressions->GetOutput();
+  vtkDataArray* body = filled->GetPointData()->GetArray(vtkTerroirFloodFill::WaterBodyName());
+  vtkDataArray* levels =
+    filled->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyLevelName());
+  const int id = body ? static_cast<int>(body->GetComponent(k, 0)) : 0;
+  if (id <= 0 || !levels || id > levels->GetNumberOfTuples())
+  {
+    error = "cell (" + std::to_string(i) + ", " + std::to_string(j) +
+      ") is not in a depression: water poured there runs off";
+    return false;
+  }
+  const double spill = levels->GetComponent(id - 1, 0);
+  const double level = std::min(z + in.Params.LakeDepth, spill);
+  vtkSmartPointer<vtkDataArray> depth;
+  if (level >= spill)
+  {
+    // The whole depression, as FillDepressions filled it.
+    vtkDataArray* full = filled->GetPointData()->GetArray(vtkTerroirFloodFill::WaterDepthName());
+    depth.TakeReference(vtkFloatArray::New());
+    depth->SetNumberOfTuples(body->GetNumberOfTuples());
+    for (vtkIdType m = 0; m < body->GetNumberOfTuples(); ++m)
+    {
+      depth->SetComponent(
+        m, 0, static_cast<int>(body->GetComponent(m, 0)) == id ? full->GetComponent(m, 0) : 0.0);
+    }
+  }
+  else
+  {
+    // Below the spill level every path out of the depression climbs above the level, so the
+    // seed's fill (cells connected to the click at or below the level) stays inside it.
+    vtkNew<vtkTerroirFloodFill> flood;
+    flood->SetInputData(input);
+    flood->SetModeToSeeds();
+    flood->AddSeedCell(i, j, level);
+    if (!RunFilter(flood, monitor, 0.5, 0.5))
+    {
+      error = monitor.Error;
+      return false;
+    }
+    depth = flood->GetOutput()->GetPointData()->GetArray(vtkTerroirFloodFill::WaterDepthName());
+  }
   if (!depth || depth->GetNumberOfTuples() != in.Water->GetNumberOfTuples())
   {
     error = "the flood fill gave no WaterDepth";

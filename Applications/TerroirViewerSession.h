@@ -60,8 +60,9 @@ struct ViewerParameters
   /// Bearing of grid north clockwise from true north, degrees (the compass); NaN: the
   /// terrain's meridian convergence, else 0.
   double Orientation = std::numeric_limits<double>::quiet_NaN();
-  int Clusters = 5;         ///< K of the clusters overlay, 1..64
-  double LakeDepth = 5.0;   ///< a click's lake level above the clicked cell, metres
+  int Clusters = 5; ///< K of the clusters overlay, 1..64
+  double LakeDepth =
+    5.0; ///< a click's lake level above the clicked cell (at most the spill level), m
   double BrushRadius = 5.0; ///< cells
   double BrushRate = 0.0;   ///< mm/h painted by the brush
   int FlowIterations = 500; ///< most iterations of one water-flow run
@@ -135,10 +136,14 @@ public:
   ///@}
 
   ///@{
-  /// Water. FloodFillAt fills the lake of cell (i, j) (i east, j north, from the first cell)
-  /// with vtkTerroirFloodFill, level = the cell's elevation + LakeDepth; the new state is the
-  /// larger depth of the old state and the lake on each cell. It pushes the previous state
-  /// first. False with `error` (and no change) for a cell outside the terrain or without data.
+  /// Water. FloodFillAt fills the lake of cell (i, j) (i east, j north, from the first cell):
+  /// the depression that holds the cell (vtkTerroirFloodFill, FillDepressions) up to
+  /// level = min(the cell's elevation + LakeDepth, the depression's spill level). At the spill
+  /// level the lake is the whole filled depression; below it, the cells connected to the click
+  /// at or below the level (Seeds mode, which cannot leave the depression there). The new
+  /// state is the larger depth of the old state and the lake on each cell. It pushes the
+  /// previous state first. False with `error` (and no change) for a cell outside the terrain,
+  /// without data, or not in a depression (water poured on a slope runs off).
   bool FloodFillAt(int i, int j, std::string& error);
   /// Restores the state before the last change; false (and no change) when there is none.
   bool Undo();

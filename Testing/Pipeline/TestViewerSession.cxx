@@ -18,6 +18,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -100,34 +101,162 @@ TEST(TerroirViewerSession, StartsDryWithAnEmptyUndoStack)
   EXPECT_EQ(s.GetUndoDepth(), 0u);
 }
 
-TEST(TerroirViewerSession, FloodFillMakesTheFiltersLakeAndUndoRestoresTheExactState)
+/// The cells reached from cell (ci, cj) of `terrain` through 8-connected cells below `level`
+/// (at or below when `inclusive`), the start cell included.
+std::vector<char> Reached(vtkImageData* terrain, int ci, int cj, double level, bool inclusive)
+{
+  int dims[3];
+  terrain->GetDimensions(dims);
+  vtkDataArray* z = terrain->GetPointData()->GetArray("Elevation");
+  const int nx = dims[0];
+  const int ny = dims[1];
+  std::vector<char> seen(static_cast<std::size_t>(nx) * ny, 0);
+  auto under = [&](int k)
+  {
+    const double h = z->GetComponent(k, 0);
+    return std::isfinite(h) && (inclusive ? h <= level : h < level);
+  };
+  std::vector<int> queue{ cj * nx + ci };
+  seen[queue[0]] = 1;
+  for (std::size_t q = 0; q < queue.size(); ++q)
+  {
+    const int k = queue[q];
+    for (int dj = -1; dj <= 1; ++dj)
+    {
+      for (int di = -1; di <= 1; ++di)
+      {
+        const int i = k % nx + di;
+        const int j = k / nx + dj;
+        if (i >= 0 && j >= 0 && i < nx && j < ny && !seen[j * nx + i] && under(j * nx + i))
+        {
+          seen[j * nx + i] = 1;
+          queue.push_back(j * nx + i);
+        }
+      }
+    }
+  }
+  return seen;
+}
+
+/// The lake a click at cell (ci, cj) makes at `level`, worked out without the flood-fill
+/// filter: depth level - z on the cells Reached, 0 elsewhere.
+std::vector<double> LakeByBreadthFirst(vtkImageData* terrain,
+  int ci,
+  int cj,
+  double level,
+  bool inclusive)
+{
+  vtkDataArray* z = terrain->GetPointData()->GetArray("Elevation");
+  const std::vector<char> seen = Reached(terrain, ci, cj, level, inclusive);
+  std::vector<double> depth(seen.size(), 0.0);
+  for (std::size_t k = 0; k < seen.size(); ++k)
+  {
+    depth[k] = seen[k] ? level - z->GetComponent(static_cast<vtkIdType>(k), 0) : 0.0;
+  }
+  return depth;
+}
+
+/// The spill level of the depression holding cell (ci, cj): the lowest level at which the
+/// cells reached from it through cells at or below the level include an outlet (an edge cell or
+/// a cell next to no data), found by trying every terrain height in increasing order.
+double SpillLevel(vtkImageData* terrain, int ci, int cj)
+{
+  int dims[3];
+  terrain->GetDimensions(dims);
+  vtkDataArray* z = terrain->GetPointData()->GetArray("Elevation");
+  std::vector<double> heights;
+  for (vtkIdType k = 0; k < z->GetNumberOfTuples(); ++k)
+  {
+    if (std::isfinite(z->GetComponent(k, 0)))
+    {
+      heights.push_back(z->GetComponent(k, 0));
+    }
+  }
+  std::sort(heights.begin(), heights.end());
+  auto outlet = [&](int i, int j)
+  {
+    if (i == 0 || j == 0 || i == dims[0] - 1 || j == dims[1] - 1)
+    {
+      return true;
+    }
+    for (int dj = -1; dj <= 1; ++dj)
+    {
+      for (int di = -1; di <= 1; ++di)
+      {
+        if (!std::isfinite(z->GetComponent((j + dj) * dims[0] + i + di, 0)))
+        {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  const double start = z->GetComponent(cj * dims[0] + ci, 0);
+  for (double level : heights)
+  {
+    if (level < start)
+    {
+      continue;
+    }
+    const std::vector<char> seen = Reached(terrain, ci, cj, level, true);
+    for (int k = 0; k < static_cast<int>(seen.size()); ++k)
+    {
+      if (seen[k] && outlet(k % dims[0], k / dims[0]))
+      {
+        return level;
+      }
+    }
+  }
+  return heights.back();
+}
+
+TEST(TerroirViewerSession, FloodFillStopsAtTheSpillLevelAndUndoRestoresTheExactState)
 {
   ViewerSession s;
   Session(s);
+  vtkImageData* terrain = s.GetTerrain();
+  const double z = terrain->GetPointData()->GetArray("Elevation")->GetComponent(12 * 48 + 12, 0);
+  const double spill = SpillLevel(terrain, 12, 12);
+  // The bowl around (12, 12) is 8 m deep but the plane tilts 0.5 m per cell: it spills over
+  // its low (west) rim well below the 5 m of the default LakeDepth.
+  ASSERT_LT(spill, z + s.Parameters().LakeDepth);
+  ASSERT_GT(spill, z + 1.0);
   const std::vector<float> before = Copy(s.GetWater());
   std::string error;
+
+  // Default LakeDepth: the level stops at the spill level and the lake fills the depression.
   ASSERT_TRUE(s.FloodFillAt(12, 12, error)) << error;
   EXPECT_EQ(s.GetUndoDepth(), 1u);
-  // The lake is vtkTerroirFloodFill's, seeded at the cell with level = elevation + LakeDepth.
-  vtkNew<vtkTerroirFloodFill> flood;
-  flood->SetInputData(s.GetTerrain());
-  const double z =
-    s.GetTerrain()->GetPointData()->GetArray("Elevation")->GetComponent(12 * 48 + 12, 0);
-  flood->AddSeedCell(12, 12, z + s.Parameters().LakeDepth);
-  flood->Update();
-  vtkDataArray* depth = flood->GetOutput()->GetPointData()->GetArray("WaterDepth");
+  const std::vector<double> full = LakeByBreadthFirst(terrain, 12, 12, spill, false);
   int wet = 0;
-  for (vtkIdType k = 0; k < depth->GetNumberOfTuples(); ++k)
+  for (std::size_t k = 0; k < full.size(); ++k)
   {
-    const double d = depth->GetComponent(k, 0);
-    EXPECT_EQ(s.GetWater()->GetValue(k), static_cast<float>(std::isfinite(d) ? d : 0.0));
+    EXPECT_NEAR(s.GetWater()->GetValue(k), full[k], 1e-5) << "cell " << k;
     wet += s.GetWater()->GetValue(k) > 0.0f ? 1 : 0;
   }
   EXPECT_GT(wet, 10);
+  EXPECT_LT(wet, 48 * 32 / 4); // the lake stays in its bowl
   EXPECT_FALSE(SameBytes(s.GetWater(), before));
   ASSERT_TRUE(s.Undo());
   EXPECT_TRUE(SameBytes(s.GetWater(), before));
   EXPECT_EQ(s.GetUndoDepth(), 0u);
+
+  // 1 m: below the spill level, the cells reached at or below the cell's height + 1 m.
+  s.Parameters().LakeDepth = 1.0;
+  ASSERT_TRUE(s.FloodFillAt(12, 12, error)) << error;
+  const std::vector<double> shallow = LakeByBreadthFirst(terrain, 12, 12, z + 1.0, true);
+  for (std::size_t k = 0; k < shallow.size(); ++k)
+  {
+    EXPECT_NEAR(s.GetWater()->GetValue(k), shallow[k], 1e-5) << "cell " << k;
+  }
+  EXPECT_NEAR(s.GetWater()->GetValue(12 * 48 + 12), 1.0, 1e-5);
+
+  // On the plane, far from both bowls, poured water runs off: no lake, no undo step.
+  const std::vector<float> state = Copy(s.GetWater());
+  EXPECT_FALSE(s.FloodFillAt(24, 28, error));
+  EXPECT_EQ(error, "cell (24, 28) is not in a depression: water poured there runs off");
+  EXPECT_TRUE(SameBytes(s.GetWater(), state));
+  EXPECT_EQ(s.GetUndoDepth(), 1u);
 }
 
 TEST(TerroirViewerSession, SeveralUndoStepsRestoreEachEarlierStateInTurn)
@@ -136,9 +265,10 @@ TEST(TerroirViewerSession, SeveralUndoStepsRestoreEachEarlierStateInTurn)
   Session(s);
   std::vector<std::vector<float>> states{ Copy(s.GetWater()) };
   std::string error;
-  // Each fill reaches higher than the one before, so each changes the state.
+  // Each fill changes the state: 1 m in the first bowl (below its spill level), then that bowl
+  // to its spill level, then the second bowl.
   const int cells[3][2] = { { 12, 12 }, { 14, 11 }, { 36, 20 } };
-  const double depths[3] = { 2.0, 6.0, 3.5 };
+  const double depths[3] = { 1.0, 6.0, 3.5 };
   for (int k = 0; k < 3; ++k)
   {
     s.Parameters().LakeDepth = depths[k];

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """`terroir view` driven by --script: screenshots against Testing/Baselines/TerroirViewer_*.png
-(VTK's legacy image comparison, threshold 0.15, as the C++ image tests), a lake clicked then
-undone gives the same picture as no click, navigation events move the camera the right way,
+(VTK's legacy image comparison, threshold 0.15, as the C++ image tests), a lake clicked in a
+bowl fills it to its spill level and, undone, gives the same picture as no click, navigation events move the camera the right way,
 and a bad script is refused before any window work.
 
 The scripts generate real interactor events (clicks, drags, wheel turns, keys), so the
@@ -26,8 +26,29 @@ TEMP = os.environ.get("TERROIR_TEMP_DIR", tempfile.gettempdir())
 DEM = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
 BASELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Baselines")
 SIZE = (640, 480)
-# A cell of the valley floor in the default relief view at 640 x 480 (pixels from the top left).
-VALLEY = (200, 250)
+# The middle of the default relief view at 640 x 480 (pixels from the top left): a cell inside
+# the bowl of BowlDEM.
+BOWL = (250, 240)
+
+
+def bowl_dem():
+    """A 121 x 101 GeoTIFF of 10 m cells (UTM 11N): a plane rising 0.1 m per cell to the east
+    with a Gaussian bowl 40 m deep (sigma 20 cells) in the middle, so that a lake clicked in the
+    bowl spills over its western rim."""
+    from osgeo import gdal, osr
+    path = os.path.join(TEMP, "viewer_bowl.tif")
+    nx, ny = 121, 101
+    i = np.arange(nx)[None, :]
+    j = np.arange(ny)[:, None]
+    z = 2000.0 + 0.1 * i - 40.0 * np.exp(-((i - 60.0) ** 2 + (j - 50.0) ** 2) / (2 * 20.0 ** 2))
+    ds = gdal.GetDriverByName("GTiff").Create(path, nx, ny, 1, gdal.GDT_Float32)
+    ds.SetGeoTransform((500000, 10, 0, 4380000, 0, -10))
+    srs = osr.SpatialReference()
+    srs.ImportFromEPSG(32611)
+    ds.SetProjection(srs.ExportToWkt())
+    ds.GetRasterBand(1).WriteArray(z.astype(np.float32))
+    ds = None
+    return path
 
 
 def need_display(test):
@@ -38,15 +59,15 @@ def need_display(test):
     test.skipTest("no X display")
 
 
-def run_view(name, lines, env=None):
-    """Writes the script `lines` and runs `terroir view` on the bundled DEM with it."""
+def run_view(name, lines, env=None, dem=DEM):
+    """Writes the script `lines` and runs `terroir view` on `dem` (the bundled DEM) with it."""
     folder = os.path.join(TEMP, "viewer_" + name)
     shutil.rmtree(folder, ignore_errors=True)
     os.makedirs(folder)
     script = os.path.join(folder, "script.txt")
     with open(script, "w") as f:
         f.write("\n".join(lines) + "\n")
-    proc = subprocess.run([BIN, "view", DEM, "--size", "%dx%d" % SIZE, "--script", script],
+    proc = subprocess.run([BIN, "view", dem, "--size", "%dx%d" % SIZE, "--script", script],
                           cwd=folder, capture_output=True, text=True, timeout=600, env=env)
     return proc, folder, script
 
@@ -94,26 +115,32 @@ class TerroirViewer(unittest.TestCase):
             "overlay slope", "wait", "screenshot slope.png",
             # Overlay key 2 (sun and shadow), a June evening through the hour slider value.
             "key 2", "month 6", "hour 18", "wait", "screenshot shadows.png",
-            # A lake clicked on the valley floor, over the bare relief at 13:00.
-            "overlay none", "hour 13", "tool lake",
-            "click %d %d" % VALLEY, "wait", "screenshot lake.png",
             "quit"])
         self.assertEqual(proc.returncode, 0, proc.stderr)
         self.check_baseline(os.path.join(folder, "slope.png"), "TerroirViewer_SlopeRelief")
         self.check_baseline(os.path.join(folder, "shadows.png"),
                             "TerroirViewer_ShadowsJuneEvening")
+        # A lake clicked in the bowl with a lake depth of 50 m, over the bare relief at 13:00:
+        # the level stops at the bowl's spill level (its western rim, near 1999.5 m, about
+        # 33.5 m above the bottom), and no water runs down the plane beyond it.
+        proc, folder, _ = run_view("bowl", [
+            "overlay none", "hour 13", "tool lake", "lake-depth 50",
+            "click %d %d" % BOWL, "wait", "screenshot lake.png",
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
         self.check_baseline(os.path.join(folder, "lake.png"), "TerroirViewer_LakeOverRelief")
 
     def test_a_lake_clicked_then_undone_leaves_the_same_picture_as_no_click(self):
         need_display(self)
         common = ["overlay slope", "tool lake", "wait"]
+        bowl = bowl_dem()
         proc, plain, _ = run_view("no_click", common + [
             "key ctrl+z",  # nothing to undo: the same status line as below
-            "screenshot plain.png", "quit"])
+            "screenshot plain.png", "quit"], dem=bowl)
         self.assertEqual(proc.returncode, 0, proc.stderr)
         proc, undone, _ = run_view("click_undo", common + [
-            "click %d %d" % VALLEY, "screenshot lake.png",
-            "key ctrl+z", "key ctrl+z", "screenshot undone.png", "quit"])
+            "click %d %d" % BOWL, "screenshot lake.png",
+            "key ctrl+z", "key ctrl+z", "screenshot undone.png", "quit"], dem=bowl)
         self.assertEqual(proc.returncode, 0, proc.stderr)
         size_a, a = pixels(os.path.join(plain, "plain.png"))
         size_l, lake = pixels(os.path.join(undone, "lake.png"))
