@@ -910,9 +910,8 @@ double MeasureCopyBandwidth(int repeat)
   return best;
 }
 
-/// Best time of the slope kernel alone (core SlopeHorn1981Rows over row blocks with
-/// vtkSMPTools, outputs allocated and touched beforehand), seconds.
-double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
+/// The synthetic DEM's float Elevation as a core grid view (uniform spacing).
+terroir::GridView<float> ElevationView(vtkImageData* terrain)
 {
   int dims[3];
   terrain->GetDimensions(dims);
@@ -929,6 +928,14 @@ double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
   terrain->GetSpacing(spacing);
   view.dx = spacing[0];
   view.dy = spacing[1];
+  return view;
+}
+
+/// Best time of the slope kernel alone (core SlopeHorn1981Rows over row blocks with
+/// vtkSMPTools, outputs allocated and touched beforehand), seconds.
+double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
+{
+  const terroir::GridView<float> view = ElevationView(terrain);
   const std::size_t n = view.Size();
   std::vector<float> slope(n, 0.0f), aspect(allOutputs ? n : 0, 0.0f),
     normals(allOutputs ? 3 * n : 0, 0.0f);
@@ -964,21 +971,7 @@ double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
 /// automatic stop, timed without setting up the state; the best of `repeat` runs.
 double TimeWaterFlowKernel(vtkImageData* terrain, int repeat)
 {
-  int dims[3];
-  terrain->GetDimensions(dims);
-  auto* z = vtkFloatArray::SafeDownCast(terrain->GetPointData()->GetArray("Elevation"));
-  if (!z)
-  {
-    throw Failure("bench: the synthetic DEM has no float Elevation array");
-  }
-  terroir::GridView<float> view;
-  view.data = z->GetPointer(0);
-  view.nx = dims[0];
-  view.ny = dims[1];
-  double spacing[3];
-  terrain->GetSpacing(spacing);
-  view.dx = spacing[0];
-  view.dy = spacing[1];
+  const terroir::GridView<float> view = ElevationView(terrain);
   const std::vector<double> water(view.Size(), 0.1);
   double best = 1e300;
   for (int r = 0; r < repeat; ++r)
