@@ -37,25 +37,13 @@ void vtkTerroirInteractorStyleFirstPerson::Rotate()
   camera->GetFocalPoint(focal);
   camera->GetPosition(position);
   double d[3] = { focal[0] - position[0], focal[1] - position[1], focal[2] - position[2] };
-  const double distance = vtkMath::Norm(d);
-  if (distance <= 0.0)
+  // The direction of view turns: drag right turns right, the pitch stays within 85 degrees.
+  if (!TurnVector(d, k * (now[0] - last[0]), k * (now[1] - last[1]), -85.0, 85.0))
   {
     return;
   }
-  // Direction of view as azimuth (clockwise from +y) and pitch; drag right turns right.
-  double azimuth = std::atan2(d[0], d[1]) + vtkMath::RadiansFromDegrees(k * (now[0] - last[0]));
-  double pitch = std::asin(std::max(-1.0, std::min(1.0, d[2] / distance))) +
-    vtkMath::RadiansFromDegrees(k * (now[1] - last[1]));
-  const double limit = vtkMath::RadiansFromDegrees(85.0);
-  pitch = std::max(-limit, std::min(limit, pitch));
-  d[0] = distance * std::cos(pitch) * std::sin(azimuth);
-  d[1] = distance * std::cos(pitch) * std::cos(azimuth);
-  d[2] = distance * std::sin(pitch);
   camera->SetFocalPoint(position[0] + d[0], position[1] + d[1], position[2] + d[2]);
-  camera->SetViewUp(0.0, 0.0, 1.0);
-  camera->OrthogonalizeViewUp();
-  this->CurrentRenderer->ResetCameraClippingRange();
-  rwi->Render();
+  this->FinishRotation(camera);
 }
 
 void vtkTerroirInteractorStyleFirstPerson::Move(double forward, double right, double up)

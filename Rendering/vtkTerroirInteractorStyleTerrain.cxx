@@ -184,26 +184,43 @@ void vtkTerroirInteractorStyleTerrain::Rotate()
   camera->GetFocalPoint(focal);
   camera->GetPosition(position);
   double v[3] = { position[0] - focal[0], position[1] - focal[1], position[2] - focal[2] };
-  const double distance = vtkMath::Norm(v);
-  if (distance <= 0.0)
+  // The camera stays above the horizon of the focal point and below its zenith.
+  if (!TurnVector(v, dAzimuth, dElevation, 1.0, 89.0))
   {
     return;
   }
-  // Spherical coordinates about the focal point, +z up.
-  double azimuth = std::atan2(v[0], v[1]);
-  double elevation = std::asin(std::max(-1.0, std::min(1.0, v[2] / distance)));
-  azimuth += vtkMath::RadiansFromDegrees(dAzimuth);
-  elevation = std::max(vtkMath::RadiansFromDegrees(1.0),
-    std::min(
-      vtkMath::RadiansFromDegrees(89.0), elevation + vtkMath::RadiansFromDegrees(dElevation)));
+  camera->SetPosition(focal[0] + v[0], focal[1] + v[1], focal[2] + v[2]);
+  this->FinishRotation(camera);
+}
+
+bool vtkTerroirInteractorStyleTerrain::TurnVector(double v[3],
+  double dAzimuth,
+  double dElevation,
+  double lowest,
+  double highest)
+{
+  const double distance = vtkMath::Norm(v);
+  if (distance <= 0.0)
+  {
+    return false;
+  }
+  const double azimuth = std::atan2(v[0], v[1]) + vtkMath::RadiansFromDegrees(dAzimuth);
+  const double elevation = std::max(vtkMath::RadiansFromDegrees(lowest),
+    std::min(vtkMath::RadiansFromDegrees(highest),
+      std::asin(std::max(-1.0, std::min(1.0, v[2] / distance))) +
+        vtkMath::RadiansFromDegrees(dElevation)));
   v[0] = distance * std::cos(elevation) * std::sin(azimuth);
   v[1] = distance * std::cos(elevation) * std::cos(azimuth);
   v[2] = distance * std::sin(elevation);
-  camera->SetPosition(focal[0] + v[0], focal[1] + v[1], focal[2] + v[2]);
+  return true;
+}
+
+void vtkTerroirInteractorStyleTerrain::FinishRotation(vtkCamera* camera)
+{
   camera->SetViewUp(0.0, 0.0, 1.0);
   camera->OrthogonalizeViewUp();
   this->CurrentRenderer->ResetCameraClippingRange();
-  rwi->Render();
+  this->Interactor->Render();
 }
 
 void vtkTerroirInteractorStyleTerrain::ZoomBy(double factor)

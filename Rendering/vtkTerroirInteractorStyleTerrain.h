@@ -32,6 +32,8 @@
 #include "vtkInteractorStyle.h"
 #include "vtkTerroirRenderingModule.h" // For export macro
 
+class vtkCamera;
+
 class VTKTERROIRRENDERING_EXPORT vtkTerroirInteractorStyleTerrain : public vtkInteractorStyle
 {
 public:
@@ -93,6 +95,18 @@ protected:
   void EndLeftGesture();
   /// True while the pointer stayed within ClickTolerance of the press.
   bool IsStillAClick();
+  /// Turns `v` by dAzimuth degrees (clockwise about +z seen from above, azimuth measured from
+  /// +y) and dElevation degrees (up from the horizontal), the elevation kept within
+  /// [lowest, highest] degrees, its length kept; false (v unchanged) for a zero vector. Shared
+  /// by the orbit (position about the focal point) and the first-person look (focal point
+  /// about the position).
+  static bool TurnVector(double v[3],
+    double dAzimuth,
+    double dElevation,
+    double lowest,
+    double highest);
+  /// After a rotation: view up +z (orthogonalised), clipping range reset, render.
+  void FinishRotation(vtkCamera* camera);
 
   double MouseSensitivity = 1.0;
   double RotationDegreesPerPixel = 0.4;

@@ -160,11 +160,12 @@ class TerroirViewer(unittest.TestCase):
             "wheel 3", "camera",                      # zoom in
             "drag 250 200 350 200 ctrl", "camera",    # rotate about the focal point
             "style first-person", "key w", "camera",  # one step forward
+            "drag 250 200 300 200", "camera",         # look 20 degrees to the right
             "quit"])
         self.assertEqual(proc.returncode, 0, proc.stderr)
         c = cameras(proc.stdout)
-        self.assertEqual(len(c), 5, proc.stdout)
-        (p0, f0), (p1, f1), (p2, f2), (p3, f3), (p4, f4) = c
+        self.assertEqual(len(c), 6, proc.stdout)
+        (p0, f0), (p1, f1), (p2, f2), (p3, f3), (p4, f4), (p5, f5) = c
         # Pan: camera and focal point move together, against the drag (screen right).
         forward = (f0 - p0) / np.linalg.norm(f0 - p0)
         right = np.cross(forward, [0.0, 0.0, 1.0])
@@ -194,6 +195,15 @@ class TerroirViewer(unittest.TestCase):
                                places=3)
         diagonal = math.hypot(785 * 10.0, 719 * 10.0)
         self.assertAlmostEqual(float(np.linalg.norm(step)), 0.01 * diagonal, delta=0.5)
+        # First person, drag 50 pixels right: the view turns 20 degrees clockwise seen from
+        # above (0.4 degree per pixel), the camera stays, the pitch and the focal distance too.
+        self.assertTrue(np.allclose(p5, p4))
+        v4, v5 = f4 - p4, f5 - p5
+        self.assertAlmostEqual(np.linalg.norm(v5), np.linalg.norm(v4), places=3)
+        self.assertAlmostEqual(v5[2], v4[2], places=3)
+        b4 = math.degrees(math.atan2(v4[0], v4[1]))
+        b5 = math.degrees(math.atan2(v5[0], v5[1]))
+        self.assertAlmostEqual((b5 - b4 + 540.0) % 360.0 - 180.0, 20.0, places=4)
 
     def test_a_bad_script_line_is_refused_before_any_window(self):
         # No DISPLAY: the script is checked first, so the display is never needed.
