@@ -97,6 +97,22 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TimeStepStride: " << this->TimeStepStride << "\n";
   os << indent << "CheckpointInterval: " << this->CheckpointInterval << "\n";
   os << indent << "CheckpointMemory: " << this->CheckpointMemory << " MiB\n";
+  os << indent << "IterationEventInterval: " << this->IterationEventInterval << "\n";
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::GetCurrentWaterHeight(vtkFloatArray* out)
+{
+  const hy::WaterFlowSimulation* sim = this->State->Sim.get();
+  if (!sim || !out)
+  {
+    return false;
+  }
+  out->SetNumberOfComponents(1);
+  out->SetNumberOfTuples(static_cast<vtkIdType>(sim->Nx()) * sim->Ny());
+  sim->GetWaterDepth(out->GetPointer(0));
+  out->Modified();
+  return true;
 }
 
 //------------------------------------------------------------------------------
@@ -335,7 +351,12 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   while (!stopped && sim.Iterations() < target)
   {
     const long long interval = this->CheckpointInterval;
-    const long long next = std::min(target, (sim.Iterations() / interval + 1) * interval);
+    long long next = std::min(target, (sim.Iterations() / interval + 1) * interval);
+    const long long watch = this->IterationEventInterval;
+    if (watch > 0)
+    {
+      next = std::min(next, (sim.Iterations() / watch + 1) * watch);
+    }
     if (gpu)
     {
       hy::WaterFlowGPUResult result;
@@ -379,6 +400,11 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       !cache.Checkpoints.count(sim.Iterations()))
     {
       cache.Checkpoints[sim.Iterations()] = { sim.PaddedWater(), sim.PaddedDischarge() };
+    }
+    if (watch > 0 && sim.Iterations() % watch == 0 && sim.Iterations() > first)
+    {
+      vtkIdType done = static_cast<vtkIdType>(sim.Iterations());
+      this->InvokeEvent(IterationEvent, &done);
     }
   }
   this->LastComputedIterations = static_cast<vtkIdType>(sim.Iterations() - first);

@@ -41,6 +41,8 @@
  *   continues from the cached one, an earlier time restarts from the nearest checkpoint (one
  *   every CheckpointInterval iterations, default 100, while they fit in CheckpointMemory MiB,
  *   default 256). Changing a parameter or the input discards the cache.
+ * - Watching: IterationEventInterval k > 0 (default 0) invokes IterationEvent every k
+ *   computed iterations; GetCurrentWaterHeight() then reads the state (`terroir view`).
  *
  * Backends: CPU (rows in parallel with vtkSMPTools) and GPU (Shaders/WaterFlow.comp, a gather
  * with ping-pong buffers in double precision; the stop test reads back every 16 iterations and
@@ -65,10 +67,13 @@
 #ifndef vtkTerroirWaterFlow_h
 #define vtkTerroirWaterFlow_h
 
+#include "vtkCommand.h"                       // For vtkCommand::UserEvent
 #include "vtkTerroirFiltersHydrologyModule.h" // For export macro
 #include "vtkTerroirImageAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
+
+class vtkFloatArray;
 
 class VTKTERROIRFILTERSHYDROLOGY_EXPORT vtkTerroirWaterFlow : public vtkTerroirImageAlgorithm
 {
@@ -142,6 +147,26 @@ public:
   /// Iterations computed (not restored from the cache) by the last update; for tests.
   vtkGetMacro(LastComputedIterations, vtkIdType);
 
+  ///@{
+  /// Watching a run: with IterationEventInterval k > 0 (default 0: off), an update invokes
+  /// IterationEvent (call data: a `vtkIdType*`, the iterations done) after every multiple of k
+  /// iterations it computes (not those restored from the cache). An observer may then call
+  /// GetCurrentWaterHeight() to read the state (a viewer draws it while the run goes on). The
+  /// events do not change the result: the run pauses at the multiples of k on both paths (on
+  /// the GPU path each pause reads the state back, so a small k costs time there).
+  enum
+  {
+    IterationEvent = vtkCommand::UserEvent + 731
+  };
+  /// Does not call Modified(): watching does not change the result, so the cache is kept.
+  void SetIterationEventInterval(vtkIdType k) { this->IterationEventInterval = k > 0 ? k : 0; }
+  vtkGetMacro(IterationEventInterval, vtkIdType);
+  /// Copies the current water depth (m, one value per point, as the `WaterHeight` output) into
+  /// `out` (resized to the number of points). Valid during an IterationEvent and after an
+  /// update; false (and `out` untouched) when no simulation exists.
+  bool GetCurrentWaterHeight(vtkFloatArray* out);
+  ///@}
+
 protected:
   vtkTerroirWaterFlow();
   ~vtkTerroirWaterFlow() override;
@@ -169,6 +194,7 @@ protected:
   vtkIdType CheckpointInterval = 100;
   double CheckpointMemory = 256.0;
   vtkIdType LastComputedIterations = 0;
+  vtkIdType IterationEventInterval = 0;
 
 private:
   vtkTerroirWaterFlow(const vtkTerroirWaterFlow&) = delete;

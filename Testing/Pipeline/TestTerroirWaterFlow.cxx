@@ -4,6 +4,7 @@
 // (backward); bad inputs; conservation on the bundled Sagehen DEM.
 #include "TerroirFilterTestUtilities.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -248,6 +249,83 @@ TEST(TerroirWaterFlow, TimeStepsContinueFromCache)
   EXPECT_EQ(Values(plain->GetOutput(), "WaterHeight"), Values(ruled, "WaterHeight"));
   plain->UpdateTimeStep(stop + 3.0);
   EXPECT_EQ(plain->GetLastComputedIterations(), 3);
+}
+
+/// Records every IterationEvent: the iteration count and the state read during the event.
+struct Watcher
+{
+  vtkTerroirWaterFlow* Filter = nullptr;
+  std::vector<vtkIdType> Iterations;
+  std::vector<std::vector<double>> States;
+  static void Callback(vtkObject*, unsigned long, void* clientData, void* callData)
+  {
+    auto* self = static_cast<Watcher*>(clientData);
+    self->Iterations.push_back(*static_cast<vtkIdType*>(callData));
+    vtkNew<vtkFloatArray> state;
+    EXPECT_TRUE(self->Filter->GetCurrentWaterHeight(state));
+    std::vector<double> v;
+    for (vtkIdType k = 0; k < state->GetNumberOfTuples(); ++k)
+    {
+      v.push_back(state->GetValue(k));
+    }
+    self->States.push_back(v);
+  }
+};
+
+TEST(TerroirWaterFlow, IterationEventsShowTheStateAsTheRunGoesOn)
+{
+  auto in = Valley();
+  // The run under the stop rules without watching: where it stops and its result.
+  vtkNew<vtkTerroirWaterFlow> plain;
+  plain->SetBackendToCPU();
+  auto unwatched = RunFlow(plain, in);
+  const double stop = Field(unwatched, vtkTerroirWaterFlow::IterationsName());
+  ASSERT_GT(stop, 14.0);
+
+  vtkNew<vtkTerroirWaterFlow> f;
+  f->SetBackendToCPU();
+  f->SetIterationEventInterval(7);
+  Watcher watcher;
+  watcher.Filter = f;
+  vtkNew<vtkCallbackCommand> observer;
+  observer->SetCallback(Watcher::Callback);
+  observer->SetClientData(&watcher);
+  f->AddObserver(vtkTerroirWaterFlow::IterationEvent, observer);
+  vtkNew<vtkFloatArray> none;
+  EXPECT_FALSE(f->GetCurrentWaterHeight(none)); // no simulation yet
+  auto watched = RunFlow(f, in);
+
+  // One event after every 7th iteration up to the stop, each showing the state of a fresh
+  // run of that many iterations (stop rules off); the result is the unwatched one.
+  const std::size_t expected = static_cast<std::size_t>(stop) / 7;
+  ASSERT_EQ(watcher.Iterations.size(), expected);
+  for (std::size_t k = 0; k < expected; ++k)
+  {
+    const int iterations = static_cast<int>(7 * (k + 1));
+    EXPECT_EQ(watcher.Iterations[k], iterations);
+    vtkNew<vtkTerroirWaterFlow> g;
+    g->SetBackendToCPU();
+    g->SetAutoStopRatio(0.0);
+    g->SetMaximumIterations(iterations);
+    EXPECT_EQ(watcher.States[k], Values(RunFlow(g, in), "WaterHeight")) << iterations;
+  }
+  EXPECT_EQ(Field(watched, vtkTerroirWaterFlow::IterationsName()), stop);
+  EXPECT_EQ(Values(watched, "WaterHeight"), Values(unwatched, "WaterHeight"));
+  EXPECT_EQ(Values(watched, "Discharge"), Values(unwatched, "Discharge"));
+  // After the update the current state is the output.
+  vtkNew<vtkFloatArray> now;
+  ASSERT_TRUE(f->GetCurrentWaterHeight(now));
+  std::vector<double> current;
+  for (vtkIdType k = 0; k < now->GetNumberOfTuples(); ++k)
+  {
+    current.push_back(now->GetValue(k));
+  }
+  EXPECT_EQ(current, Values(watched, "WaterHeight"));
+  // Setting the interval keeps the cache (it does not change the result): the stop's
+  // iteration is served from it, no iteration is computed again.
+  f->SetIterationEventInterval(0);
+  f->UpdateTimeStep(stop);
+  EXPECT_EQ(f->GetLastComputedIterations(), 0);
 }
 
 TEST(TerroirWaterFlow, SimulatedTimeLimit)
