@@ -7,8 +7,11 @@
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
 
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirGeoreference.h"
@@ -30,6 +33,7 @@
 #include <cstring>
 #include <deque>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -128,9 +132,34 @@ struct ViewerSession::Internals
   ViewerParameters Params;
   ViewerOverlay Current = ViewerOverlay::None;
   vtkSmartPointer<vtkFloatArray> Water;
-  std::vector<std::vector<float>> UndoStack;
   unsigned long WaterVersion = 0;
   vtkSmartPointer<vtkFloatArray> Infiltration;
+  unsigned long InfiltrationVersion = 0;
+
+  /// One undoable change of the water or the infiltration map: the changed cells and their
+  /// previous values, or (Whole) the whole previous array.
+  struct Change
+  {
+    bool IsWater = true;
+    bool Whole = false;
+    std::vector<vtkIdType> Cells;
+    std::vector<float> Values;
+  };
+  std::vector<Change> UndoStack;
+  bool InStroke = false;
+  std::vector<float> StrokeBefore;
+
+  // ---- water-flow frames (written by the worker, taken by Pump) ---------------------------
+  std::mutex FrameMutex;
+  vtkSmartPointer<vtkFloatArray> Frame; ///< the worker's latest frame
+  long long FrameIteration = 0;
+  long long FrameSerial = 0; ///< frames written (under FrameMutex)
+  long long FrameTaken = 0;  ///< frames Pump has shown
+  std::atomic<long long> FramesPublished{ 0 };
+  vtkSmartPointer<vtkFloatArray> Preview; ///< the frame on display while a flow runs
+  bool HavePreview = false;
+  long long PreviewIteration = 0;
+  unsigned long FrameVersion = 0;
 
   // ---- worker ----------------------------------------------------------------------------
   /// A job's result, handed from the worker to the window's thread.
@@ -209,10 +238,54 @@ struct ViewerSession::Internals
     return copy;
   }
 
-  void PushWater()
+  static std::vector<float> CopyOf(vtkFloatArray* a)
   {
-    const float* w = this->Water->GetPointer(0);
-    this->UndoStack.emplace_back(w, w + this->Water->GetNumberOfValues());
+    return std::vector<float>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+  }
+
+  /// Pushes the change of the water (or the infiltration map) from `before` to its current
+  /// values on the undo stack, and counts the version; returns the number of changed cells
+  /// (0: nothing pushed). Values compare by their bits, so that Undo gives the same bytes.
+  long long Record(bool water, std::vector<float>&& before)
+  {
+    vtkFloatArray* a = water ? this->Water.Get() : this->Infiltration.Get();
+    const float* now = a->GetPointer(0);
+    const std::size_t n = before.size();
+    Change c;
+    c.IsWater = water;
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      if (std::memcmp(now + k, before.data() + k, sizeof(float)) != 0)
+      {
+        c.Cells.push_back(static_cast<vtkIdType>(k));
+        c.Values.push_back(before[k]);
+      }
+    }
+    const long long changed = static_cast<long long>(c.Cells.size());
+    if (changed == 0)
+    {
+      return 0;
+    }
+    if (3 * c.Cells.size() > n) // a list of most cells takes more than the whole array
+    {
+      c.Whole = true;
+      c.Cells.clear();
+      c.Values = std::move(before);
+    }
+    this->UndoStack.push_back(std::move(c));
+    a->Modified();
+    ++(water ? this->WaterVersion : this->InfiltrationVersion);
+    return changed;
+  }
+
+  /// The cell has data (finite elevation, valid mask).
+  bool HasData(vtkIdType k) const
+  {
+    vtkPointData* pd = this->Terrain->GetPointData();
+    vtkDataArray* mask = pd->GetArray(vtkTerroirGeoreference::ValidMaskName());
+    return std::isfinite(
+             pd->GetArray(vtkTerroirGeoreference::ElevationName())->GetComponent(k, 0)) &&
+      !(mask && mask->GetComponent(k, 0) == 0.0);
   }
 };
 
@@ -279,6 +352,31 @@ unsigned long ViewerSession::GetWaterVersion() const
   return this->Impl->WaterVersion;
 }
 
+vtkFloatArray* ViewerSession::GetDisplayedWater() const
+{
+  return this->Impl->HavePreview ? this->Impl->Preview.Get() : this->Impl->Water.Get();
+}
+
+unsigned long ViewerSession::GetDisplayedWaterVersion() const
+{
+  return this->Impl->WaterVersion + this->Impl->FrameVersion;
+}
+
+long long ViewerSession::GetFlowFrameIteration() const
+{
+  return this->Impl->HavePreview ? this->Impl->PreviewIteration : 0;
+}
+
+long long ViewerSession::GetFlowFramesPublished() const
+{
+  return this->Impl->FramesPublished.load();
+}
+
+unsigned long ViewerSession::GetInfiltrationVersion() const
+{
+  return this->Impl->InfiltrationVersion;
+}
+
 //------------------------------------------------------------------------------
 bool ViewerSession::SetTerrain(vtkImageData* terrain, std::string& error)
 {
@@ -319,6 +417,8 @@ bool ViewerSession::SetTerrain(vtkImageData* terrain, std::string& error)
   in.Water->SetNumberOfValues(n);
   in.Water->FillValue(0.0f);
   in.UndoStack.clear();
+  in.InStroke = false;
+  in.HavePreview = false;
 
   vtkNew<vtkTerroirInfiltration> recipe; // no operation: the default recipe
   recipe->SetInputData(in.Terrain);
@@ -442,6 +542,7 @@ OverlayResult ComputeOverlayOn(vtkImageData* input,
         RunFilter(sun, monitor, 0.1, 0.8) && RunFilter(kmeans, monitor, 0.9, 0.1))
       {
         r.Output = kmeans->GetOutput();
+        r.Table = kmeans->GetClusterTable();
       }
       r.ArrayName = vtkTerroirKMeans::ClusterIdName();
       r.Preset = "Clusters";
@@ -542,10 +643,12 @@ void ViewerSession::RequestWaterFlow()
   const ViewerParameters params = in.Params;
   auto job = std::make_unique<Internals::QueuedJob>();
   job->Label = "Computing water flow";
-  job->Work = [input, params](std::atomic<double>& progress)
+  Internals* self = &in;
+  job->Work = [input, params, self](std::atomic<double>& progress)
   {
     Internals::JobResult result;
     result.IsWaterFlow = true;
+    self->FramesPublished = 0;
     JobMonitor monitor;
     monitor.Progress = &progress;
     const int month = std::max(1, std::min(12, params.Month));
@@ -580,6 +683,40 @@ void ViewerSession::RequestWaterFlow()
     flow->SetWaterSourceToStandingWaterMonth();
     flow->SetMonth(month);
     flow->SetMaximumIterations(std::max(1, params.FlowIterations));
+    // Frames for the window while the run goes on: the state every FlowFrameInterval
+    // iterations, no-data cells dry.
+    struct FrameSink
+    {
+      Internals* Self;
+      vtkTerroirWaterFlow* Flow;
+    } sink{ self, flow };
+    vtkNew<vtkCallbackCommand> watch;
+    watch->SetClientData(&sink);
+    watch->SetCallback(
+      [](vtkObject*, unsigned long, void* clientData, void* callData)
+      {
+        auto* f = static_cast<FrameSink*>(clientData);
+        auto frame = vtkSmartPointer<vtkFloatArray>::New();
+        if (!callData || !f->Flow->GetCurrentWaterHeight(frame))
+        {
+          return;
+        }
+        float* v = frame->GetPointer(0);
+        for (vtkIdType k = 0; k < frame->GetNumberOfValues(); ++k)
+        {
+          v[k] = std::isfinite(v[k]) ? v[k] : 0.0f;
+        }
+        std::lock_guard<std::mutex> lock(f->Self->FrameMutex);
+        f->Self->Frame = frame;
+        f->Self->FrameIteration = *static_cast<vtkIdType*>(callData);
+        ++f->Self->FrameSerial;
+        ++f->Self->FramesPublished;
+      });
+    if (params.FlowFrameInterval > 0)
+    {
+      flow->SetIterationEventInterval(params.FlowFrameInterval);
+      flow->AddObserver(vtkTerroirWaterFlow::IterationEvent, watch);
+    }
     if (!RunFilter(flow, monitor, 0.1, 0.9))
     {
       result.Error = monitor.Error;
@@ -606,6 +743,25 @@ bool ViewerSession::Pump()
 {
   Internals& in = *this->Impl;
   bool changed = false;
+  {
+    // The running flow's newest frame goes on display.
+    std::lock_guard<std::mutex> lock(in.FrameMutex);
+    if (in.FrameSerial != in.FrameTaken && in.Frame)
+    {
+      if (!in.Preview)
+      {
+        in.Preview = vtkSmartPointer<vtkFloatArray>::New();
+        in.Preview->SetName(vtkTerroirWaterFlow::WaterHeightName());
+      }
+      in.Preview->DeepCopy(in.Frame);
+      in.Preview->SetName(vtkTerroirWaterFlow::WaterHeightName());
+      in.PreviewIteration = in.FrameIteration;
+      in.FrameTaken = in.FrameSerial;
+      in.HavePreview = true;
+      ++in.FrameVersion;
+      changed = true;
+    }
+  }
   if (in.Running && in.Finished)
   {
     in.Worker.join();
@@ -623,12 +779,15 @@ bool ViewerSession::Pump()
     {
       if (result.Water && result.Water->GetNumberOfValues() == in.Water->GetNumberOfValues())
       {
-        in.PushWater();
-        in.Water->DeepCopy(result.Water);
-        in.Water->SetName(vtkTerroirWaterFlow::WaterHeightName());
-        ++in.WaterVersion;
-        changed = true;
+        std::vector<float> before = Internals::CopyOf(in.Water);
+        std::memcpy(
+          in.Water->GetPointer(0), result.Water->GetPointer(0), before.size() * sizeof(float));
+        in.Record(true, std::move(before));
       }
+      // The frames end with the run: its result (or, on error, the state) is on display.
+      in.HavePreview = false;
+      ++in.FrameVersion;
+      changed = true;
     }
     else if (result.Overlay.Generation == in.Generation)
     {
@@ -790,7 +949,7 @@ bool ViewerSession::FloodFillAt(int i, int j, std::string& error)
     error = "the flood fill gave no WaterDepth";
     return false;
   }
-  in.PushWater();
+  std::vector<float> before = Internals::CopyOf(in.Water);
   float* w = in.Water->GetPointer(0);
   for (vtkIdType m = 0; m < in.Water->GetNumberOfValues(); ++m)
   {
@@ -800,57 +959,257 @@ bool ViewerSession::FloodFillAt(int i, int j, std::string& error)
       w[m] = static_cast<float>(d);
     }
   }
-  in.Water->Modified();
-  ++in.WaterVersion;
+  in.Record(true, std::move(before));
   return true;
 }
 
 bool ViewerSession::Undo()
 {
   Internals& in = *this->Impl;
+  if (in.InStroke)
+  {
+    this->EndStroke();
+  }
   if (in.UndoStack.empty())
   {
     return false;
   }
-  const std::vector<float>& previous = in.UndoStack.back();
-  std::memcpy(in.Water->GetPointer(0), previous.data(), previous.size() * sizeof(float));
+  const Internals::Change& c = in.UndoStack.back();
+  vtkFloatArray* a = c.IsWater ? in.Water.Get() : in.Infiltration.Get();
+  float* values = a->GetPointer(0);
+  if (c.Whole)
+  {
+    std::memcpy(values, c.Values.data(), c.Values.size() * sizeof(float));
+  }
+  else
+  {
+    for (std::size_t k = 0; k < c.Cells.size(); ++k)
+    {
+      values[c.Cells[k]] = c.Values[k];
+    }
+  }
+  a->Modified();
+  ++(c.IsWater ? in.WaterVersion : in.InfiltrationVersion);
   in.UndoStack.pop_back();
-  in.Water->Modified();
-  ++in.WaterVersion;
   return true;
 }
 
+void ViewerSession::BeginStroke()
+{
+  Internals& in = *this->Impl;
+  if (in.InStroke)
+  {
+    this->EndStroke();
+  }
+  if (in.Infiltration)
+  {
+    in.StrokeBefore = Internals::CopyOf(in.Infiltration);
+    in.InStroke = true;
+  }
+}
+
+long long ViewerSession::EndStroke()
+{
+  Internals& in = *this->Impl;
+  if (!in.InStroke)
+  {
+    return 0;
+  }
+  in.InStroke = false;
+  return in.Record(false, std::move(in.StrokeBefore));
+}
+
 int ViewerSession::PaintInfiltration(int i, int j)
+{
+  return this->PaintInfiltrationAlong(i, j, i, j);
+}
+
+int ViewerSession::PaintInfiltrationAlong(double i0, double j0, double i1, double j1)
+{
+  Internals& in = *this->Impl;
+  if (!in.Terrain || !std::isfinite(i0) || !std::isfinite(j0) || !std::isfinite(i1) ||
+    !std::isfinite(j1))
+  {
+    return 0;
+  }
+  const bool alone = !in.InStroke;
+  if (alone)
+  {
+    this->BeginStroke();
+  }
+  int dims[3];
+  in.Terrain->GetDimensions(dims);
+  const double r = std::max(0.0, std::min(1000.0, in.Params.BrushRadius));
+  const float rate = static_cast<float>(std::max(0.0, std::min(1000.0, in.Params.BrushRate)));
+  // Every cell within r of the segment (a capsule), clipped to the grid.
+  const double di = i1 - i0, dj = j1 - j0;
+  const double length2 = di * di + dj * dj;
+  const double lo[2] = { std::max(0.0, std::ceil(std::min(i0, i1) - r)),
+    std::max(0.0, std::ceil(std::min(j0, j1) - r)) };
+  const double hi[2] = { std::min(dims[0] - 1.0, std::floor(std::max(i0, i1) + r)),
+    std::min(dims[1] - 1.0, std::floor(std::max(j0, j1) + r)) };
+  int painted = 0;
+  float* values = in.Infiltration->GetPointer(0);
+  for (double jj = lo[1]; jj <= hi[1]; ++jj)
+  {
+    for (double ii = lo[0]; ii <= hi[0]; ++ii)
+    {
+      double t = length2 > 0.0 ? ((ii - i0) * di + (jj - j0) * dj) / length2 : 0.0;
+      t = std::max(0.0, std::min(1.0, t));
+      const double ei = ii - (i0 + t * di), ej = jj - (j0 + t * dj);
+      const vtkIdType k = static_cast<vtkIdType>(jj) * dims[0] + static_cast<vtkIdType>(ii);
+      if (ei * ei + ej * ej <= r * r && in.HasData(k))
+      {
+        values[k] = rate;
+        ++painted;
+      }
+    }
+  }
+  in.Infiltration->Modified();
+  if (alone)
+  {
+    this->EndStroke();
+  }
+  return painted;
+}
+
+long long ViewerSession::FillInfiltration()
 {
   Internals& in = *this->Impl;
   if (!in.Terrain)
   {
     return 0;
   }
-  int dims[3];
-  in.Terrain->GetDimensions(dims);
-  const double r = std::max(0.0, in.Params.BrushRadius);
-  const int reach = static_cast<int>(std::floor(r));
-  const float rate = static_cast<float>(std::max(0.0, std::min(1000.0, in.Params.BrushRate)));
-  vtkDataArray* elevation =
-    in.Terrain->GetPointData()->GetArray(vtkTerroirGeoreference::ElevationName());
-  int painted = 0;
-  for (int jj = std::max(0, j - reach); jj <= std::min(dims[1] - 1, j + reach); ++jj)
+  if (in.InStroke)
   {
-    for (int ii = std::max(0, i - reach); ii <= std::min(dims[0] - 1, i + reach); ++ii)
+    this->EndStroke();
+  }
+  std::vector<float> before = Internals::CopyOf(in.Infiltration);
+  const float rate = static_cast<float>(std::max(0.0, std::min(1000.0, in.Params.BrushRate)));
+  float* values = in.Infiltration->GetPointer(0);
+  for (vtkIdType k = 0; k < in.Infiltration->GetNumberOfValues(); ++k)
+  {
+    if (in.HasData(k))
     {
-      const double di = ii - i;
-      const double dj = jj - j;
-      const vtkIdType k = static_cast<vtkIdType>(jj) * dims[0] + ii;
-      if (di * di + dj * dj <= r * r && std::isfinite(elevation->GetComponent(k, 0)))
-      {
-        in.Infiltration->SetValue(k, rate);
-        ++painted;
-      }
+      values[k] = rate;
     }
   }
-  in.Infiltration->Modified();
-  return painted;
+  return in.Record(false, std::move(before));
+}
+
+long long ViewerSession::ApplySlopeRule(std::string& error)
+{
+  Internals& in = *this->Impl;
+  if (!in.Terrain)
+  {
+    error = "no terrain";
+    return -1;
+  }
+  if (in.InStroke)
+  {
+    this->EndStroke();
+  }
+  // vtkTerroirInfiltration's rule on a map of ones: 0 marks the cells it applies to.
+  auto input = vtkSmartPointer<vtkImageData>::New();
+  input->ShallowCopy(in.Terrain);
+  vtkNew<vtkTerroirInfiltration> rule;
+  rule->SetInputData(input);
+  rule->AddFill(1.0);
+  rule->AddSlopeRule(std::max(0.0, std::min(90.0, in.Params.SlopeThreshold)));
+  JobMonitor monitor;
+  if (!RunFilter(rule, monitor, 0.0, 1.0))
+  {
+    error = monitor.Error;
+    return -1;
+  }
+  vtkDataArray* steep =
+    rule->GetOutput()->GetPointData()->GetArray(vtkTerroirInfiltration::InfiltrationRateName());
+  if (!steep || steep->GetNumberOfTuples() != in.Infiltration->GetNumberOfTuples())
+  {
+    error = "the slope rule gave no InfiltrationRate";
+    return -1;
+  }
+  std::vector<float> before = Internals::CopyOf(in.Infiltration);
+  float* values = in.Infiltration->GetPointer(0);
+  for (vtkIdType k = 0; k < steep->GetNumberOfTuples(); ++k)
+  {
+    if (steep->GetComponent(k, 0) == 0.0)
+    {
+      values[k] = 0.0f;
+    }
+  }
+  return in.Record(false, std::move(before));
+}
+
+//------------------------------------------------------------------------------
+ClusterTable ClusterTable::FromKMeans(vtkTable* table, int month)
+{
+  ClusterTable t;
+  if (!table)
+  {
+    return t;
+  }
+  const char* monthName = vtkTerroirTemperature::GetMonthName(std::max(1, std::min(12, month)) - 1);
+  const std::string suffix = std::string("_") + (monthName ? monthName : "");
+  const std::map<std::string, std::string> shortNames = { { "Slope", "Slope" },
+    { "Temperature", "Temp" },
+    { "IlluminationHours", "Sun" },
+    { "WeightedSoilHumidity", "Humidity" } };
+  std::vector<vtkDataArray*> columns;
+  for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
+  {
+    auto* column = vtkDataArray::SafeDownCast(table->GetColumn(c));
+    const std::string name = table->GetColumnName(c) ? table->GetColumnName(c) : "";
+    if (!column || name == "ClusterId" || name == "Cells" || name == "Share")
+    {
+      continue;
+    }
+    std::string base = name;
+    std::string when;
+    if (name.size() > suffix.size() &&
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    {
+      base = name.substr(0, name.size() - suffix.size());
+      when = std::string(" ") + (monthName ? monthName : "");
+    }
+    else if (name.find('_') != std::string::npos)
+    {
+      continue; // another month's component
+    }
+    auto known = shortNames.find(base);
+    std::string title = (known != shortNames.end() ? known->second : base) + when;
+    vtkInformation* info = column->GetInformation();
+    if (info->Has(vtkDataArray::UNITS_LABEL()))
+    {
+      const std::string units = info->Get(vtkDataArray::UNITS_LABEL());
+      // Degrees as the sign, as in the legends.
+      const std::string sign = units == "deg" ? "\xc2\xb0"
+        : units == "degC"                     ? "\xc2\xb0"
+                                                "C"
+                                              : units;
+      title += " (" + sign + ")";
+    }
+    t.Columns.push_back(title);
+    columns.push_back(column);
+  }
+  auto* ids = vtkDataArray::SafeDownCast(table->GetColumnByName("ClusterId"));
+  auto* colors = vtkStringArray::SafeDownCast(table->GetColumnByName("Color"));
+  auto* cells = vtkDataArray::SafeDownCast(table->GetColumnByName("Cells"));
+  auto* shares = vtkDataArray::SafeDownCast(table->GetColumnByName("Share"));
+  for (vtkIdType r = 0; r < table->GetNumberOfRows(); ++r)
+  {
+    ClusterTableRow row;
+    row.Id = ids ? static_cast<int>(ids->GetComponent(r, 0)) : static_cast<int>(r);
+    row.Color = colors ? colors->GetValue(r) : std::string("#808080");
+    row.Cells = cells ? static_cast<long long>(cells->GetComponent(r, 0)) : 0;
+    row.Share = shares ? shares->GetComponent(r, 0) : 0.0;
+    for (vtkDataArray* column : columns)
+    {
+      row.Means.push_back(column->GetComponent(r, 0));
+    }
+    t.Rows.push_back(std::move(row));
+  }
+  return t;
 }
 
 } // namespace viewer

@@ -10,10 +10,12 @@
  * - the parameters (ViewerParameters: latitude, longitude, month 1..12, hour of day, grid
  *   orientation, clusters K, lake depth, brush);
  * - the water state: a float array `WaterHeight` (metres, one value per point, 0 dry), changed
- *   by flood fills and by the water flow; each change first pushes the previous state on an
- *   undo stack, and Undo() restores it exactly (the same bytes), as many steps as there are;
+ *   by flood fills and by the water flow;
  * - the infiltration map `InfiltrationRate` (mm/h), vtkTerroirInfiltration's default recipe
- *   (15 mm/h, 0 above 30°) until painted with the brush.
+ *   (15 mm/h, 0 above 30°) until changed with the brush (strokes), the fill or the slope rule;
+ * - one undo stack for both: each change records the cells it changed with their previous
+ *   values (or the whole previous array when it changed most cells), and Undo() restores the
+ *   last change exactly (the same bytes), as many steps as there are.
  *
  * Overlays (ViewerOverlay) come from our filters: Slope (vtkTerroirSlope), Illumination
  * (vtkTerroirSolarIllumination, Instant at the hour on the 15th of the month, `Illuminated`),
@@ -36,6 +38,7 @@
 #include "vtkSmartPointer.h"     // For vtkSmartPointer
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
@@ -44,6 +47,7 @@
 class vtkDataArray;
 class vtkFloatArray;
 class vtkImageData;
+class vtkTable;
 
 namespace terroir
 {
@@ -63,9 +67,32 @@ struct ViewerParameters
   int Clusters = 5; ///< K of the clusters overlay, 1..64
   double LakeDepth =
     5.0; ///< a click's lake level above the clicked cell (at most the spill level), m
-  double BrushRadius = 5.0; ///< cells
-  double BrushRate = 0.0;   ///< mm/h painted by the brush
-  int FlowIterations = 500; ///< most iterations of one water-flow run
+  double BrushRadius = 5.0;     ///< cells
+  double BrushRate = 0.0;       ///< mm/h painted by the brush (and set everywhere by the fill)
+  double SlopeThreshold = 30.0; ///< degrees: the slope rule sets 0 mm/h on steeper cells
+  int FlowIterations = 500;     ///< most iterations of one water-flow run
+  int FlowFrameInterval = 10;   ///< iterations between the frames of a running water flow
+};
+
+/// One row of the cluster table: a cluster's colour, size and mean resources.
+struct ClusterTableRow
+{
+  int Id = 0;
+  std::string Color; ///< "#rrggbb", the Clusters overlay colour
+  long long Cells = 0;
+  double Share = 0.0;        ///< fraction of the cells that take part
+  std::vector<double> Means; ///< one per ClusterTable::Columns
+};
+
+/// The table of vtkTerroirKMeans (its output port 1) reduced to what fits a window: the
+/// one-component features and the given month's component of the monthly ones.
+struct ClusterTable
+{
+  std::vector<std::string> Columns; ///< short titles with units, e.g. "Slope (deg)"
+  std::vector<ClusterTableRow> Rows;
+  /// From vtkTerroirKMeans's table; columns `X` and `X_<Mon>` of `month` (1..12). Known
+  /// features get short titles (Slope, Temperature, IlluminationHours, WeightedSoilHumidity).
+  static ClusterTable FromKMeans(vtkTable* table, int month);
 };
 
 /// One overlay, ready to colour the terrain.
@@ -76,6 +103,7 @@ struct OverlayResult
   int Component = 0;                    ///< component shown (the month's for monthly arrays)
   std::string Preset;                   ///< vtkTerroirColorPresets name
   vtkSmartPointer<vtkImageData> Output; ///< the filters' output (for legends: cluster shares)
+  vtkSmartPointer<vtkTable> Table;      ///< Clusters: vtkTerroirKMeans's cluster table
   vtkDataArray* GetValues() const;      ///< the array in Output, or nullptr
   std::string Error;                    ///< non-empty when the filters failed
   unsigned long Generation = 0;         ///< request it answers
@@ -145,7 +173,8 @@ public:
   /// previous state first. False with `error` (and no change) for a cell outside the terrain,
   /// without data, or not in a depression (water poured on a slope runs off).
   bool FloodFillAt(int i, int j, std::string& error);
-  /// Restores the state before the last change; false (and no change) when there is none.
+  /// Restores the water or infiltration map as it was before the last change (ending a
+  /// brush stroke first); false (and no change) when there is none.
   bool Undo();
   std::size_t GetUndoDepth() const;
   /// Counts the changes of the water state (fills, undos, water-flow results), so that a
@@ -154,13 +183,35 @@ public:
   /// The current water state (`WaterHeight`, metres). Changes in place; do not keep it
   /// across a change if you need the old values.
   vtkFloatArray* GetWater() const;
+  /// What to draw: while a water flow runs, its latest frame (the state after
+  /// GetFlowFrameIteration() iterations, every FlowFrameInterval), else GetWater().
+  vtkFloatArray* GetDisplayedWater() const;
+  /// Changes whenever GetDisplayedWater() does (water changes and flow frames).
+  unsigned long GetDisplayedWaterVersion() const;
+  /// Iterations of the frame on display; 0 when no flow frame is shown.
+  long long GetFlowFrameIteration() const;
+  /// Frames the worker published during the last (or running) water flow; for tests.
+  long long GetFlowFramesPublished() const;
   ///@}
 
   ///@{
-  /// Infiltration (`InfiltrationRate`, mm/h). Paint sets BrushRate on every cell within
-  /// BrushRadius cells of (i, j); returns the number of cells painted.
+  /// Infiltration (`InfiltrationRate`, mm/h), changed by the seed's three tools.
+  /// Paint: BrushRate on every cell with data within BrushRadius cells of (i, j), or of the
+  /// segment from (i0, j0) to (i1, j1) (a drag); returns the number of cells within reach.
+  /// Between BeginStroke() and EndStroke() the dabs make one undo step; a dab outside a
+  /// stroke is a stroke of its own. EndStroke() returns the cells the stroke changed.
+  /// FillInfiltration sets BrushRate on every cell with data; ApplySlopeRule sets 0 mm/h
+  /// where the slope exceeds SlopeThreshold (vtkTerroirInfiltration's slope rule, Horn's
+  /// slope); both return the cells they changed (one undo step when any) and -1 with `error`
+  /// when the filter fails.
   vtkFloatArray* GetInfiltration() const;
+  unsigned long GetInfiltrationVersion() const;
+  void BeginStroke();
   int PaintInfiltration(int i, int j);
+  int PaintInfiltrationAlong(double i0, double j0, double i1, double j1);
+  long long EndStroke();
+  long long FillInfiltration();
+  long long ApplySlopeRule(std::string& error);
   ///@}
 
 private:

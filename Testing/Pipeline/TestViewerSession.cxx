@@ -9,6 +9,7 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkTable.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirSlope.h"
@@ -433,17 +434,239 @@ TEST(TerroirViewerSession, WaterFlowReplacesTheWaterStateAndCanBeUndone)
   // Soil that takes no rain: the whole month's rain runs off.
   s.Parameters().BrushRadius = 100.0;
   s.Parameters().BrushRate = 0.0;
+  const std::vector<float> soil = Copy(s.GetInfiltration());
   EXPECT_EQ(s.PaintInfiltration(24, 16), 48 * 32 - 1);
   const std::vector<float> dry = Copy(s.GetWater());
   s.RequestWaterFlow();
   s.Wait();
   EXPECT_EQ(s.TakeError(), "");
-  EXPECT_EQ(s.GetUndoDepth(), 1u);
+  EXPECT_EQ(s.GetUndoDepth(), 2u); // the paint, the flow
   double range[2];
   s.GetWater()->GetRange(range, 0);
   EXPECT_GT(range[1], 0.0);
+  EXPECT_EQ(s.GetDisplayedWater(), s.GetWater()) << "no frame on display after the run";
+  EXPECT_EQ(s.GetFlowFrameIteration(), 0);
   ASSERT_TRUE(s.Undo());
   EXPECT_TRUE(SameBytes(s.GetWater(), dry));
+  ASSERT_TRUE(s.Undo());
+  EXPECT_TRUE(SameBytes(s.GetInfiltration(), soil));
+}
+
+TEST(TerroirViewerSession, WaterFlowFramesAreTheStateAfterTheirIterations)
+{
+  // A larger terrain, so that the run lasts long enough for the frames to be seen.
+  ViewerSession s;
+  std::string error;
+  ASSERT_TRUE(s.SetTerrain(terroir_test::MakeTerrain(240,
+                             160,
+                             10.0,
+                             10.0,
+                             [](int i, int j)
+                             {
+                               const double a = std::hypot(i - 60.0, j - 80.0);
+                               return 100.0 + 0.2 * i + 0.1 * std::abs(j - 80) -
+                                 6.0 * std::exp(-a * a / 200.0);
+                             }),
+    error))
+    << error;
+  auto& p = s.Parameters();
+  p.Latitude = 45.0;
+  p.Month = 1;
+  p.FlowIterations = 400;
+  p.FlowFrameInterval = 4;
+  p.BrushRadius = 1000.0;
+  p.BrushRate = 0.0; // the soil takes no rain
+  s.FillInfiltration();
+  s.RequestWaterFlow();
+  std::vector<long long> iterations;
+  std::vector<std::vector<float>> frames;
+  while (!s.IsIdle())
+  {
+    s.Pump();
+    const long long k = s.GetFlowFrameIteration();
+    if (k > 0 && (iterations.empty() || iterations.back() != k))
+    {
+      iterations.push_back(k);
+      frames.push_back(Copy(s.GetDisplayedWater()));
+    }
+  }
+  EXPECT_EQ(s.TakeError(), "");
+  ASSERT_GE(iterations.size(), 1u) << "no frame was seen";
+  EXPECT_GE(s.GetFlowFramesPublished(), static_cast<long long>(iterations.size()));
+  const std::vector<float> final = Copy(s.GetWater());
+  for (std::size_t k = 0; k < iterations.size(); ++k)
+  {
+    EXPECT_EQ(iterations[k] % 4, 0) << iterations[k];
+    EXPECT_TRUE(k == 0 || iterations[k] > iterations[k - 1]);
+  }
+  // The first and the last frame seen equal runs that stop after their iterations.
+  for (std::size_t k : { std::size_t(0), iterations.size() - 1 })
+  {
+    ViewerSession t;
+    ASSERT_TRUE(t.SetTerrain(s.GetTerrain(), error));
+    t.Parameters() = p;
+    t.Parameters().FlowIterations = static_cast<int>(iterations[k]);
+    t.Parameters().FlowFrameInterval = 0;
+    t.FillInfiltration();
+    t.RequestWaterFlow();
+    t.Wait();
+    EXPECT_EQ(t.GetFlowFramesPublished(), 0);
+    EXPECT_TRUE(SameBytes(t.GetWater(), frames[k])) << "frame of iteration " << iterations[k];
+  }
+  EXPECT_EQ(s.GetDisplayedWater(), s.GetWater());
+  EXPECT_TRUE(SameBytes(s.GetWater(), final));
+}
+
+TEST(TerroirViewerSession, ABrushStrokeIsOneUndoStepAndCoversTheCapsuleAroundItsPath)
+{
+  ViewerSession s;
+  Session(s);
+  auto& p = s.Parameters();
+  p.BrushRadius = 3.0;
+  p.BrushRate = 42.0;
+  const std::vector<float> before = Copy(s.GetInfiltration());
+  const unsigned long version = s.GetInfiltrationVersion();
+  s.BeginStroke();
+  // A drag from (10, 20) to (30, 20): 21 columns of 7 cells, and at each end the cells of the
+  // half disc of radius 3 beyond the column (di = 1: 5 cells, 2: 5, 3: 1), 169 in all.
+  EXPECT_EQ(s.PaintInfiltrationAlong(10, 20, 30, 20), 169);
+  EXPECT_EQ(s.PaintInfiltrationAlong(30, 20, 30, 26), 7 * 7 + 2 * 11); // on to (30, 26)
+  EXPECT_EQ(s.GetUndoDepth(), 0u) << "the stroke is not over";
+  EXPECT_GT(s.EndStroke(), 169);
+  EXPECT_EQ(s.GetUndoDepth(), 1u);
+  EXPECT_NE(s.GetInfiltrationVersion(), version);
+  const float* rate = s.GetInfiltration()->GetPointer(0);
+  EXPECT_EQ(rate[20 * 48 + 7], 42.0f);  // the tip of the first end
+  EXPECT_NE(rate[21 * 48 + 7], 42.0f);  // just outside it (distance sqrt(10))
+  EXPECT_EQ(rate[23 * 48 + 20], 42.0f); // 3 cells north of the path
+  EXPECT_NE(rate[24 * 48 + 20], 42.0f);
+  EXPECT_EQ(rate[29 * 48 + 30], 42.0f); // 3 cells beyond the second segment's end
+  // A dab outside a stroke is a step of its own; undo takes the steps back in turn.
+  const std::vector<float> afterStroke = Copy(s.GetInfiltration());
+  p.BrushRate = 1.0;
+  EXPECT_EQ(s.PaintInfiltration(40, 5), 29); // radius 3: 29 cells
+  EXPECT_EQ(s.GetUndoDepth(), 2u);
+  ASSERT_TRUE(s.Undo());
+  EXPECT_TRUE(SameBytes(s.GetInfiltration(), afterStroke));
+  ASSERT_TRUE(s.Undo());
+  EXPECT_TRUE(SameBytes(s.GetInfiltration(), before));
+  // A stroke that changes nothing leaves no step.
+  p.BrushRate = 15.0;
+  s.BeginStroke();
+  s.PaintInfiltration(24, 2); // default recipe: 15 mm/h on these gentle slopes
+  EXPECT_EQ(s.EndStroke(), 0);
+  EXPECT_EQ(s.GetUndoDepth(), 0u);
+}
+
+TEST(TerroirViewerSession, FillAndSlopeRuleChangeTheInfiltrationMapAndAreUndone)
+{
+  ViewerSession s;
+  Session(s);
+  auto& p = s.Parameters();
+  const std::vector<float> recipe = Copy(s.GetInfiltration());
+  p.BrushRate = 7.0;
+  const long long filled = s.FillInfiltration();
+  int nan = 0, seven = 0;
+  for (vtkIdType k = 0; k < s.GetInfiltration()->GetNumberOfValues(); ++k)
+  {
+    const float v = s.GetInfiltration()->GetValue(k);
+    nan += std::isnan(v);
+    seven += v == 7.0f;
+  }
+  EXPECT_EQ(nan, 1) << "the no-data cell keeps no rate";
+  EXPECT_EQ(seven, 48 * 32 - 1);
+  EXPECT_EQ(filled, 48 * 32 - 1); // every cell had 15 mm/h (no slope over 30 degrees)
+  // The slope rule at 4 degrees: 0 exactly where Horn's slope (vtkTerroirSlope) is steeper.
+  p.SlopeThreshold = 4.0;
+  vtkNew<vtkTerroirSlope> slope;
+  slope->SetInputData(s.GetTerrain());
+  slope->Update();
+  vtkDataArray* degrees = slope->GetOutput()->GetPointData()->GetArray("Slope");
+  int steep = 0;
+  for (vtkIdType k = 0; k < degrees->GetNumberOfTuples(); ++k)
+  {
+    steep += degrees->GetComponent(k, 0) > 4.0;
+  }
+  ASSERT_GT(steep, 20);
+  ASSERT_LT(steep, 48 * 32 / 2);
+  std::string error;
+  EXPECT_EQ(s.ApplySlopeRule(error), steep) << error;
+  for (vtkIdType k = 0; k < degrees->GetNumberOfTuples(); ++k)
+  {
+    const float v = s.GetInfiltration()->GetValue(k);
+    if (degrees->GetComponent(k, 0) > 4.0)
+    {
+      EXPECT_EQ(v, 0.0f) << k;
+    }
+    else if (!std::isnan(v))
+    {
+      EXPECT_EQ(v, 7.0f) << k;
+    }
+  }
+  EXPECT_EQ(s.ApplySlopeRule(error), 0) << "a second time changes nothing";
+  EXPECT_EQ(s.GetUndoDepth(), 2u);
+  ASSERT_TRUE(s.Undo());
+  ASSERT_TRUE(s.Undo());
+  EXPECT_TRUE(SameBytes(s.GetInfiltration(), recipe));
+}
+
+TEST(TerroirViewerSession, ClusterTableHoldsTheMonthsMeansOfEachCluster)
+{
+  ViewerSession s;
+  Session(s);
+  auto& p = s.Parameters();
+  p.Clusters = 3;
+  p.Month = 7;
+  const OverlayResult r = s.ComputeOverlay(ViewerOverlay::Clusters, p);
+  ASSERT_EQ(r.Error, "");
+  ASSERT_NE(r.Table, nullptr);
+  const terroir::viewer::ClusterTable table = terroir::viewer::ClusterTable::FromKMeans(r.Table, 7);
+  ASSERT_EQ(table.Rows.size(), 3u);
+  const std::vector<std::string> columns = { "Slope (\xc2\xb0)",
+    "Temp Jul (\xc2\xb0"
+    "C)",
+    "Sun Jul (h)" };
+  ASSERT_EQ(table.Columns.size(), columns.size());
+  for (std::size_t c = 0; c < columns.size(); ++c)
+  {
+    EXPECT_EQ(table.Columns[c], columns[c]);
+  }
+  // Means recomputed from the overlay's arrays: the cells of each ClusterId.
+  vtkPointData* pd = r.Output->GetPointData();
+  vtkDataArray* id = pd->GetArray("ClusterId");
+  vtkDataArray* features[3] = {
+    pd->GetArray("Slope"), pd->GetArray("Temperature"), pd->GetArray("IlluminationHours")
+  };
+  const int component[3] = { 0, 6, 6 };
+  double share = 0.0;
+  long long cells = 0;
+  for (const auto& row : table.Rows)
+  {
+    double sum[3] = { 0.0, 0.0, 0.0 };
+    long long n = 0;
+    for (vtkIdType k = 0; k < id->GetNumberOfTuples(); ++k)
+    {
+      if (static_cast<int>(id->GetComponent(k, 0)) == row.Id)
+      {
+        ++n;
+        for (int f = 0; f < 3; ++f)
+        {
+          sum[f] += features[f]->GetComponent(k, component[f]);
+        }
+      }
+    }
+    EXPECT_EQ(row.Cells, n);
+    EXPECT_EQ(row.Color.size(), 7u);
+    ASSERT_EQ(row.Means.size(), 3u);
+    for (int f = 0; f < 3; ++f)
+    {
+      EXPECT_NEAR(row.Means[f], sum[f] / n, 1e-9 * std::max(1.0, std::fabs(sum[f] / n)));
+    }
+    share += row.Share;
+    cells += row.Cells;
+  }
+  EXPECT_NEAR(share, 1.0, 1e-12);
+  EXPECT_EQ(cells, 48 * 32 - 1);
 }
 
 TEST(TerroirViewerSession, RefusesATerrainWithoutElevation)
