@@ -83,6 +83,7 @@ const NumericVerb NumericVerbs[] = {
   { "lake-depth", 0.0, 10000.0, false },
   { "brush-size", 0.0, 1000.0, false },
   { "brush-rate", 0.0, 1000.0, false },
+  { "slope-threshold", 0.0, 90.0, false },
   { "sensitivity", 0.01, 100.0, false },
 };
 
@@ -130,6 +131,14 @@ bool OverlayFromName(const std::string& name, ViewerOverlay& overlay)
     }
   }
   return false;
+}
+
+const std::vector<std::string>& ViewerButtonNames()
+{
+  static const std::vector<std::string> names = {
+    "navigate", "lake", "brush", "fill", "slope-rule", "flow", "undo", "table"
+  };
+  return names;
 }
 
 std::string OverlayNameList()
@@ -309,14 +318,18 @@ bool ParseViewerScript(const std::string& text,
       }
       a.Text = w[1];
     }
-    else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view")
+    else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button")
     {
       const std::vector<std::string> allowed = a.Verb == "style"
         ? std::vector<std::string>{ "terrain", "first-person" }
-        : a.Verb == "tool" ? std::vector<std::string>{ "navigate", "lake", "brush" }
-                           : std::vector<std::string>{ "relief", "map" };
-      const std::string list =
-        allowed[0] + ", " + allowed[1] + (allowed.size() > 2 ? ", " + allowed[2] : std::string());
+        : a.Verb == "tool"   ? std::vector<std::string>{ "navigate", "lake", "brush" }
+        : a.Verb == "button" ? ViewerButtonNames()
+                             : std::vector<std::string>{ "relief", "map" };
+      std::string list;
+      for (const std::string& name : allowed)
+      {
+        list += (list.empty() ? "" : ", ") + name;
+      }
       if (!wantArgs(1, 1, ("one of " + list).c_str()))
       {
         return false;
@@ -398,7 +411,7 @@ bool ParseViewerScript(const std::string& text,
       a.Text = f;
     }
     else if (a.Verb == "wait" || a.Verb == "quit" || a.Verb == "flow" || a.Verb == "undo" ||
-      a.Verb == "camera")
+      a.Verb == "camera" || a.Verb == "state")
     {
       if (!wantArgs(0, 0, "no argument"))
       {
@@ -409,8 +422,8 @@ bool ParseViewerScript(const std::string& text,
     {
       return fail("unknown action '" + a.Verb +
         "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
-        "brush-size, brush-rate, sensitivity, style, tool, view, click, drag, wheel, key, flow, "
-        "undo, wait, camera, screenshot, quit)");
+        "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
+        "drag, wheel, key, flow, undo, wait, camera, state, screenshot, quit)");
     }
     actions.push_back(a);
   }

@@ -43,6 +43,11 @@ bool OverlayFromName(const std::string& name, ViewerOverlay& overlay);
 /// "none, slope, ..." for messages.
 std::string OverlayNameList();
 
+/// The window's on-screen buttons, as the script's `button` names them: navigate, lake,
+/// brush (tools), fill, slope-rule (infiltration), flow (run the water flow), undo, table
+/// (show or hide the cluster table).
+const std::vector<std::string>& ViewerButtonNames();
+
 /// One parsed line of a script.
 struct ViewerAction
 {

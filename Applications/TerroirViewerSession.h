@@ -36,6 +36,7 @@
 
 #include "TerroirViewerScript.h" // For ViewerOverlay
 #include "vtkSmartPointer.h"     // For vtkSmartPointer
+#include "vtkTable.h"            // For vtkSmartPointer<vtkTable> copies
 
 #include <cmath>
 #include <cstdint>
@@ -47,7 +48,6 @@
 class vtkDataArray;
 class vtkFloatArray;
 class vtkImageData;
-class vtkTable;
 
 namespace terroir
 {

@@ -1,10 +1,12 @@
 // The window of `terroir view` (Documentation/Viewer.md), built as the loadable module
 // terroir-viewer.so: a thin layer over terroir::viewer::ViewerSession (the model, without any
 // window). It draws the relief with vtkTerroirReliefSurface, the overlay legend with
-// vtkTerroirOverlayLegend, the overlay list, the status line, the sliders and the compass;
-// it turns keys, clicks and slider moves into session calls; a repeating interactor timer
-// collects the worker thread's results; and it replays --script actions as real interactor
-// events (SetEventInformationFlipY + InvokeEvent), so that scripts test the interaction code.
+// vtkTerroirOverlayLegend, the overlay list and the tool buttons (both clickable), the status
+// line, the sliders, the compass (turned by dragging it) and the cluster table; it turns keys,
+// clicks, drags and slider moves into session calls; a repeating interactor timer collects the
+// worker thread's results (water-flow frames included); and it replays --script actions as
+// real interactor events (SetEventInformationFlipY + InvokeEvent), so that scripts test the
+// interaction code.
 #include "TerroirViewerPlugin.h"
 
 #include "TerroirCommandLine.h"
@@ -17,6 +19,7 @@
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkCellPicker.h"
 #include "vtkCommand.h"
 #include "vtkCoordinate.h"
@@ -47,6 +50,7 @@
 #include "vtkTerroirXDisplay.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
@@ -60,6 +64,7 @@
 
 namespace
 {
+using terroir::viewer::ClusterTable;
 using terroir::viewer::OverlayResult;
 using terroir::viewer::ViewerAction;
 using terroir::viewer::ViewerOverlay;
@@ -89,6 +94,48 @@ enum class Tool
 const char* ToolName(Tool t)
 {
   return t == Tool::Lake ? "lake" : t == Tool::Brush ? "brush" : "navigate";
+}
+
+/// The on-screen buttons, in ViewerButtonNames() order: their labels.
+const char* const ButtonLabels[] = { "Navigate",
+  "Lake",
+  "Brush",
+  "Fill",
+  "Slope rule",
+  "Water flow",
+  "Undo",
+  "Table" };
+constexpr int ButtonCount = 8;
+constexpr int ButtonColumns = 2;
+
+/// A grid cell of `rows` x `columns` in normalised viewport coordinates: x0, y0, x1, y1 (row 0
+/// at the top), with a margin.
+void GridCell(int row, int column, int rows, int columns, double top, double cell[4])
+{
+  const double w = 0.92 / columns;
+  const double h = top / rows;
+  cell[0] = 0.04 + column * w;
+  cell[2] = cell[0] + w - 0.04;
+  cell[3] = top - row * h;
+  cell[1] = cell[3] - 0.82 * h;
+}
+
+/// Display coordinates (pixels, origin bottom left) to the normalised viewport coordinates of
+/// `renderer`; false when outside its viewport.
+bool ToViewport(vtkRenderer* renderer, const int* windowSize, int x, int y, double& u, double& v)
+{
+  const double* vp = renderer->GetViewport();
+  u = (x / static_cast<double>(windowSize[0]) - vp[0]) / (vp[2] - vp[0]);
+  v = (y / static_cast<double>(windowSize[1]) - vp[1]) / (vp[3] - vp[1]);
+  return u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0;
+}
+
+/// Code points of a UTF-8 string (for column widths).
+std::size_t Utf8Length(const std::string& text)
+{
+  return static_cast<std::size_t>(std::count_if(text.begin(),
+    text.end(),
+    [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
 }
 
 /// Observer callback into a member function.
@@ -135,6 +182,11 @@ private:
     double x1,
     const char* format);
   void BuildCompass();
+  void BuildButtons(int font);
+
+  /// Quads in normalised viewport coordinates of their renderer, one RGB colour each.
+  static vtkSmartPointer<vtkActor2D> MakeQuads(vtkPolyData* quads);
+  static void SetQuad(vtkPolyData* quads, vtkIdType k, const double cell[4], const double rgb[3]);
 
   // ---- state to screen ---------------------------------------------------------------------
   void ApplyOverlay(const OverlayResult& result);
@@ -143,8 +195,11 @@ private:
   void UpdateCompass();
   void UpdateTexts();
   void UpdateOverlayList();
+  void UpdateButtons();
+  void UpdateTable();
   void ResetCamera(bool map);
   void CollectResults();
+  double EffectiveOrientation() const;
 
   // ---- commands ----------------------------------------------------------------------------
   void SetOverlay(ViewerOverlay overlay);
@@ -153,6 +208,9 @@ private:
   void Undo();
   bool PickCell(int x, int y, int& i, int& j);
   void Click(int x, int y);
+  void PressButton(int k);
+  void InfiltrationChanged();
+  void ShowTable(bool show);
   bool Screenshot(const std::string& path, std::string& error);
   std::string NextScreenshotName();
 
@@ -163,10 +221,13 @@ private:
   void OnTimer(vtkObject* caller, unsigned long event, void* callData);
   void OnSlider(vtkObject* caller, unsigned long event, void* callData);
   void OnCamera(vtkObject* caller, unsigned long event, void* callData);
+  void OnMouse(vtkObject* caller, unsigned long event, void* callData);
 
   // ---- script ------------------------------------------------------------------------------
   bool RunAction(const ViewerAction& a, const std::string& where, bool& quit, std::string& error);
   void SendKey(const std::string& symbol, bool control, bool shift);
+  void SendClick(int x, int y);
+  void PrintState();
 
   ViewerSession& Session;
   const terroir::app::CommandLine& Line;
@@ -178,7 +239,9 @@ private:
   vtkNew<vtkRenderer> Scene;
   vtkNew<vtkRenderer> Panel;
   vtkNew<vtkRenderer> ListPane;
+  vtkNew<vtkRenderer> ButtonPane;
   vtkNew<vtkRenderer> LegendPane;
+  vtkNew<vtkRenderer> TablePane;
   vtkNew<vtkTerroirReliefSurface> Relief;
   vtkNew<vtkLight> Sun;
   vtkNew<vtkTerroirInteractorStyleTerrain> TerrainStyle;
@@ -188,6 +251,8 @@ private:
   vtkNew<vtkTextActor> Settings;
   vtkNew<vtkTextActor> Help;
   std::vector<vtkSmartPointer<vtkTextActor>> ListEntries;
+  vtkNew<vtkPolyData> ButtonQuads;
+  std::vector<vtkSmartPointer<vtkTextActor>> ButtonTexts;
   std::vector<vtkSmartPointer<vtkSliderWidget>> Sliders; // latitude, month, hour, brush rate
   vtkNew<vtkPolyData> CompassArrow;
   vtkNew<vtkActor2D> CompassActor;
@@ -195,12 +260,28 @@ private:
   vtkNew<vtkCellPicker> Picker;
   vtkNew<vtkCallbackCommand> KeyCommand;
   vtkNew<vtkCallbackCommand> WheelCommand;
+  vtkNew<vtkCallbackCommand> MouseCommand;
   OverlayResult Shown; ///< the overlay on screen
   Tool CurrentTool = Tool::Navigate;
   std::string Message;
   bool Computing = false;
-  unsigned long WaterShown = 0; ///< water version on screen
-  bool QuitRequested = false;   ///< Q or Escape was pressed
+  unsigned long WaterShown = 0;   ///< water version on screen
+  unsigned long DisplayShown = 0; ///< displayed-water version on screen (flow frames)
+  bool QuitRequested = false;     ///< Q or Escape was pressed
+  int FontSize = 12;
+  // The compass on screen (display pixels) and its drag.
+  double CompassCentre[2] = { 0.0, 0.0 };
+  double CompassRadius = 1.0;
+  bool TurningCompass = false;
+  double TurnStartAngle = 0.0;       ///< pointer angle at the press, degrees
+  double TurnStartOrientation = 0.0; ///< orientation at the press, degrees
+  // A brush stroke under way: the last cell painted.
+  bool Painting = false;
+  int LastCell[2] = { 0, 0 };
+  bool HaveLastCell = false;
+  // The cluster table.
+  bool TableWanted = true; ///< T / the Table button; shown when the overlay is clusters
+  ClusterTable Table;
 };
 
 //------------------------------------------------------------------------------
@@ -220,8 +301,8 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   this->Window->SetMultiSamples(0);
   this->Window->SetWindowName(("terroir view: " + title).c_str());
 
-  // Layout: the terrain on the left, a control panel under it, the overlay list and the
-  // legend on the right.
+  // Layout: the terrain on the left, a control panel under it, the overlay list, the tool
+  // buttons and the legend on the right; the cluster table floats over the terrain.
   const double right = 0.78;
   const double panel = 0.14;
   this->Scene->SetViewport(0.0, panel, right, 1.0);
@@ -229,18 +310,30 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   this->Scene->AutomaticLightCreationOff();
   this->Panel->SetViewport(0.0, 0.0, right, panel);
   this->Panel->SetBackground(0.86, 0.87, 0.89);
-  this->ListPane->SetViewport(right, 0.6, 1.0, 1.0);
+  this->ListPane->SetViewport(right, 0.64, 1.0, 1.0);
   this->ListPane->SetBackground(1.0, 1.0, 1.0);
-  this->LegendPane->SetViewport(right, 0.0, 1.0, 0.6);
+  this->ButtonPane->SetViewport(right, 0.42, 1.0, 0.64);
+  this->ButtonPane->SetBackground(0.95, 0.95, 0.96);
+  this->LegendPane->SetViewport(right, 0.0, 1.0, 0.42);
   this->LegendPane->SetBackground(1.0, 1.0, 1.0);
-  for (vtkRenderer* r :
-    { this->Scene.Get(), this->Panel.Get(), this->ListPane.Get(), this->LegendPane.Get() })
+  // The table is drawn in a layer above the terrain (its own white card: layers above 0 do
+  // not clear their background).
+  this->Window->SetNumberOfLayers(2);
+  this->TablePane->SetLayer(1);
+  this->TablePane->DrawOff();
+  for (vtkRenderer* r : { this->Scene.Get(),
+         this->Panel.Get(),
+         this->ListPane.Get(),
+         this->ButtonPane.Get(),
+         this->LegendPane.Get(),
+         this->TablePane.Get() })
   {
     this->Window->AddRenderer(r);
+    if (r != this->Scene.Get())
+    {
+      r->InteractiveOff();
+    }
   }
-  this->Panel->InteractiveOff();
-  this->ListPane->InteractiveOff();
-  this->LegendPane->InteractiveOff();
 
   this->Relief->SetInputData(this->Session.GetTerrain());
   if (!this->Relief->BuildGeometry(error))
@@ -255,6 +348,7 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   this->Picker->SetTolerance(0.0);
 
   const int font = std::max(10, this->Height / 52);
+  this->FontSize = font;
   auto text = [font](vtkTextActor* actor, double x, double y, bool top)
   {
     actor->GetTextProperty()->SetFontSize(font);
@@ -271,22 +365,22 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   text(this->Help, 0.01, 0.94, true);
   this->Help->GetTextProperty()->SetColor(0.35, 0.35, 0.35);
   this->Help->SetInput("0-7 overlay  Tab navigation  L lake  B brush  N navigate  Ctrl+Z undo  "
-                       "G flow  [ ] compass  V/M view  P screenshot  Q quit");
+                       "G flow  T table  [ ] compass  V/M view  P screenshot  Q quit");
   this->Scene->AddActor2D(this->Status);
   this->Scene->AddActor2D(this->Settings);
   this->Scene->AddActor2D(this->Help);
 
-  // Overlay list: one line per overlay, the current one bold and blue.
+  // Overlay list: one line per overlay (a click picks it), the current one bold and blue.
   vtkNew<vtkTextActor> listTitle;
   text(listTitle, 0.06, 0.96, true);
-  listTitle->SetInput("Overlays (keys)");
+  listTitle->SetInput("Overlays (keys, click)");
   listTitle->GetTextProperty()->BoldOn();
   this->ListPane->AddActor2D(listTitle);
   const int count = static_cast<int>(ViewerOverlay::Count);
   for (int k = 0; k < count; ++k)
   {
     auto entry = vtkSmartPointer<vtkTextActor>::New();
-    text(entry, 0.08, 0.84 - k * (0.8 / count), true);
+    text(entry, 0.08, 0.84 - k * (0.84 / count), true);
     entry->SetInput(
       (std::to_string(k) + "  " + terroir::viewer::OverlayTitle(static_cast<ViewerOverlay>(k)))
         .c_str());
@@ -295,6 +389,7 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   }
 
   this->BuildCompass();
+  this->BuildButtons(font);
 
   this->Interactor = vtkSmartPointer<vtkRenderWindowInteractor>::New();
   this->Interactor->SetRenderWindow(this->Window);
@@ -331,6 +426,16 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   this->WheelCommand->SetClientData(this);
   this->Interactor->AddObserver(vtkCommand::MouseWheelForwardEvent, this->WheelCommand, 1.0f);
   this->Interactor->AddObserver(vtkCommand::MouseWheelBackwardEvent, this->WheelCommand, 1.0f);
+  // Clicks on the list and the buttons, compass turns and brush strokes: before the
+  // navigation style and the sliders.
+  this->MouseCommand->SetCallback(Forward<ViewerWindow, &ViewerWindow::OnMouse>);
+  this->MouseCommand->SetClientData(this);
+  for (unsigned long event : { vtkCommand::LeftButtonPressEvent,
+         vtkCommand::MouseMoveEvent,
+         vtkCommand::LeftButtonReleaseEvent })
+  {
+    this->Interactor->AddObserver(event, this->MouseCommand, 1.0f);
+  }
   vtkNew<vtkCallbackCommand> timer;
   timer->SetCallback(Forward<ViewerWindow, &ViewerWindow::OnTimer>);
   timer->SetClientData(this);
@@ -431,24 +536,250 @@ void ViewerWindow::BuildCompass()
   this->Scene->AddActor2D(this->CompassLabel);
 }
 
+vtkSmartPointer<vtkActor2D> ViewerWindow::MakeQuads(vtkPolyData* quads)
+{
+  vtkNew<vtkPoints> points;
+  quads->SetPoints(points);
+  vtkNew<vtkCellArray> cells;
+  quads->SetPolys(cells);
+  vtkNew<vtkUnsignedCharArray> colours;
+  colours->SetNumberOfComponents(3);
+  quads->GetCellData()->SetScalars(colours);
+  vtkNew<vtkPolyDataMapper2D> mapper;
+  mapper->SetInputData(quads);
+  mapper->SetScalarModeToUseCellData();
+  mapper->SetColorModeToDirectScalars();
+  vtkNew<vtkCoordinate> normalised;
+  normalised->SetCoordinateSystemToNormalizedViewport();
+  mapper->SetTransformCoordinate(normalised);
+  auto actor = vtkSmartPointer<vtkActor2D>::New();
+  actor->SetMapper(mapper);
+  return actor;
+}
+
+void ViewerWindow::SetQuad(vtkPolyData* quads,
+  vtkIdType k,
+  const double cell[4],
+  const double rgb[3])
+{
+  vtkPoints* points = quads->GetPoints();
+  auto* colours = vtkUnsignedCharArray::SafeDownCast(quads->GetCellData()->GetScalars());
+  // New quads are appended (InsertNext keeps the earlier ones).
+  while (quads->GetPolys()->GetNumberOfCells() <= k)
+  {
+    const vtkIdType q = quads->GetPolys()->GetNumberOfCells();
+    const vtkIdType ids[4] = { 4 * q, 4 * q + 1, 4 * q + 2, 4 * q + 3 };
+    for (int c = 0; c < 4; ++c)
+    {
+      points->InsertNextPoint(0.0, 0.0, 0.0);
+    }
+    colours->InsertNextTuple3(0.0, 0.0, 0.0);
+    quads->GetPolys()->InsertNextCell(4, ids);
+  }
+  points->SetPoint(4 * k, cell[0], cell[1], 0.0);
+  points->SetPoint(4 * k + 1, cell[2], cell[1], 0.0);
+  points->SetPoint(4 * k + 2, cell[2], cell[3], 0.0);
+  points->SetPoint(4 * k + 3, cell[0], cell[3], 0.0);
+  for (int c = 0; c < 3; ++c)
+  {
+    colours->SetComponent(k, c, std::max(0.0, std::min(255.0, std::round(255.0 * rgb[c]))));
+  }
+  points->Modified();
+  colours->Modified();
+  quads->Modified();
+}
+
+void ViewerWindow::BuildButtons(int font)
+{
+  // A 2 x 4 grid of buttons under the overlay list; a click inside a cell presses it.
+  this->ButtonPane->AddActor2D(MakeQuads(this->ButtonQuads));
+  const int rows = ButtonCount / ButtonColumns;
+  for (int k = 0; k < ButtonCount; ++k)
+  {
+    double cell[4];
+    GridCell(k / ButtonColumns, k % ButtonColumns, rows, ButtonColumns, 0.98, cell);
+    const double grey[3] = { 0.8, 0.8, 0.82 };
+    SetQuad(this->ButtonQuads, k, cell, grey);
+    auto label = vtkSmartPointer<vtkTextActor>::New();
+    label->SetInput(ButtonLabels[k]);
+    vtkTextProperty* tp = label->GetTextProperty();
+    tp->SetFontSize(std::max(9, font - 2));
+    tp->SetColor(0.1, 0.1, 0.1);
+    tp->SetJustificationToCentered();
+    tp->SetVerticalJustificationToCentered();
+    label->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    label->SetPosition(0.5 * (cell[0] + cell[2]), 0.5 * (cell[1] + cell[3]));
+    this->ButtonPane->AddActor2D(label);
+    this->ButtonTexts.push_back(label);
+  }
+}
+
+void ViewerWindow::UpdateButtons()
+{
+  // The current tool's button is blue, as the current overlay; Table is blue while shown.
+  const int rows = ButtonCount / ButtonColumns;
+  const bool tableShown = this->TablePane->GetDraw() != 0;
+  for (int k = 0; k < ButtonCount; ++k)
+  {
+    const bool on = (k == 0 && this->CurrentTool == Tool::Navigate) ||
+      (k == 1 && this->CurrentTool == Tool::Lake) || (k == 2 && this->CurrentTool == Tool::Brush) ||
+      (k == 7 && tableShown);
+    double cell[4];
+    GridCell(k / ButtonColumns, k % ButtonColumns, rows, ButtonColumns, 0.98, cell);
+    const double grey[3] = { 0.8, 0.8, 0.82 };
+    const double blue[3] = { 0.62, 0.74, 0.95 };
+    SetQuad(this->ButtonQuads, k, cell, on ? blue : grey);
+    this->ButtonTexts[k]->GetTextProperty()->SetBold(on);
+  }
+}
+
+double ViewerWindow::EffectiveOrientation() const
+{
+  const auto& p = this->Session.Parameters();
+  if (std::isfinite(p.Orientation))
+  {
+    return p.Orientation;
+  }
+  // The session resolves NaN (convergence or 0); recover it from the sun's two frames.
+  terroir::viewer::ViewerParameters q = p;
+  q.Orientation = 0.0;
+  double azTrue = 0.0, az = 0.0, el = 0.0;
+  this->Session.SunDirection(q, azTrue, el);
+  this->Session.SunDirection(p, az, el);
+  return azTrue - az;
+}
+
+void ViewerWindow::ShowTable(bool show)
+{
+  this->TableWanted = show;
+  this->UpdateTable();
+  this->UpdateButtons();
+}
+
+void ViewerWindow::UpdateTable()
+{
+  // The cluster table of the clusters overlay on screen: a swatch, the cluster, its share and
+  // the month's means, one row per cluster (16 at most), in a fixed-width font.
+  this->TablePane->RemoveAllViewProps();
+  const bool show = this->TableWanted && this->Shown.Overlay == ViewerOverlay::Clusters &&
+    this->Shown.Table && this->Shown.Error.empty();
+  this->TablePane->SetDraw(show ? 1 : 0);
+  if (!show)
+  {
+    return;
+  }
+  const int month = std::max(1, std::min(12, this->Session.Parameters().Month));
+  this->Table = ClusterTable::FromKMeans(this->Shown.Table, month);
+  const std::size_t maxRows = 16;
+  const std::size_t shownRows = std::min(this->Table.Rows.size(), maxRows);
+  std::vector<std::size_t> widths;
+  std::string header = "Zone  Share";
+  for (const std::string& title : this->Table.Columns)
+  {
+    widths.push_back(std::max<std::size_t>(7, Utf8Length(title)) + 2);
+    header += std::string(widths.back() - Utf8Length(title), ' ') + title;
+  }
+  std::vector<std::string> lines;
+  for (std::size_t r = 0; r < shownRows; ++r)
+  {
+    const auto& row = this->Table.Rows[r];
+    char cell[64];
+    std::snprintf(cell, sizeof(cell), "%4d %5.1f%%", row.Id, 100.0 * row.Share);
+    std::string line = cell;
+    for (std::size_t c = 0; c < row.Means.size() && c < widths.size(); ++c)
+    {
+      std::snprintf(cell, sizeof(cell), "%*.1f", static_cast<int>(widths[c]), row.Means[c]);
+      line += cell;
+    }
+    lines.push_back(line);
+  }
+  if (this->Table.Rows.size() > shownRows)
+  {
+    lines.push_back("  ... and " + std::to_string(this->Table.Rows.size() - shownRows) + " more");
+  }
+  // Size in pixels: Courier is 0.6 em wide; lines 1.35 em apart.
+  const int font = std::max(9, this->FontSize - 1);
+  const double lineHeight = 1.35 * font;
+  const double charWidth = 0.6 * font;
+  const double swatch = 1.4 * font;
+  std::size_t columns = Utf8Length(header);
+  for (const std::string& line : lines)
+  {
+    columns = std::max(columns, Utf8Length(line));
+  }
+  const int* size = this->Window->GetSize();
+  const double* scene = this->Scene->GetViewport();
+  const double widthPx = std::min(
+    (scene[2] - scene[0]) * size[0] * 0.96, swatch + charWidth * (columns + 2) + 0.8 * font);
+  const double heightPx = lineHeight * (lines.size() + 2.6);
+  const double x0 = scene[0] + 0.01;
+  const double y0 = scene[1] + 0.06 * (scene[3] - scene[1]);
+  this->TablePane->SetViewport(x0,
+    y0,
+    std::min(scene[2], x0 + widthPx / size[0]),
+    std::min(scene[3], y0 + heightPx / size[1]));
+  vtkNew<vtkPolyData> card; // a grey frame and the white card inside it
+  this->TablePane->AddActor2D(MakeQuads(card));
+  const double frame[4] = { 0.0, 0.0, 1.0, 1.0 };
+  const double inner[4] = {
+    1.5 / widthPx, 1.5 / heightPx, 1.0 - 1.5 / widthPx, 1.0 - 1.5 / heightPx
+  };
+  const double frameColour[3] = { 0.55, 0.55, 0.58 };
+  const double white[3] = { 1.0, 1.0, 1.0 };
+  SetQuad(card, 0, frame, frameColour);
+  SetQuad(card, 1, inner, white);
+  auto place = [&](const std::string& text, double row, double x, bool bold)
+  {
+    vtkNew<vtkTextActor> actor;
+    actor->SetInput(text.c_str());
+    vtkTextProperty* tp = actor->GetTextProperty();
+    tp->SetFontFamilyToCourier();
+    tp->SetFontSize(font);
+    tp->SetColor(0.1, 0.1, 0.1);
+    tp->SetBold(bold);
+    tp->SetVerticalJustificationToCentered();
+    actor->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    actor->SetPosition(x / widthPx, 1.0 - (row + 0.9) * lineHeight / heightPx);
+    this->TablePane->AddActor2D(actor);
+  };
+  char title[96];
+  std::snprintf(title, sizeof(title), "Cluster table, %s (T hides)", MonthNames[month - 1]);
+  place(title, 0.0, 0.4 * font, true);
+  place(header, 1.1, 0.4 * font + swatch, false);
+  vtkNew<vtkPolyData> swatches;
+  for (std::size_t r = 0; r < lines.size(); ++r)
+  {
+    place(lines[r], r + 2.1, 0.4 * font + swatch, false);
+    if (r < shownRows)
+    {
+      double rgb[3] = { 0.5, 0.5, 0.5 };
+      unsigned int hex = 0;
+      if (std::sscanf(this->Table.Rows[r].Color.c_str(), "#%x", &hex) == 1)
+      {
+        rgb[0] = ((hex >> 16) & 0xFF) / 255.0;
+        rgb[1] = ((hex >> 8) & 0xFF) / 255.0;
+        rgb[2] = (hex & 0xFF) / 255.0;
+      }
+      const double yc = 1.0 - (r + 2.1 + 0.9) * lineHeight / heightPx;
+      const double half = 0.4 * font / heightPx;
+      const double box[4] = {
+        0.4 * font / widthPx, yc - half, (0.4 * font + 0.8 * font) / widthPx, yc + half
+      };
+      if (r == 0)
+      {
+        this->TablePane->AddActor2D(MakeQuads(swatches));
+      }
+      SetQuad(swatches, static_cast<vtkIdType>(r), box, rgb);
+    }
+  }
+}
+
 //------------------------------------------------------------------------------
 void ViewerWindow::UpdateCompass()
 {
   // True north on the screen: the grid direction of true north (grid azimuth -orientation)
   // projected from the focal point.
-  const auto& p = this->Session.Parameters();
-  double gridNorth = p.Orientation;
-  double az = 0.0, el = 0.0;
-  if (!std::isfinite(gridNorth))
-  {
-    // The session resolves NaN (convergence or 0); recover it from the sun's two frames.
-    terroir::viewer::ViewerParameters q = p;
-    q.Orientation = 0.0;
-    double azTrue = 0.0;
-    this->Session.SunDirection(q, azTrue, el);
-    this->Session.SunDirection(p, az, el);
-    gridNorth = azTrue - az;
-  }
+  const double gridNorth = this->EffectiveOrientation();
   vtkCamera* camera = this->Scene->GetActiveCamera();
   double focal[3];
   camera->GetFocalPoint(focal);
@@ -474,6 +805,9 @@ void ViewerWindow::UpdateCompass()
   const double cx = (vp[0] + 0.93 * (vp[2] - vp[0])) * size[0];
   const double cy = (vp[1] + 0.86 * (vp[3] - vp[1])) * size[1];
   const double r = 0.035 * size[1];
+  this->CompassCentre[0] = cx;
+  this->CompassCentre[1] = cy;
+  this->CompassRadius = r;
   const double c = std::cos(angle), s = std::sin(angle);
   // Arrow in its own frame (y = north): tip, right barb, tail notch, left barb.
   const double shape[4][2] = { { 0.0, 1.0 }, { 0.55, -0.8 }, { 0.0, -0.45 }, { -0.55, -0.8 } };
@@ -541,12 +875,15 @@ void ViewerWindow::UpdateTexts()
   std::string status;
   if (!this->Session.IsIdle())
   {
-    char line[160];
+    char line[200];
+    const long long iteration = this->Session.GetFlowFrameIteration();
     std::snprintf(line,
       sizeof(line),
-      "%s\xe2\x80\xa6 %.0f %%",
+      iteration > 0 ? "%s\xe2\x80\xa6 %.0f %% (iteration %lld on screen)"
+                    : "%s\xe2\x80\xa6 %.0f %%",
       this->Session.GetProgressLabel().c_str(),
-      100.0 * this->Session.GetProgress());
+      100.0 * this->Session.GetProgress(),
+      iteration);
     status = line;
   }
   else
@@ -555,6 +892,7 @@ void ViewerWindow::UpdateTexts()
   }
   this->Status->SetInput(status.c_str());
   this->UpdateOverlayList();
+  this->UpdateButtons();
   this->UpdateCompass();
 }
 
@@ -569,6 +907,7 @@ void ViewerWindow::ApplyOverlay(const OverlayResult& result)
   }
   this->Shown = result;
   this->Recolour();
+  this->UpdateTable();
 }
 
 void ViewerWindow::Recolour()
@@ -602,9 +941,11 @@ void ViewerWindow::Recolour()
   {
     this->Relief->SetUniformColor();
   }
-  // The water state is a layer over every overlay: transparent where dry.
+  // The water state (or the running flow's frame) is a layer over every overlay: transparent
+  // where dry.
   this->WaterShown = this->Session.GetWaterVersion();
-  vtkFloatArray* water = this->Session.GetWater();
+  this->DisplayShown = this->Session.GetDisplayedWaterVersion();
+  vtkFloatArray* water = this->Session.GetDisplayedWater();
   double wet[2] = { 0.0, 0.0 };
   water->GetRange(wet, 0);
   if (terrain && wet[1] > 0.0)
@@ -655,6 +996,11 @@ void ViewerWindow::CollectResults()
     {
       this->Session.RequestOverlay();
     }
+  }
+  else if (this->Session.GetDisplayedWaterVersion() != this->DisplayShown)
+  {
+    // A frame of the running water flow (or its end, when it changed nothing).
+    this->Recolour();
   }
   const std::string error = this->Session.TakeError();
   if (!error.empty())
@@ -716,10 +1062,15 @@ void ViewerWindow::SetStyle(bool firstPerson)
 
 void ViewerWindow::Undo()
 {
+  const unsigned long soil = this->Session.GetInfiltrationVersion();
   if (this->Session.Undo())
   {
     this->Message = "Undone (" + std::to_string(this->Session.GetUndoDepth()) + " step(s) left)";
     this->Recolour();
+    if (this->Session.GetInfiltrationVersion() != soil)
+    {
+      this->InfiltrationChanged();
+    }
   }
   else
   {
@@ -747,9 +1098,9 @@ bool ViewerWindow::PickCell(int x, int y, int& i, int& j)
 
 void ViewerWindow::Click(int x, int y)
 {
-  if (this->CurrentTool == Tool::Navigate)
+  if (this->CurrentTool != Tool::Lake)
   {
-    return;
+    return; // the brush paints on press and drag (OnMouse)
   }
   int i = 0, j = 0;
   if (!this->PickCell(x, y, i, j))
@@ -758,28 +1109,86 @@ void ViewerWindow::Click(int x, int y)
     this->UpdateTexts();
     return;
   }
-  if (this->CurrentTool == Tool::Lake)
+  std::string error;
+  if (this->Session.FloodFillAt(i, j, error))
   {
-    std::string error;
-    if (this->Session.FloodFillAt(i, j, error))
-    {
-      this->Message =
-        "Lake at cell (" + std::to_string(i) + ", " + std::to_string(j) + ") (Ctrl+Z undoes it)";
-      this->Recolour();
-    }
-    else
-    {
-      this->Message = error;
-    }
+    this->Message =
+      "Lake at cell (" + std::to_string(i) + ", " + std::to_string(j) + ") (Ctrl+Z undoes it)";
+    this->Recolour();
   }
   else
   {
-    const int painted = this->Session.PaintInfiltration(i, j);
-    this->Message = "Painted " + std::to_string(painted) + " cells";
-    if (this->Session.GetCurrentOverlay() == ViewerOverlay::Humidity)
+    this->Message = error;
+  }
+  this->UpdateTexts();
+}
+
+void ViewerWindow::InfiltrationChanged()
+{
+  if (this->Session.GetCurrentOverlay() == ViewerOverlay::Humidity)
+  {
+    this->Session.RequestOverlay();
+  }
+}
+
+void ViewerWindow::PressButton(int k)
+{
+  const auto& p = this->Session.Parameters();
+  char line[160];
+  switch (k)
+  {
+    case 0:
+    case 1:
+    case 2:
+      this->CurrentTool = k == 1 ? Tool::Lake : k == 2 ? Tool::Brush : Tool::Navigate;
+      this->Message = std::string("Tool: ") + ToolName(this->CurrentTool);
+      break;
+    case 3:
     {
-      this->Session.RequestOverlay();
+      const long long changed = this->Session.FillInfiltration();
+      std::snprintf(line,
+        sizeof(line),
+        "Fill: %lld cells changed to %.0f mm/h (Ctrl+Z undoes it)",
+        changed,
+        p.BrushRate);
+      this->Message = line;
+      this->InfiltrationChanged();
+      break;
     }
+    case 4:
+    {
+      std::string error;
+      const long long changed = this->Session.ApplySlopeRule(error);
+      if (changed < 0)
+      {
+        this->Message = "error: " + error;
+        break;
+      }
+      std::snprintf(line,
+        sizeof(line),
+        "Slope rule: %lld cells steeper than %.0f\xc2\xb0 set to 0 mm/h (Ctrl+Z undoes it)",
+        changed,
+        p.SlopeThreshold);
+      this->Message = line;
+      this->InfiltrationChanged();
+      break;
+    }
+    case 5:
+      this->Session.RequestWaterFlow();
+      this->Message = "Water flow started";
+      break;
+    case 6:
+      this->Undo();
+      break;
+    case 7:
+      this->ShowTable(!(this->TablePane->GetDraw() != 0));
+      if (this->TableWanted && this->Shown.Overlay != ViewerOverlay::Clusters)
+      {
+        this->Message = "The cluster table comes with the clusters overlay (key 7)";
+      }
+      break;
+    default:
+      break;
   }
   this->UpdateTexts();
 }
@@ -864,16 +1273,15 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
   }
   else if (sym == "g")
   {
-    this->Session.RequestWaterFlow();
-    this->UpdateTexts();
+    this->PressButton(5);
+  }
+  else if (sym == "t")
+  {
+    this->PressButton(7);
   }
   else if (sym == "bracketleft" || sym == "bracketright")
   {
-    double current = p.Orientation;
-    if (!std::isfinite(current))
-    {
-      current = 0.0;
-    }
+    const double current = this->EffectiveOrientation();
     p.Orientation = std::fmod(current + (sym == "bracketleft" ? -5.0 : 5.0) + 360.0, 360.0);
     this->ParametersChanged(true);
   }
@@ -981,6 +1389,145 @@ void ViewerWindow::OnCamera(vtkObject*, unsigned long, void*)
   this->UpdateCompass();
 }
 
+void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
+{
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  const int* position = rwi->GetEventPosition();
+  const int x = position[0], y = position[1];
+  const int* size = this->Window->GetSize();
+  // Pointer angle about the compass centre, degrees clockwise from screen up.
+  auto pointerAngle = [this, x, y]()
+  {
+    return vtkMath::DegreesFromRadians(
+      std::atan2(x - this->CompassCentre[0], y - this->CompassCentre[1]));
+  };
+  bool handled = false;
+  if (event == vtkCommand::LeftButtonPressEvent)
+  {
+    double u = 0.0, v = 0.0;
+    if (ToViewport(this->ListPane, size, x, y, u, v))
+    {
+      // The list's entries hang from 0.84 - k h, h = 0.84 / count apart (Build); the band of
+      // entry k is [0.84 - (k + 1) h, 0.84 - k h].
+      const int count = static_cast<int>(ViewerOverlay::Count);
+      const double h = 0.84 / count;
+      const int row = static_cast<int>(std::floor((0.84 - v) / h));
+      if (row >= 0 && row < count)
+      {
+        this->SetOverlay(static_cast<ViewerOverlay>(row));
+      }
+      handled = true;
+    }
+    else if (ToViewport(this->ButtonPane, size, x, y, u, v))
+    {
+      const int rows = ButtonCount / ButtonColumns;
+      for (int k = 0; k < ButtonCount; ++k)
+      {
+        double cell[4];
+        GridCell(k / ButtonColumns, k % ButtonColumns, rows, ButtonColumns, 0.98, cell);
+        if (u >= cell[0] && u <= cell[2] && v >= cell[1] && v <= cell[3])
+        {
+          this->PressButton(k);
+        }
+      }
+      handled = true;
+    }
+    else if (this->TablePane->GetDraw() && ToViewport(this->TablePane, size, x, y, u, v))
+    {
+      handled = true; // the table is not the terrain
+    }
+    else if (ToViewport(this->Scene, size, x, y, u, v) &&
+      std::hypot(x - this->CompassCentre[0], y - this->CompassCentre[1]) <=
+        1.9 * this->CompassRadius)
+    {
+      this->TurningCompass = true;
+      this->TurnStartAngle = pointerAngle();
+      this->TurnStartOrientation = this->EffectiveOrientation();
+      this->Message = "Turning the compass";
+      handled = true;
+    }
+    else if (this->CurrentTool == Tool::Brush && !rwi->GetControlKey() &&
+      ToViewport(this->Scene, size, x, y, u, v))
+    {
+      this->Painting = true;
+      this->Session.BeginStroke();
+      this->HaveLastCell = this->PickCell(x, y, this->LastCell[0], this->LastCell[1]);
+      if (this->HaveLastCell)
+      {
+        this->Session.PaintInfiltration(this->LastCell[0], this->LastCell[1]);
+      }
+      handled = true;
+    }
+  }
+  else if (event == vtkCommand::MouseMoveEvent && (this->TurningCompass || this->Painting))
+  {
+    if (this->TurningCompass)
+    {
+      // The arrow follows the pointer about the compass centre: turning it clockwise on the
+      // screen turns grid north anticlockwise from true north.
+      double turned = pointerAngle() - this->TurnStartAngle;
+      auto& p = this->Session.Parameters();
+      p.Orientation = std::fmod(this->TurnStartOrientation - turned + 720.0, 360.0);
+      this->ParametersChanged(true);
+    }
+    else
+    {
+      int i = 0, j = 0;
+      if (this->PickCell(x, y, i, j))
+      {
+        if (this->HaveLastCell)
+        {
+          this->Session.PaintInfiltrationAlong(this->LastCell[0], this->LastCell[1], i, j);
+        }
+        else
+        {
+          this->Session.PaintInfiltration(i, j);
+        }
+        this->LastCell[0] = i;
+        this->LastCell[1] = j;
+        this->HaveLastCell = true;
+      }
+    }
+    handled = true;
+  }
+  else if (event == vtkCommand::LeftButtonReleaseEvent && (this->TurningCompass || this->Painting))
+  {
+    if (this->TurningCompass)
+    {
+      this->TurningCompass = false;
+      char line[96];
+      std::snprintf(line,
+        sizeof(line),
+        "Grid north %.1f\xc2\xb0 from true north",
+        this->Session.Parameters().Orientation);
+      this->Message = line;
+    }
+    else
+    {
+      this->Painting = false;
+      const long long changed = this->Session.EndStroke();
+      char line[128];
+      std::snprintf(line,
+        sizeof(line),
+        "Painted %lld cells at %.0f mm/h (Ctrl+Z undoes the stroke)",
+        changed,
+        this->Session.Parameters().BrushRate);
+      this->Message = line;
+      if (changed > 0)
+      {
+        this->InfiltrationChanged();
+      }
+    }
+    handled = true;
+  }
+  if (handled)
+  {
+    this->MouseCommand->SetAbortFlag(1);
+    this->UpdateTexts();
+    this->Window->Render();
+  }
+}
+
 //------------------------------------------------------------------------------
 void ViewerWindow::SendKey(const std::string& symbol, bool control, bool shift)
 {
@@ -991,6 +1538,53 @@ void ViewerWindow::SendKey(const std::string& symbol, bool control, bool shift)
   rwi->InvokeEvent(vtkCommand::KeyPressEvent, nullptr);
   rwi->InvokeEvent(vtkCommand::CharEvent, nullptr);
   rwi->InvokeEvent(vtkCommand::KeyReleaseEvent, nullptr);
+}
+
+void ViewerWindow::SendClick(int x, int y)
+{
+  // Display coordinates (origin bottom left), no modifier.
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  rwi->SetEventInformation(x, y, 0, 0);
+  rwi->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
+  rwi->SetEventInformation(x, y, 0, 0);
+  rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent, nullptr);
+  rwi->SetEventInformation(x, y, 0, 0);
+  rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent, nullptr);
+}
+
+void ViewerWindow::PrintState()
+{
+  // One line for scripts and tests: the parameters, the tool, the undo depth, the sums of the
+  // water (m) and infiltration (mm/h) arrays over the cells, and whether the table is shown.
+  const auto& p = this->Session.Parameters();
+  auto sum = [](vtkFloatArray* a)
+  {
+    double total = 0.0;
+    for (vtkIdType k = 0; k < a->GetNumberOfValues(); ++k)
+    {
+      const float v = a->GetValue(k);
+      total += std::isfinite(v) ? v : 0.0f;
+    }
+    return total;
+  };
+  std::printf("state overlay %s tool %s latitude %.6g month %d hour %.6g orientation %.6g "
+              "lake-depth %.6g brush-size %.6g brush-rate %.6g slope-threshold %.6g undo %zu "
+              "water-sum %.9g infiltration-sum %.9g table %s\n",
+    terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
+    ToolName(this->CurrentTool),
+    p.Latitude,
+    p.Month,
+    p.Hour,
+    this->EffectiveOrientation(),
+    p.LakeDepth,
+    p.BrushRadius,
+    p.BrushRate,
+    p.SlopeThreshold,
+    this->Session.GetUndoDepth(),
+    sum(this->Session.GetWater()),
+    sum(this->Session.GetInfiltration()),
+    this->TablePane->GetDraw() ? "shown" : "hidden");
+  std::fflush(stdout);
 }
 
 bool ViewerWindow::RunAction(const ViewerAction& a,
@@ -1025,12 +1619,32 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
     }
     this->ParametersChanged(true);
   }
-  else if (a.Verb == "lake-depth" || a.Verb == "brush-size" || a.Verb == "brush-rate")
+  else if (a.Verb == "lake-depth" || a.Verb == "brush-size" || a.Verb == "brush-rate" ||
+    a.Verb == "slope-threshold")
   {
     (a.Verb == "lake-depth"      ? p.LakeDepth
         : a.Verb == "brush-size" ? p.BrushRadius
-                                 : p.BrushRate) = n[0];
+        : a.Verb == "brush-rate" ? p.BrushRate
+                                 : p.SlopeThreshold) = n[0];
     this->ParametersChanged(false);
+  }
+  else if (a.Verb == "button")
+  {
+    // A real click at the middle of the button.
+    const auto& names = terroir::viewer::ViewerButtonNames();
+    const int k = static_cast<int>(std::find(names.begin(), names.end(), a.Text) - names.begin());
+    double cell[4];
+    GridCell(
+      k / ButtonColumns, k % ButtonColumns, ButtonCount / ButtonColumns, ButtonColumns, 0.98, cell);
+    const int* size = this->Window->GetSize();
+    const double* vp = this->ButtonPane->GetViewport();
+    const double u = 0.5 * (cell[0] + cell[2]), v = 0.5 * (cell[1] + cell[3]);
+    this->SendClick(static_cast<int>((vp[0] + u * (vp[2] - vp[0])) * size[0]),
+      static_cast<int>((vp[1] + v * (vp[3] - vp[1])) * size[1]));
+  }
+  else if (a.Verb == "state")
+  {
+    this->PrintState();
   }
   else if (a.Verb == "sensitivity")
   {
@@ -1100,7 +1714,7 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
   }
   else if (a.Verb == "flow")
   {
-    this->Session.RequestWaterFlow();
+    this->PressButton(5);
   }
   else if (a.Verb == "wait")
   {

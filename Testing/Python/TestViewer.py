@@ -1,8 +1,11 @@
 #!/usr/bin/python3
 """`terroir view` driven by --script: screenshots against Testing/Baselines/TerroirViewer_*.png
 (VTK's legacy image comparison, threshold 0.15, as the C++ image tests), a lake clicked in a
-bowl fills it to its spill level and, undone, gives the same picture as no click, navigation events move the camera the right way,
-and a bad script is refused before any window work.
+bowl fills it to its spill level and, undone, gives the same picture as no click, navigation
+events move the camera the right way, a brush stroke dragged over the terrain is one undo step,
+a drag around the compass turns it by the angle swept, the on-screen buttons and the overlay
+list answer clicks, the cluster table comes and goes with the clusters overlay, and a bad
+script is refused before any window work.
 
 The scripts generate real interactor events (clicks, drags, wheel turns, keys), so the
 interaction code of the window is what runs. Needs an X display (run the suite under
@@ -80,6 +83,31 @@ def pixels(path):
     return image.GetDimensions(), vtk_to_numpy(image.GetPointData().GetScalars()).copy()
 
 
+def states(stdout):
+    """The `state` lines as dicts of their key/value pairs (numbers as floats)."""
+    out = []
+    for line in stdout.splitlines():
+        if line.startswith("state "):
+            words = line.split()[1:]
+            d = {}
+            for key, value in zip(words[0::2], words[1::2]):
+                try:
+                    d[key] = float(value)
+                except ValueError:
+                    d[key] = value
+            out.append(d)
+    return out
+
+
+def compass_centre():
+    """The compass centre in script pixels (from the top left), as Viewer.md places it: 93 %
+    across and 86 % up the terrain view, which spans 78 % of the width and the top 86 % of the
+    height."""
+    x = 0.93 * 0.78 * SIZE[0]
+    y_up = (0.14 + 0.86 * 0.86) * SIZE[1]
+    return x, SIZE[1] - 1 - y_up
+
+
 def cameras(stdout):
     """(position, focal point) of each `camera` line, as numpy vectors."""
     out = []
@@ -129,6 +157,108 @@ class TerroirViewer(unittest.TestCase):
             "quit"], dem=bowl_dem())
         self.assertEqual(proc.returncode, 0, proc.stderr)
         self.check_baseline(os.path.join(folder, "lake.png"), "TerroirViewer_LakeOverRelief")
+        # The clusters of the bowl with their table (K = 4).
+        proc, folder, _ = run_view("bowl_clusters", [
+            "clusters 4", "overlay clusters", "wait", "screenshot clusters.png",
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.check_baseline(os.path.join(folder, "clusters.png"),
+                            "TerroirViewer_ClusterTable")
+
+    def test_a_brush_stroke_is_one_undo_step(self):
+        need_display(self)
+        proc, folder, _ = run_view("brush", [
+            "overlay humidity", "wait", "state", "screenshot before.png",
+            "tool brush", "brush-rate 0", "brush-size 3",
+            "drag 150 200 350 260", "wait", "state", "screenshot painted.png",
+            "key ctrl+z", "wait", "state", "screenshot undone.png",
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        before, painted, undone = states(proc.stdout)
+        # The default recipe: 15 mm/h on every cell of the gentle bowl (no slope over 30°).
+        self.assertEqual(before["infiltration-sum"], 15.0 * 121 * 101)
+        self.assertEqual(before["undo"], 0)
+        # The stroke set 0 mm/h on a band: at least the cells within 3 of a 20-cell path.
+        removed = (before["infiltration-sum"] - painted["infiltration-sum"]) / 15.0
+        self.assertEqual(removed, int(removed))
+        self.assertGreater(removed, 20 * 7)
+        self.assertEqual(painted["undo"], 1)
+        self.assertEqual(undone["infiltration-sum"], before["infiltration-sum"])
+        self.assertEqual(undone["undo"], 0)
+        _, a = pixels(os.path.join(folder, "before.png"))
+        _, p = pixels(os.path.join(folder, "painted.png"))
+        _, b = pixels(os.path.join(folder, "undone.png"))
+        # The humidity overlay shows the stroke, and undoing it gives back the terrain's pixels
+        # (the texts differ: compare the terrain view between them; PNG rows run bottom up).
+        def terrain(image):
+            rows = image.reshape(SIZE[1], SIZE[0], -1)[::-1]
+            return rows[int(0.10 * SIZE[1]):int(0.80 * SIZE[1]), :int(0.78 * SIZE[0])]
+        self.assertGreater(int(np.count_nonzero(np.any(terrain(p) != terrain(a), axis=2))), 500)
+        self.assertTrue(np.array_equal(terrain(a), terrain(b)))
+
+    def test_dragging_around_the_compass_turns_it_by_the_angle_swept(self):
+        need_display(self)
+        cx, cy = compass_centre()
+        x0, y0 = int(round(cx)), int(round(cy - 20))   # above the centre
+        x1, y1 = int(round(cx + 20)), int(round(cy))   # right of it: a quarter turn clockwise
+        proc, _, _ = run_view("compass", [
+            "view map", "state", "drag %d %d %d %d" % (x0, y0, x1, y1), "state",
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        start, turned = states(proc.stdout)
+
+        def angle(x, y):  # clockwise from screen up, y from the top
+            return math.degrees(math.atan2(x - cx, cy - y))
+        swept = angle(x1, y1) - angle(x0, y0)
+        self.assertAlmostEqual(swept, 90.0, delta=3.0)
+        # The arrow follows the pointer: grid north turns the other way from true north.
+        expected = (start["orientation"] - swept) % 360.0
+        self.assertAlmostEqual(turned["orientation"], expected, places=3)
+
+    def test_buttons_and_the_overlay_list_answer_clicks(self):
+        need_display(self)
+        # The list's entry "1 Slope": its band is 0.84 - 2h .. 0.84 - h of the list pane
+        # (h = 0.84 / 8), the pane spans the top 36 % of the right 22 %.
+        u, v = 0.3, 0.84 - 1.5 * 0.84 / 8
+        x = int((0.78 + u * 0.22) * SIZE[0])
+        y = int(SIZE[1] - 1 - (0.64 + v * 0.36) * SIZE[1])
+        proc, _, _ = run_view("buttons", [
+            "click %d %d" % (x, y), "state",
+            "brush-rate 7", "button fill", "state",
+            "slope-threshold 2", "button slope-rule", "state",
+            "button slope-rule", "state",
+            "button undo", "state", "button undo", "state",
+            "button lake", "state", "button table", "state",
+            "overlay clusters", "wait", "state", "key t", "state", "button table", "state",
+            "overlay slope", "state",
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 12, proc.stdout)
+        self.assertEqual(s[0]["overlay"], "slope")
+        # Fill: 7 mm/h on each of the 12221 cells; one undo step.
+        self.assertEqual(s[1]["infiltration-sum"], 7.0 * 121 * 101)
+        self.assertEqual(s[1]["undo"], 1)
+        # Slope rule at 2 degrees: the bowl's steep ring to 0, the rest keeps 7 mm/h.
+        steep = (s[1]["infiltration-sum"] - s[2]["infiltration-sum"]) / 7.0
+        self.assertEqual(steep, int(steep))
+        self.assertGreater(steep, 1000)
+        self.assertLess(steep, 121 * 101 - 1000)
+        self.assertEqual(s[2]["undo"], 2)
+        # A second time changes nothing and adds no step.
+        self.assertEqual(s[3]["infiltration-sum"], s[2]["infiltration-sum"])
+        self.assertEqual(s[3]["undo"], 2)
+        # Undo, undo: the fill, then the default recipe.
+        self.assertEqual(s[4]["infiltration-sum"], s[1]["infiltration-sum"])
+        self.assertEqual(s[5]["infiltration-sum"], 15.0 * 121 * 101)
+        self.assertEqual(s[5]["undo"], 0)
+        self.assertEqual(s[6]["tool"], "lake")
+        # The table comes with the clusters overlay only, and T / the button hide and show it.
+        self.assertEqual(s[7]["table"], "hidden")
+        self.assertEqual(s[8]["table"], "shown")
+        self.assertEqual(s[9]["table"], "hidden")
+        self.assertEqual(s[10]["table"], "shown")
+        self.assertEqual(s[11]["table"], "hidden")
 
     def test_a_lake_clicked_then_undone_leaves_the_same_picture_as_no_click(self):
         need_display(self)

@@ -38,11 +38,14 @@ TEST(TerroirViewerScript, ParsesEveryVerbWithItsArguments)
                              "style first-person\n"
                              "wait\n"
                              "screenshot out/a.PNG\n"
-                             "quit\n";
+                             "quit\n"
+                             "button slope-rule\n"
+                             "slope-threshold 25\n"
+                             "state\n";
   std::vector<ViewerAction> a;
   std::string error;
   ASSERT_TRUE(ParseViewerScript(script, "s.txt", 800, 600, a, error)) << error;
-  ASSERT_EQ(a.size(), 13u);
+  ASSERT_EQ(a.size(), 16u);
   EXPECT_EQ(a[0].Verb, "overlay");
   EXPECT_EQ(a[0].Text, "slope");
   EXPECT_EQ(a[0].Line, 2);
@@ -60,14 +63,24 @@ TEST(TerroirViewerScript, ParsesEveryVerbWithItsArguments)
   EXPECT_EQ(a[9].Text, "first-person");
   EXPECT_EQ(a[11].Text, "out/a.PNG");
   EXPECT_EQ(a[12].Verb, "quit");
+  EXPECT_EQ(a[13].Verb, "button");
+  EXPECT_EQ(a[13].Text, "slope-rule");
+  EXPECT_EQ(a[14].Numbers, std::vector<double>{ 25.0 });
+  EXPECT_EQ(a[15].Verb, "state");
 }
 
 TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
 {
   EXPECT_EQ(ErrorOf("wait\nfly 3\n"),
     "s.txt:2: unknown action 'fly' (overlay, latitude, longitude, month, hour, orientation, "
-    "clusters, lake-depth, brush-size, brush-rate, sensitivity, style, tool, view, click, drag, "
-    "wheel, key, flow, undo, wait, camera, screenshot, quit)");
+    "clusters, lake-depth, brush-size, brush-rate, slope-threshold, sensitivity, style, tool, "
+    "view, button, click, drag, wheel, key, flow, undo, wait, camera, state, screenshot, quit)");
+  EXPECT_EQ(ErrorOf("button paint"),
+    "s.txt:1: 'button': unknown value 'paint' (navigate, lake, brush, fill, slope-rule, flow, "
+    "undo, table)");
+  EXPECT_EQ(
+    ErrorOf("slope-threshold 91"), "s.txt:1: 'slope-threshold': value 91 is outside [0, 90]");
+  EXPECT_EQ(ErrorOf("state now"), "s.txt:1: 'state' takes no argument, got 1 argument");
   EXPECT_EQ(ErrorOf("overlay rivers"),
     "s.txt:1: unknown overlay 'rivers' (none, slope, illumination, sun-hours, temperature, "
     "humidity, water, clusters)");
