@@ -278,15 +278,9 @@ struct ViewerSession::Internals
     return changed;
   }
 
-  /// The cell has data (finite elevation, valid mask).
-  bool HasData(vtkIdType k) const
-  {
-    vtkPointData* pd = this->Terrain->GetPointData();
-    vtkDataArray* mask = pd->GetArray(vtkTerroirGeoreference::ValidMaskName());
-    return std::isfinite(
-             pd->GetArray(vtkTerroirGeoreference::ElevationName())->GetComponent(k, 0)) &&
-      !(mask && mask->GetComponent(k, 0) == 0.0);
-  }
+  /// 1 where the cell has data (finite elevation, valid mask); set by SetTerrain.
+  std::vector<unsigned char> DataCells;
+  bool HasData(vtkIdType k) const { return this->DataCells[static_cast<std::size_t>(k)] != 0; }
 };
 
 ViewerSession::ViewerSession()
@@ -412,6 +406,14 @@ bool ViewerSession::SetTerrain(vtkImageData* terrain, std::string& error)
     in.Params.Longitude = latLon[1];
   }
   const vtkIdType n = in.Terrain->GetNumberOfPoints();
+  vtkDataArray* mask =
+    in.Terrain->GetPointData()->GetArray(vtkTerroirGeoreference::ValidMaskName());
+  in.DataCells.assign(static_cast<std::size_t>(n), 0);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    in.DataCells[static_cast<std::size_t>(k)] =
+      std::isfinite(elevation->GetComponent(k, 0)) && !(mask && mask->GetComponent(k, 0) == 0.0);
+  }
   in.Water = vtkSmartPointer<vtkFloatArray>::New();
   in.Water->SetName(vtkTerroirWaterFlow::WaterHeightName());
   in.Water->SetNumberOfValues(n);
