@@ -278,6 +278,13 @@ struct ViewerSession::Internals
     return changed;
   }
 
+  /// The brush rate, clamped to what vtkTerroirInfiltration accepts (mm/h).
+  float BrushRate() const
+  {
+    return static_cast<float>(
+      std::max(0.0, std::min(vtkTerroirInfiltration::GetMaximumRate(), this->Params.BrushRate)));
+  }
+
   /// 1 where the cell has data (finite elevation, valid mask); set by SetTerrain.
   std::vector<unsigned char> DataCells;
   bool HasData(vtkIdType k) const { return this->DataCells[static_cast<std::size_t>(k)] != 0; }
@@ -1042,7 +1049,7 @@ int ViewerSession::PaintInfiltrationAlong(double i0, double j0, double i1, doubl
   int dims[3];
   in.Terrain->GetDimensions(dims);
   const double r = std::max(0.0, std::min(1000.0, in.Params.BrushRadius));
-  const float rate = static_cast<float>(std::max(0.0, std::min(1000.0, in.Params.BrushRate)));
+  const float rate = in.BrushRate();
   // Every cell within r of the segment (a capsule), clipped to the grid.
   const double di = i1 - i0, dj = j1 - j0;
   const double length2 = di * di + dj * dj;
@@ -1087,7 +1094,7 @@ long long ViewerSession::FillInfiltration()
     this->EndStroke();
   }
   std::vector<float> before = Internals::CopyOf(in.Infiltration);
-  const float rate = static_cast<float>(std::max(0.0, std::min(1000.0, in.Params.BrushRate)));
+  const float rate = in.BrushRate();
   float* values = in.Infiltration->GetPointer(0);
   for (vtkIdType k = 0; k < in.Infiltration->GetNumberOfValues(); ++k)
   {

@@ -105,18 +105,19 @@ const char* const ButtonLabels[] = { "Navigate",
   "Water flow",
   "Undo",
   "Table" };
-constexpr int ButtonCount = 8;
-constexpr int ButtonColumns = 2;
+constexpr int ButtonCount = static_cast<int>(sizeof(ButtonLabels) / sizeof(ButtonLabels[0]));
 
-/// A grid cell of `rows` x `columns` in normalised viewport coordinates: x0, y0, x1, y1 (row 0
-/// at the top), with a margin.
-void GridCell(int row, int column, int rows, int columns, double top, double cell[4])
+/// Button k's rectangle in the button pane's normalised viewport coordinates (x0, y0, x1, y1):
+/// a grid of two columns, row 0 at the top, with margins.
+void ButtonCell(int k, double cell[4])
 {
+  const int columns = 2;
+  const int rows = (ButtonCount + columns - 1) / columns;
   const double w = 0.92 / columns;
-  const double h = top / rows;
-  cell[0] = 0.04 + column * w;
+  const double h = 0.98 / rows;
+  cell[0] = 0.04 + (k % columns) * w;
   cell[2] = cell[0] + w - 0.04;
-  cell[3] = top - row * h;
+  cell[3] = 0.98 - (k / columns) * h;
   cell[1] = cell[3] - 0.82 * h;
 }
 
@@ -592,14 +593,12 @@ void ViewerWindow::SetQuad(vtkPolyData* quads,
 void ViewerWindow::BuildButtons(int font)
 {
   // A 2 x 4 grid of buttons under the overlay list; a click inside a cell presses it.
+  // UpdateButtons (from UpdateTexts) draws the rectangles, the current tool's in blue.
   this->ButtonPane->AddActor2D(MakeQuads(this->ButtonQuads));
-  const int rows = ButtonCount / ButtonColumns;
   for (int k = 0; k < ButtonCount; ++k)
   {
     double cell[4];
-    GridCell(k / ButtonColumns, k % ButtonColumns, rows, ButtonColumns, 0.98, cell);
-    const double grey[3] = { 0.8, 0.8, 0.82 };
-    SetQuad(this->ButtonQuads, k, cell, grey);
+    ButtonCell(k, cell);
     auto label = vtkSmartPointer<vtkTextActor>::New();
     label->SetInput(ButtonLabels[k]);
     vtkTextProperty* tp = label->GetTextProperty();
@@ -617,7 +616,6 @@ void ViewerWindow::BuildButtons(int font)
 void ViewerWindow::UpdateButtons()
 {
   // The current tool's button is blue, as the current overlay; Table is blue while shown.
-  const int rows = ButtonCount / ButtonColumns;
   const bool tableShown = this->TablePane->GetDraw() != 0;
   for (int k = 0; k < ButtonCount; ++k)
   {
@@ -625,7 +623,7 @@ void ViewerWindow::UpdateButtons()
       (k == 1 && this->CurrentTool == Tool::Lake) || (k == 2 && this->CurrentTool == Tool::Brush) ||
       (k == 7 && tableShown);
     double cell[4];
-    GridCell(k / ButtonColumns, k % ButtonColumns, rows, ButtonColumns, 0.98, cell);
+    ButtonCell(k, cell);
     const double grey[3] = { 0.8, 0.8, 0.82 };
     const double blue[3] = { 0.62, 0.74, 0.95 };
     SetQuad(this->ButtonQuads, k, cell, on ? blue : grey);
@@ -1420,11 +1418,10 @@ void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
     }
     else if (ToViewport(this->ButtonPane, size, x, y, u, v))
     {
-      const int rows = ButtonCount / ButtonColumns;
       for (int k = 0; k < ButtonCount; ++k)
       {
         double cell[4];
-        GridCell(k / ButtonColumns, k % ButtonColumns, rows, ButtonColumns, 0.98, cell);
+        ButtonCell(k, cell);
         if (u >= cell[0] && u <= cell[2] && v >= cell[1] && v <= cell[3])
         {
           this->PressButton(k);
@@ -1633,9 +1630,13 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
     // A real click at the middle of the button.
     const auto& names = terroir::viewer::ViewerButtonNames();
     const int k = static_cast<int>(std::find(names.begin(), names.end(), a.Text) - names.begin());
+    if (k >= ButtonCount)
+    {
+      error = where + ": 'button': no button '" + a.Text + "' in this window";
+      return false;
+    }
     double cell[4];
-    GridCell(
-      k / ButtonColumns, k % ButtonColumns, ButtonCount / ButtonColumns, ButtonColumns, 0.98, cell);
+    ButtonCell(k, cell);
     const int* size = this->Window->GetSize();
     const double* vp = this->ButtonPane->GetViewport();
     const double u = 0.5 * (cell[0] + cell[2]), v = 0.5 * (cell[1] + cell[3]);
