@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -21,19 +23,24 @@ namespace
 /// Height given to an outlet cell that has no valid neighbour: nothing can flow onto it.
 constexpr float kUnreachable = 1.0e30f;
 
-/// Row buffers of giver states, one cell of zeros on each side so that column -1 and nx + 2
-/// (the neighbours of the border columns) read as "gives nothing".
+/// Row buffers of what the givers of one row send: per slot (column + 1; one slot of zeros on
+/// each side, so that column -1 and nx + 2, the neighbours of the border columns, read as "gives
+/// nothing") the water the giver loses (`out`, a depth in metres) and, per neighbour k in
+/// neighbour order, f_k = s c_k max(0, L - H_k) (`flow[k * width + slot]`). The gather then
+/// only adds what its eight neighbours computed for it: each difference L - H_k is formed once.
 struct GiverRow
 {
-  std::vector<double> level;
-  std::vector<double> scale;
+  std::size_t width = 0;
   std::vector<double> out;
+  std::vector<double> flow;
   void Resize(std::size_t n)
   {
-    level.assign(n, 0.0);
-    scale.assign(n, 0.0);
+    width = n;
     out.assign(n, 0.0);
+    flow.assign(kWaterFlowNeighbours * n, 0.0);
   }
+  double* Flow(int k) { return flow.data() + static_cast<std::size_t>(k) * width; }
+  const double* Flow(int k) const { return flow.data() + static_cast<std::size_t>(k) * width; }
 };
 
 // The row kernels take their arrays as restrict parameters (not in a struct): the compiler
@@ -42,22 +49,26 @@ struct GiverRow
 
 /// The giver row of padded row r (nx cells from column 1): terrain T and water W of the row,
 /// absolute heights H = T + W of the rows south, mid and north, the 8 closenesses in neighbour
-/// order; writes level, scale and out at slot = column + 1, and a negative out (never a real
-/// value) on the cells of the other cases: -1 for the "part" case (PartCellsBody), -2 for
-/// all = W exactly (left to WaterFlowEvacuation).
+/// order; writes out and the 8 flows f0 .. f7 at slot = column + 1, and a negative out (never a
+/// real value) on the cells of the other cases: -1 for the "part" case (PartCellsBody), -2 for
+/// all = W exactly (left to WaterFlowEvacuation); their flows are written as 0 here.
 // clang-format off
 #define TERROIR_GIVER_ROW_PARAMETERS                                                               \
   int nx, const float* __restrict T, const double* __restrict W, const double* __restrict hs,      \
     const double* __restrict hm, const double* __restrict hn, const double* __restrict close,      \
-    double* __restrict level, double* __restrict scale, double* __restrict out
-#define TERROIR_GIVER_ROW_ARGUMENTS nx, T, W, hs, hm, hn, close, level, scale, out
+    double* __restrict out, double* __restrict f0, double* __restrict f1, double* __restrict f2,   \
+    double* __restrict f3, double* __restrict f4, double* __restrict f5, double* __restrict f6,    \
+    double* __restrict f7
+#define TERROIR_GIVER_ROW_ARGUMENTS nx, T, W, hs, hm, hn, close, out, f0, f1, f2, f3, f4, f5, f6, f7
 // clang-format on
 
 /// The fast "none" and "all" cases of WaterFlowEvacuation for every cell of a row, as straight
 /// code (the same operations in the same order, so the same bits) that the compiler vectorises
-/// across cells; cells in the "part" case (for PartCellsBody) and at all = W exactly (for the
-/// scalar function) are flagged in `out`. (A flag array of bytes next to the float and double
-/// arrays kept GCC 12 from vectorising the loop.)
+/// across cells, and the flows s c_k max(0, L - H_k) with L = T and s = W / A (0 for none): the
+/// expression the gather used to evaluate per receiver, so the same bits as the GPU kernel.
+/// Cells in the "part" case (for PartCellsBody) and at all = W exactly (for the scalar
+/// function) are flagged in `out`. (A flag array of bytes next to the float and double arrays
+/// kept GCC 12 from vectorising the loop.)
 inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAMETERS)
 {
   const double c0 = close[0], c1 = close[1], c2 = close[2], c3 = close[3];
@@ -67,21 +78,36 @@ inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAME
     const double t = T[pi];
     const double w = W[pi];
     // Neighbour order E, NE, N, NW, W, SW, S, SE.
-    double all = c0 * std::max(0.0, t - hm[pi + 1]);
-    all += c1 * std::max(0.0, t - hn[pi + 1]);
-    all += c2 * std::max(0.0, t - hn[pi]);
-    all += c3 * std::max(0.0, t - hn[pi - 1]);
-    all += c4 * std::max(0.0, t - hm[pi - 1]);
-    all += c5 * std::max(0.0, t - hs[pi - 1]);
-    all += c6 * std::max(0.0, t - hs[pi]);
-    all += c7 * std::max(0.0, t - hs[pi + 1]);
+    const double d0 = std::max(0.0, t - hm[pi + 1]);
+    const double d1 = std::max(0.0, t - hn[pi + 1]);
+    const double d2 = std::max(0.0, t - hn[pi]);
+    const double d3 = std::max(0.0, t - hn[pi - 1]);
+    const double d4 = std::max(0.0, t - hm[pi - 1]);
+    const double d5 = std::max(0.0, t - hs[pi - 1]);
+    const double d6 = std::max(0.0, t - hs[pi]);
+    const double d7 = std::max(0.0, t - hs[pi + 1]);
+    double all = c0 * d0;
+    all += c1 * d1;
+    all += c2 * d2;
+    all += c3 * d3;
+    all += c4 * d4;
+    all += c5 * d5;
+    all += c6 * d6;
+    all += c7 * d7;
     const double share = w / all;
     const bool wet = w > 0.0;
     const bool fast = wet & (all >= w) & (share < 1.0); // no branches: selects only
-    level[pi + 1] = fast ? t : 0.0;
-    scale[pi + 1] = fast ? share : 0.0;
+    const double scale = fast ? share : 0.0;
     // Flags for the other cases: -1 part (all < W), -2 all with share exactly 1.
     out[pi + 1] = fast ? w : (wet ? (all < w ? -1.0 : -2.0) : 0.0);
+    f0[pi + 1] = scale * c0 * d0;
+    f1[pi + 1] = scale * c1 * d1;
+    f2[pi + 1] = scale * c2 * d2;
+    f3[pi + 1] = scale * c3 * d3;
+    f4[pi + 1] = scale * c4 * d4;
+    f5[pi + 1] = scale * c5 * d5;
+    f6[pi + 1] = scale * c6 * d6;
+    f7[pi + 1] = scale * c7 * d7;
   }
 }
 
@@ -90,21 +116,21 @@ inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAME
 /// height and its 8 neighbours' into a structure of arrays (hc[i], H[k * m + i], k in neighbour
 /// order), applies the same receiver set, the same additions and subtractions in the same order
 /// and the same divisions as the scalar function, written as selects so that the compiler
-/// vectorises across cells, and writes level, scale and out back into the giver row at slot
-/// column + 1. Each pass drops, in every cell at once, the receivers at or above the cell's
-/// current level; passes stop when no cell changed (at most 8 can change, one receiver at least
-/// each time). Scratch: hc, H, level, out, num, den, lowest, changed, scale.
+/// vectorises across cells, and writes out and the 8 flows back into the giver row at slot
+/// column + 1 (rowFlow[k * width + slot]). Each pass drops, in every cell at once, the receivers at
+/// or above the cell's current level; passes stop when no cell changed (at most 8 can change, one
+/// receiver at least each time). Scratch: hc, H, level, num, den, lowest, changed, scale.
 // clang-format off
 #define TERROIR_PART_CELLS_PARAMETERS                                                              \
   int m, const int* __restrict column, const double* __restrict hs, const double* __restrict hm,   \
     const double* __restrict hn, double* __restrict hc, double* __restrict H,                      \
-    const double* __restrict close, double* __restrict level, double* __restrict out,              \
-    double* __restrict num, double* __restrict den, double* __restrict lowest,                     \
-    double* __restrict changed, double* __restrict scale, double* __restrict rowLevel,             \
-    double* __restrict rowScale, double* __restrict rowOut
+    const double* __restrict close, double* __restrict level, double* __restrict num,              \
+    double* __restrict den, double* __restrict lowest, double* __restrict changed,                 \
+    double* __restrict scale, std::size_t width, double* __restrict rowOut,                        \
+    double* __restrict rowFlow
 #define TERROIR_PART_CELLS_ARGUMENTS                                                               \
-  m, column, hs, hm, hn, hc, H, close, level, out, num, den, lowest, changed, scale, rowLevel,      \
-    rowScale, rowOut
+  m, column, hs, hm, hn, hc, H, close, level, num, den, lowest, changed, scale, width, rowOut,     \
+    rowFlow
 // clang-format on
 
 inline __attribute__((always_inline)) void PartCellsBody(TERROIR_PART_CELLS_PARAMETERS)
@@ -214,26 +240,46 @@ inline __attribute__((always_inline)) void PartCellsBody(TERROIR_PART_CELLS_PARA
     }
   }
   // What the cell gives: sum over all neighbours of c_k max(0, L - H_k) (nothing without a
-  // receiver: the level stays H_i and no neighbour is lower).
+  // receiver: the level stays H_i and no neighbour is lower), and what each neighbour gets,
+  // s c_k max(0, L - H_k), both into the giver row.
+  double* __restrict F0 = rowFlow;
+  double* __restrict F1 = rowFlow + width;
+  double* __restrict F2 = rowFlow + 2 * width;
+  double* __restrict F3 = rowFlow + 3 * width;
+  double* __restrict F4 = rowFlow + 4 * width;
+  double* __restrict F5 = rowFlow + 5 * width;
+  double* __restrict F6 = rowFlow + 6 * width;
+  double* __restrict F7 = rowFlow + 7 * width;
   for (int i = 0; i < m; ++i)
   {
     const double lv = level[i];
-    double o = c0 * std::max(0.0, lv - H0[i]);
-    o += c1 * std::max(0.0, lv - H1[i]);
-    o += c2 * std::max(0.0, lv - H2[i]);
-    o += c3 * std::max(0.0, lv - H3[i]);
-    o += c4 * std::max(0.0, lv - H4[i]);
-    o += c5 * std::max(0.0, lv - H5[i]);
-    o += c6 * std::max(0.0, lv - H6[i]);
-    o += c7 * std::max(0.0, lv - H7[i]);
-    out[i] = o;
-  }
-  for (int i = 0; i < m; ++i)
-  {
+    const double sc = scale[i];
     const int slot = column[i] + 1;
-    rowLevel[slot] = level[i];
-    rowScale[slot] = scale[i];
-    rowOut[slot] = out[i];
+    const double d0 = std::max(0.0, lv - H0[i]);
+    const double d1 = std::max(0.0, lv - H1[i]);
+    const double d2 = std::max(0.0, lv - H2[i]);
+    const double d3 = std::max(0.0, lv - H3[i]);
+    const double d4 = std::max(0.0, lv - H4[i]);
+    const double d5 = std::max(0.0, lv - H5[i]);
+    const double d6 = std::max(0.0, lv - H6[i]);
+    const double d7 = std::max(0.0, lv - H7[i]);
+    double o = c0 * d0;
+    o += c1 * d1;
+    o += c2 * d2;
+    o += c3 * d3;
+    o += c4 * d4;
+    o += c5 * d5;
+    o += c6 * d6;
+    o += c7 * d7;
+    rowOut[slot] = o;
+    F0[slot] = sc * c0 * d0;
+    F1[slot] = sc * c1 * d1;
+    F2[slot] = sc * c2 * d2;
+    F3[slot] = sc * c3 * d3;
+    F4[slot] = sc * c4 * d4;
+    F5[slot] = sc * c5 * d5;
+    F6[slot] = sc * c6 * d6;
+    F7[slot] = sc * c7 * d7;
   }
 }
 
@@ -251,43 +297,39 @@ inline __attribute__((always_inline)) void HeightsRowBody(TERROIR_HEIGHTS_ROW_PA
   }
 }
 
-/// The gather of padded row r (columns = nx + 2 cells): heights H and water W of the row, its
-/// isCell flags (`interior` false on the border rows), the giver slots of the rows south, mid
-/// and north, the closenesses towards them and the area ratios of the neighbouring rows; writes
-/// the new water and the discharge of the row, and per column what a cell gave (0 on outlets)
-/// and what an outlet received (0 on cells), for the row's sums.
+/// The gather of padded row r (columns = nx + 2 cells): water W of the row, its isCell flags
+/// (`interior` false on the border rows), the area ratios of the neighbouring rows, what the
+/// row's own givers lose (mo) and the flows towards this row of the givers in it (mE, mW: the
+/// givers west and east of a cell sending east and west) and in the rows north (nSE, nS, nSW)
+/// and south (sNE, sN, sNW), at slot = column + 1 of the giver; writes the new water and the
+/// discharge of the row, and per column what a cell gave (0 on outlets) and what an outlet
+/// received (0 on cells), for the row's sums.
 struct GatherRowConstants
 {
-  double cEW, cN, cNE, cS, cSE, fromNorth, fromSouth;
+  double fromNorth, fromSouth;
 };
 // clang-format off
 #define TERROIR_GATHER_ROW_PARAMETERS                                                              \
-  int columns, bool interior, const GatherRowConstants& k, const double* __restrict H,             \
-    const double* __restrict W, const std::uint8_t* __restrict isCell,                             \
-    const double* __restrict sl, const double* __restrict ss, const double* __restrict ml,         \
-    const double* __restrict ms, const double* __restrict mo, const double* __restrict nl,         \
-    const double* __restrict ns, double* __restrict next, double* __restrict discharge,            \
-    double* __restrict cellOut, double* __restrict outletIn
+  int columns, bool interior, const GatherRowConstants& k, const double* __restrict W,             \
+    const std::uint8_t* __restrict isCell, const double* __restrict mo,                            \
+    const double* __restrict mE, const double* __restrict mW, const double* __restrict nSE,        \
+    const double* __restrict nS, const double* __restrict nSW, const double* __restrict sNE,       \
+    const double* __restrict sN, const double* __restrict sNW, double* __restrict next,            \
+    double* __restrict discharge, double* __restrict cellOut, double* __restrict outletIn
 #define TERROIR_GATHER_ROW_ARGUMENTS                                                               \
-  columns, interior, k, H, W, isCell, sl, ss, ml, ms, mo, nl, ns, next, discharge, cellOut, outletIn
+  columns, interior, k, W, isCell, mo, mE, mW, nSE, nS, nSW, sNE, sN, sNW, next, discharge,        \
+    cellOut, outletIn
 // clang-format on
 
 inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARAMETERS)
 {
-  const double cEW = k.cEW, cN = k.cN, cNE = k.cNE, cS = k.cS, cSE = k.cSE;
   const double fromNorth = k.fromNorth, fromSouth = k.fromSouth;
-  // What a giver at slot s sends to a receiver at height h: scale * c * max(0, level - h).
-  auto sent = [](const double* lv, const double* sc, int s, double c, double h)
-  { return sc[s] * c * std::max(0.0, lv[s] - h); };
   for (int pi = 0; pi < columns; ++pi)
   {
     const int s = pi + 1; // slot of this column
-    const double h = H[pi];
-    const double inRow = sent(ml, ms, s - 1, cEW, h) + sent(ml, ms, s + 1, cEW, h);
-    const double inNorth =
-      sent(nl, ns, s - 1, cNE, h) + sent(nl, ns, s, cN, h) + sent(nl, ns, s + 1, cNE, h);
-    const double inSouth =
-      sent(sl, ss, s - 1, cSE, h) + sent(sl, ss, s, cS, h) + sent(sl, ss, s + 1, cSE, h);
+    const double inRow = mE[s - 1] + mW[s + 1];
+    const double inNorth = nSE[s - 1] + nS[s] + nSW[s + 1];
+    const double inSouth = sNE[s - 1] + sN[s] + sNW[s + 1];
     const double in = inRow + fromNorth * inNorth + fromSouth * inSouth;
     const bool cell = interior & (isCell[pi] != 0);
     const double o = mo[s];
@@ -498,10 +540,69 @@ const char* WaterFlowStopReasonName(WaterFlowStopReason reason)
   return "Unknown";
 }
 
+namespace
+{
+/// The row buffers of one block of rows: kept between iterations (in the simulation's pool)
+/// instead of allocating and zeroing them, about 0.3 MB at 1024 columns, for each block of each
+/// iteration. The giver rows' edge slots and the `zero` row are never written with anything but
+/// zero, so they stay zero.
+struct RowScratch
+{
+  explicit RowScratch(int stride)
+  {
+    const std::size_t n = static_cast<std::size_t>(stride);
+    for (auto& r : this->rows)
+    {
+      r.Resize(n + 2);
+    }
+    this->zero.Resize(n + 2);
+    for (auto& h : this->heights)
+    {
+      h.assign(n, 0.0);
+    }
+    this->cellOut.assign(n, 0.0);
+    this->outletIn.assign(n, 0.0);
+    this->partColumn.assign(n + 16, 0);
+    this->partHeights.assign(8 * n, 0.0);
+    for (auto* v : { &this->partSelf,
+           &this->partLevel,
+           &this->partNum,
+           &this->partDen,
+           &this->partLowest,
+           &this->partChanged,
+           &this->partScale })
+    {
+      v->assign(n, 0.0);
+    }
+  }
+  GiverRow rows[3];
+  GiverRow zero; // beyond the southern and northern border rows
+  std::vector<double> heights[4];
+  std::vector<double> cellOut, outletIn;
+  // The part cells of one row.
+  std::vector<int> partColumn;
+  std::vector<double> partSelf, partHeights, partLevel, partNum, partDen, partLowest, partChanged,
+    partScale;
+};
+} // namespace
+
+/// A pool of row buffers (see RowScratch) shared by the blocks of rows.
+struct WaterFlowSimulation::ScratchPool
+{
+  std::mutex mutex;
+  std::vector<std::unique_ptr<RowScratch>> free;
+};
+
+//------------------------------------------------------------------------------
+WaterFlowSimulation::~WaterFlowSimulation() = default;
+WaterFlowSimulation::WaterFlowSimulation(WaterFlowSimulation&&) noexcept = default;
+WaterFlowSimulation& WaterFlowSimulation::operator=(WaterFlowSimulation&&) noexcept = default;
+
 //------------------------------------------------------------------------------
 WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const double* waterMetres)
   : NX(terrain.nx)
   , NY(terrain.ny)
+  , Scratch(new ScratchPool)
 {
   if (NX <= 0 || NY <= 0 || !terrain.data || !waterMetres)
   {
@@ -630,14 +731,34 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
 {
   const RowKernels kernels = ChooseRowKernels();
   const int stride = NX + 2;
-  const std::size_t width = static_cast<std::size_t>(stride) + 2;
-  GiverRow rows[3];
-  GiverRow zero; // beyond the southern and northern border rows
-  for (auto& r : rows)
+  // A scratch from the pool (or a new one), given back when the block is done.
+  ScratchPool& pool = *this->Scratch;
+  std::unique_ptr<RowScratch> scratch;
   {
-    r.Resize(width);
+    std::lock_guard<std::mutex> lock(pool.mutex);
+    if (!pool.free.empty())
+    {
+      scratch = std::move(pool.free.back());
+      pool.free.pop_back();
+    }
   }
-  zero.Resize(width);
+  if (!scratch)
+  {
+    scratch.reset(new RowScratch(stride));
+  }
+  struct GiveBack
+  {
+    ScratchPool& pool;
+    std::unique_ptr<RowScratch>& s;
+    ~GiveBack()
+    {
+      std::lock_guard<std::mutex> lock(pool.mutex);
+      pool.free.push_back(std::move(s));
+    }
+  } giveBack{ pool, scratch };
+  RowScratch& sc = *scratch;
+  GiverRow* rows = sc.rows;
+  const GiverRow& zero = sc.zero;
   const float* T = this->Terrain.data();
   const double* W = this->Water.data();
   const std::uint8_t* isCell = this->IsCell.data();
@@ -648,12 +769,8 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
 
   // Absolute heights H = T + W of padded rows, computed once per row: a ring of four rows
   // (the givers of row r + 1 read rows r .. r + 2 while row r gathers).
-  std::vector<double> heights[4];
+  std::vector<double>* heights = sc.heights;
   int heightRow[4] = { -1, -1, -1, -1 };
-  for (auto& h : heights)
-  {
-    h.resize(static_cast<std::size_t>(stride));
-  }
   auto heightsOf = [&](int r) -> const double*
   {
     const int k = r & 3;
@@ -665,29 +782,25 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     }
     return heights[k].data();
   };
-  std::vector<double> cellOut(static_cast<std::size_t>(stride), 0.0);
-  std::vector<double> outletIn(static_cast<std::size_t>(stride), 0.0);
-
-  // Scratch of the part cells of one row.
-  std::vector<int> partColumn(static_cast<std::size_t>(stride) + 16);
-  std::vector<double> partSelf(static_cast<std::size_t>(stride));
-  std::vector<double> partHeights(8 * static_cast<std::size_t>(stride));
-  std::vector<double> partLevel(static_cast<std::size_t>(stride));
-  std::vector<double> partOut(static_cast<std::size_t>(stride));
-  std::vector<double> partNum(static_cast<std::size_t>(stride));
-  std::vector<double> partDen(static_cast<std::size_t>(stride));
-  std::vector<double> partLowest(static_cast<std::size_t>(stride));
-  std::vector<double> partChanged(static_cast<std::size_t>(stride));
-  std::vector<double> partScale(static_cast<std::size_t>(stride));
+  std::vector<double>& cellOut = sc.cellOut;
+  std::vector<double>& outletIn = sc.outletIn;
+  std::vector<int>& partColumn = sc.partColumn;
+  std::vector<double>& partSelf = sc.partSelf;
+  std::vector<double>& partHeights = sc.partHeights;
+  std::vector<double>& partLevel = sc.partLevel;
+  std::vector<double>& partNum = sc.partNum;
+  std::vector<double>& partDen = sc.partDen;
+  std::vector<double>& partLowest = sc.partLowest;
+  std::vector<double>& partChanged = sc.partChanged;
+  std::vector<double>& partScale = sc.partScale;
 
   // Fills `g` with the givers of padded row r (all zero on the border rows and columns).
   auto givers = [&](int r, GiverRow& g)
   {
     if (r <= 0 || r >= NY + 1)
     {
-      std::fill(g.scale.begin(), g.scale.end(), 0.0);
       std::fill(g.out.begin(), g.out.end(), 0.0);
-      std::fill(g.level.begin(), g.level.end(), 0.0);
+      std::fill(g.flow.begin(), g.flow.end(), 0.0);
       return;
     }
     const double close[8] = { CloseEW[r],
@@ -702,8 +815,22 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     const double* hs = heightsOf(r - 1);
     const double* hm = heightsOf(r);
     const double* hn = heightsOf(r + 1);
-    kernels.giver(
-      NX, T + row0, W + row0, hs, hm, hn, close, g.level.data(), g.scale.data(), g.out.data());
+    kernels.giver(NX,
+      T + row0,
+      W + row0,
+      hs,
+      hm,
+      hn,
+      close,
+      g.out.data(),
+      g.Flow(0),
+      g.Flow(1),
+      g.Flow(2),
+      g.Flow(3),
+      g.Flow(4),
+      g.Flow(5),
+      g.Flow(6),
+      g.Flow(7));
     // The part cells, gathered into a structure of arrays for the vectorised kernel; the rare
     // all = W cells through the scalar function.
     bool rare = false;
@@ -716,9 +843,11 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
           hm[pi + 1], hn[pi + 1], hn[pi], hn[pi - 1], hm[pi - 1], hs[pi - 1], hs[pi], hs[pi + 1]
         };
         const WaterFlowGiver v = WaterFlowEvacuation(T[row0 + pi], W[row0 + pi], h, close);
-        g.level[pi + 1] = v.level;
-        g.scale[pi + 1] = v.scale;
         g.out[pi + 1] = v.out;
+        for (int k = 0; k < kWaterFlowNeighbours; ++k)
+        {
+          g.Flow(k)[pi + 1] = v.scale * close[k] * std::max(0.0, v.level - h[k]);
+        }
       }
     }
     if (m == 0)
@@ -734,15 +863,14 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       partHeights.data(),
       close,
       partLevel.data(),
-      partOut.data(),
       partNum.data(),
       partDen.data(),
       partLowest.data(),
       partChanged.data(),
       partScale.data(),
-      g.level.data(),
-      g.scale.data(),
-      g.out.data());
+      g.width,
+      g.out.data(),
+      g.flow.data());
   };
 
   // Gathers padded row r (interior rows update water; outlets add to the outflow).
@@ -755,27 +883,26 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
   {
     const std::size_t row0 = rowStart(r);
     GatherRowConstants k;
-    k.cEW = CloseEW[r];
-    k.cN = CloseNS[r];
-    k.cNE = CloseDiag[r];
-    k.cS = r > 0 ? CloseNS[r - 1] : 0.0;
-    k.cSE = r > 0 ? CloseDiag[r - 1] : 0.0;
     // Volume sent from a neighbouring row becomes depth here through the area ratio.
     k.fromNorth = r + 1 < NY + 2 ? Area[r + 1] / Area[r] : 0.0;
     k.fromSouth = r > 0 ? Area[r - 1] / Area[r] : 0.0;
+    // Neighbour order E, NE, N, NW, W, SW, S, SE: a cell receives what its row's givers send
+    // east (0) and west (4), what the northern row sends south-east (7), south (6) and
+    // south-west (5), and what the southern row sends north-east (1), north (2), north-west (3).
     kernels.gather(stride,
       r >= 1 && r <= NY,
       k,
-      heightsOf(r),
       W + row0,
       isCell + row0,
-      south.level.data(),
-      south.scale.data(),
-      mid.level.data(),
-      mid.scale.data(),
       mid.out.data(),
-      north.level.data(),
-      north.scale.data(),
+      mid.Flow(0),
+      mid.Flow(4),
+      north.Flow(7),
+      north.Flow(6),
+      north.Flow(5),
+      south.Flow(1),
+      south.Flow(2),
+      south.Flow(3),
       next + row0,
       discharge + row0,
       cellOut.data(),
@@ -784,38 +911,17 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     outflow += RowSum(outletIn.data(), stride) * Area[r];
   };
 
-  // Ring of three giver rows: padded rows r - 1, r, r + 1 for interior row r = j + 1.
+  // Ring of three giver rows: padded rows r - 1, r, r + 1 for interior row r = j + 1. Each
+  // stage runs over a whole row: strips of a few hundred columns, the stages interleaved (to
+  // spread the memory traffic over the arithmetic), and software prefetches a row ahead were
+  // both slower (1024^2: 1.5 ms per iteration whole, 1.65 in strips of 512, 2.2 of 256; 1.6-1.9
+  // with the prefetches).
   int slot[3] = { 0, 1, 2 };
   givers(begin, rows[slot[0]]);
   givers(begin + 1, rows[slot[1]]);
-  // What the next row will read first from memory (terrain and water two rows further north
-  // for its heights; discharge, new water and isCell for its gather), asked for a row ahead so
-  // that the loads overlap this row's arithmetic instead of stalling the next one (1024^2:
-  // 2.8 -> 2.4 ms per iteration).
-  const std::size_t lastRow = rowStart(NY + 1);
-  auto prefetch = [&](int r)
-  {
-    const std::size_t ahead = std::min(rowStart(r + 3), lastRow);
-    const std::size_t mid = std::min(rowStart(r + 1), lastRow);
-    for (int pi = 0; pi < stride; pi += 8) // 8 doubles per 64-byte line
-    {
-      __builtin_prefetch(W + ahead + pi, 0, 3);
-      __builtin_prefetch(discharge + mid + pi, 1, 3);
-      __builtin_prefetch(next + mid + pi, 1, 3);
-    }
-    for (int pi = 0; pi < stride; pi += 16)
-    {
-      __builtin_prefetch(T + ahead + pi, 0, 3);
-    }
-    for (int pi = 0; pi < stride; pi += 64)
-    {
-      __builtin_prefetch(isCell + mid + pi, 0, 3);
-    }
-  };
   for (int j = begin; j < end; ++j)
   {
     const int r = j + 1;
-    prefetch(r);
     givers(r + 1, rows[slot[2]]);
     double moved = 0.0;
     double outflow = 0.0;

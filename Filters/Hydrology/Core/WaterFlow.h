@@ -36,8 +36,9 @@
  * drop to the giver's new level weighted by closeness.
  *
  * The new depth is W_i' = W_i - sum_k f_ik + sum_k f_ki (a gather: each cell sums what its
- * neighbours send it, computed from the neighbours' (L, s) with the same expression the giver
- * uses), so volume is conserved up to float rounding apart from what reaches an outlet.
+ * neighbours send it, each f_ki evaluated once, by the giver, with the same expression as the
+ * GPU kernel's gather), so volume is conserved up to float rounding apart from what reaches an
+ * outlet.
  * `Discharge` accumulates, per cell, the water that left it (depth times cell area, m^3, in
  * double). The cell area of row j is DxAt(j) * DyAt(j); between rows j and j + 1 the spacing is
  * the mean of the two rows' spacings, so a giver and its receiver always use the same c_ik.
@@ -47,15 +48,17 @@
  * when nothing moved, or after `maximumIterations`.
  *
  * Cost: O(n) per iteration, rows in parallel through the ParallelFor callback (each block of
- * rows computes its givers' (L, s) for its rows plus one halo row on each side, in a ring of
- * three row buffers, then gathers: 36 bytes of memory traffic per cell and iteration: terrain
- * 4, water 8 + 8, discharge 8 + 8). Each row is a few straight loops that the compiler
- * vectorises, built for SSE2, AVX2 and AVX-512 and chosen at run time (TERROIR_WATERFLOW_ISA =
- * base, avx2 or avx512 narrows the choice): absolute heights once per row; the "none" and "all"
- * cases; the "part" cases gathered into a structure of arrays and solved together in passes
- * (a neighbour still receives while it is below the cell and every earlier level); the gather;
- * the row's sums in eight fixed lanes. The same operations in the same order on every path (no
- * FMA contraction), so the same bits as WaterFlowEvacuation and the GPU kernel.
+ * rows computes what its givers lose and send, f_ik for the 8 neighbours, for its rows plus one
+ * halo row on each side, in a ring of three row buffers kept between iterations, then gathers:
+ * 36 bytes of memory traffic per cell and iteration: terrain 4, water 8 + 8, discharge 8 + 8).
+ * Each row is a few straight loops that the compiler vectorises, built for SSE2, AVX2 and
+ * AVX-512 and chosen at run time (TERROIR_WATERFLOW_ISA = base, avx2 or avx512 narrows the
+ * choice): absolute heights once per row; the "none" and "all" cases with their flows; the
+ * "part" cases gathered into a structure of arrays and solved together in passes (a neighbour
+ * still receives while it is below the cell and every earlier level); the gather, which adds
+ * the eight flows towards each cell; the row's sums in eight fixed lanes. The same operations in
+ * the same order on every path (no FMA contraction), so the same bits as WaterFlowEvacuation and
+ * the GPU kernel.
  *
  * @par Correctness
  * Testing/Unit/TestWaterFlow.cxx: the seed's three 1-D cases on worked examples; conservation on
@@ -78,6 +81,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace terroir
@@ -240,12 +244,15 @@ public:
    *         non-finite or non-positive spacing, or an empty grid
    */
   WaterFlowSimulation(const GridView<float>& terrain, const double* waterMetres);
+  ~WaterFlowSimulation();
+  WaterFlowSimulation(WaterFlowSimulation&&) noexcept;
+  WaterFlowSimulation& operator=(WaterFlowSimulation&&) noexcept;
 
   void SetParallelFor(ParallelFor parallelFor) { this->Parallel = std::move(parallelFor); }
 
   /// Rows per parallel block for `threads` threads over `rows` rows: at least 16, about four
-  /// blocks per thread (each block recomputes the giver rows on its edges and sets up its row
-  /// buffers, which at 16 rows cost a tenth of the work).
+  /// blocks per thread (each block recomputes the giver rows on its edges, and at 16 rows that
+  /// and setting up its row buffers cost a tenth of the work).
   static int BlockRows(int rows, int threads)
   {
     return std::max(16, rows / (4 * std::max(1, threads)));
@@ -313,6 +320,7 @@ public:
     WaterFlowStopReason& reason) const;
 
 private:
+  struct ScratchPool;
   void RowBlock(int begin, int end);
 
   int NX = 0;
@@ -331,6 +339,8 @@ private:
   std::vector<double> Moved;
   std::vector<double> Outflow;
   ParallelFor Parallel;
+  /// Row buffers of finished blocks, for the next blocks (RowBlock).
+  std::unique_ptr<ScratchPool> Scratch;
   long long IterationCount = 0;
   double MovedTotal = 0.0;
   double OutflowTotal = 0.0;
