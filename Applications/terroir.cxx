@@ -52,6 +52,7 @@
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirWaterFlow.h"
+#include "vtkTerroirWaterFlowGPU.h" // UseSMPTools
 
 #include "ClimateTable.h"
 #include "GridView.h"
@@ -977,13 +978,7 @@ double TimeWaterFlowKernel(vtkImageData* terrain, int repeat)
   for (int r = 0; r < repeat; ++r)
   {
     terroir::hydrology::WaterFlowSimulation sim(view, water.data());
-    sim.SetParallelFor(
-      [](int begin, int end, const std::function<void(int, int)>& body)
-      {
-        const int grain = terroir::hydrology::WaterFlowSimulation::BlockRows(
-          end - begin, vtkSMPTools::GetEstimatedNumberOfThreads());
-        vtkSMPTools::For(begin, end, grain, [&body](int b, int e) { body(b, e); });
-      });
+    terroir::hydrology::UseSMPTools(sim);
     const double t0 = terroir::app::Now();
     sim.Run(terroir::hydrology::WaterFlowStopRule{});
     const double dt = terroir::app::Now() - t0;

@@ -10,7 +10,6 @@
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
@@ -270,13 +269,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     cache.FilterTime = this->GetMTime();
   }
   hy::WaterFlowSimulation& sim = *cache.Sim;
-  sim.SetParallelFor(
-    [](int begin, int end, const std::function<void(int, int)>& body)
-    {
-      const int grain =
-        hy::WaterFlowSimulation::BlockRows(end - begin, vtkSMPTools::GetEstimatedNumberOfThreads());
-      vtkSMPTools::For(begin, end, grain, [&body](int b, int e) { body(b, e); });
-    });
+  hy::UseSMPTools(sim);
 
   // What to compute: a requested time step, or a run under the stop rules.
   vtkInformation* outInfo = this->GetOutputInformation(0);

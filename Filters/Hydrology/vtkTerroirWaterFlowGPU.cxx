@@ -3,8 +3,11 @@
 #include "vtkTerroirGPU.h"
 #include "vtkTerroirWaterFlowCS.h"
 
+#include "vtkSMPTools.h"
+
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -34,6 +37,21 @@ void CheckBufferSize(const char* what, std::size_t bytes, const gpu::Limits& lim
   }
 }
 } // namespace
+
+//------------------------------------------------------------------------------
+void UseSMPTools(WaterFlowSimulation& sim)
+{
+  sim.SetParallelFor(
+    [](int begin, int end, const std::function<void(int, int)>& body)
+    {
+      const int grain =
+        WaterFlowSimulation::BlockRows(end - begin, vtkSMPTools::GetEstimatedNumberOfThreads());
+      vtkSMPTools::For(begin,
+        end,
+        grain,
+        [&body](vtkIdType b, vtkIdType e) { body(static_cast<int>(b), static_cast<int>(e)); });
+    });
+}
 
 //------------------------------------------------------------------------------
 WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,

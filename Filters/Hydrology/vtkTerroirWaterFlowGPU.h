@@ -1,6 +1,7 @@
 /**
  * @file vtkTerroirWaterFlowGPU.h
- * @brief GPU path of the hydrostatic water flow (Shaders/WaterFlow.comp); private, not wrapped.
+ * @brief GPU path of the hydrostatic water flow (Shaders/WaterFlow.comp), and the CPU path's
+ *        threading with vtkSMPTools; private, not wrapped.
  *
  * Runs iterations of a terroir::hydrology::WaterFlowSimulation (Filters/Hydrology/Core/
  * WaterFlow.h) on the compute context: the padded terrain, water and discharge are uploaded,
@@ -26,6 +27,10 @@ namespace terroir
 {
 namespace hydrology
 {
+
+/// Runs the CPU iterations of `sim` on vtkSMPTools' threads, in blocks of
+/// WaterFlowSimulation::BlockRows rows: how the filter runs them, and what `terroir bench` times.
+VTKTERROIRFILTERSHYDROLOGY_EXPORT void UseSMPTools(WaterFlowSimulation& sim);
 
 /// What a GPU run did.
 struct WaterFlowGPUResult

@@ -363,15 +363,7 @@ TEST(TerroirWaterFlowGPU, DISABLED_Timings)
     const hy::WaterFlowStopReason reason = one.Run(rule);
     auto t1 = Clock::now();
     hy::WaterFlowSimulation smp = scene.Make();
-    smp.SetParallelFor(
-      [](int b, int e, const std::function<void(int, int)>& body)
-      {
-        vtkSMPTools::For(b,
-          e,
-          16,
-          [&body](vtkIdType rb, vtkIdType re)
-          { body(static_cast<int>(rb), static_cast<int>(re)); });
-      });
+    hy::UseSMPTools(smp);
     auto t2 = Clock::now();
     smp.Run(rule);
     auto t3 = Clock::now();

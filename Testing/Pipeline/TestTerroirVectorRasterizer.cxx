@@ -187,6 +187,24 @@ std::string Rows(const std::vector<std::string>& northFirst)
   return out;
 }
 
+/// The Mask picture of the lines or polygons in `path` rasterised onto SmallTerrain() with
+/// AllTouched on or off ("(errors) ..." when the filter reported errors); `covered` receives
+/// GetNumberOfCoveredCells().
+std::string MaskOnSmallTerrain(const std::string& path,
+  bool allTouched,
+  vtkIdType* covered = nullptr)
+{
+  vtkNew<vtkTerroirVectorRasterizer> f;
+  f->SetFileName(path.c_str());
+  f->SetAllTouched(allTouched);
+  Result r = Rasterize(f, SmallTerrain());
+  if (covered)
+  {
+    *covered = f->GetNumberOfCoveredCells();
+  }
+  return r.ErrorCount != 0 ? "(errors) " + r.Errors : Picture(r.Image, "Mask");
+}
+
 /// Counts cells where two 0/1 arrays agree; `a` is compared as (value != 0 && !NaN).
 struct Agreement
 {
@@ -302,12 +320,7 @@ TEST(TerroirVectorRasterizer, LineAlongARowCoversThatRow)
     { Feature("\"id\":1", Line({ { 500012, 4360013 }, { 500067, 4360013 } })) });
   for (bool allTouched : { false, true })
   {
-    vtkNew<vtkTerroirVectorRasterizer> f;
-    f->SetFileName(path.c_str());
-    f->SetAllTouched(allTouched);
-    Result r = Rasterize(f, SmallTerrain());
-    ASSERT_EQ(r.ErrorCount, 0) << r.Errors;
-    EXPECT_EQ(Picture(r.Image, "Mask"),
+    EXPECT_EQ(MaskOnSmallTerrain(path, allTouched),
       Rows({ "........", "........", "........", "........", ".111111.", "........" }))
       << "AllTouched " << allTouched;
   }
@@ -331,15 +344,11 @@ TEST(TerroirVectorRasterizer, LinesReachingFarBeyondTheTerrainCoverTheirCells)
           Rectangle(500001, 4360051, 500009, 4360059) + "]}") });
   for (bool allTouched : { false, true })
   {
-    vtkNew<vtkTerroirVectorRasterizer> f;
-    f->SetFileName(path.c_str());
-    f->SetAllTouched(allTouched);
-    Result r = Rasterize(f, SmallTerrain());
-    ASSERT_EQ(r.ErrorCount, 0) << r.Errors;
-    EXPECT_EQ(Picture(r.Image, "Mask"),
+    vtkIdType covered = 0;
+    EXPECT_EQ(MaskOnSmallTerrain(path, allTouched, &covered),
       Rows({ "1.....1.", "......1.", "......1.", "......1.", "11111111", "......1." }))
       << "AllTouched " << allTouched;
-    EXPECT_EQ(f->GetNumberOfCoveredCells(), 14);
+    EXPECT_EQ(covered, 14);
   }
 }
 
