@@ -1310,15 +1310,8 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   }
   catch (const CLI::CallForHelp&)
   {
-    const CLI::App* sub = nullptr;
-    for (CLI::App* s : { run, slope, temp, illum, infil, humid, flood, bench, info, fractal, view })
-    {
-      if (*s)
-      {
-        sub = s;
-      }
-    }
-    outcome.Stdout = sub ? sub->help() : app.help();
+    // CLI11 hands this to the command given, whose usage line then names the program too.
+    outcome.Stdout = app.help();
   }
   catch (const CLI::CallForAllHelp&)
   {

@@ -1,9 +1,10 @@
 // libFuzzer harness: the `terroir` command-line parser (terroir::app::ParseCommandLine) on
 // arbitrary argument lists. The input is split at NUL bytes into at most 32 arguments after
 // argv[0]. Aborts (__builtin_trap) when an invariant breaks:
-// - the parser either accepts (a known command, every number finite and inside its documented
-//   range, 12 or no monthly temperatures, a date that exists, options that fit the illumination
-//   mode, output names with a known extension), or prints
+// - the parser either accepts (one of the 15 commands, every number finite and inside its
+//   documented range, 12 or no monthly values, a date that exists, options that fit the
+//   illumination mode, output names with a known extension and no extra output named like OUT,
+//   seeds or --fill-depressions but not both, at most one source of water), or prints
 //   help (exit status 0, text, no error), or refuses with exit status 2 and one line of error;
 // - it never exits, throws or prints by itself (a throw or exit would end the fuzzer).
 #include "FuzzCheck.h"
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,26 +25,154 @@ namespace
 {
 using terroir_fuzz::Check;
 
-bool EndsWithRasterExtension(const std::string& name)
+/// `name` is longer than `ext` and ends in it, case-insensitively.
+bool EndsWith(const std::string& name, const std::string& ext)
 {
-  std::string lower = name;
-  for (char& c : lower)
+  if (name.size() <= ext.size())
   {
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return false;
   }
-  for (const std::string ext : { ".tif", ".tiff", ".vti" })
+  for (std::size_t k = 0; k < ext.size(); ++k)
   {
-    if (lower.size() > ext.size() && lower.compare(lower.size() - ext.size(), ext.size(), ext) == 0)
+    const auto a = static_cast<unsigned char>(name[name.size() - ext.size() + k]);
+    if (std::tolower(a) != std::tolower(static_cast<unsigned char>(ext[k])))
     {
-      return true;
+      return false;
     }
   }
-  return false;
+  return true;
+}
+
+bool EndsWithRasterExtension(const std::string& name)
+{
+  return EndsWith(name, ".tif") || EndsWith(name, ".tiff") || EndsWith(name, ".vti");
 }
 
 bool Within(double v, double lo, double hi)
 {
   return std::isfinite(v) && v >= lo && v <= hi;
+}
+
+/// An extra output: none, or a name other than OUT (and a raster's extension when `raster`).
+bool ExtraOutput(const std::string& name, const std::string& out, bool raster = true)
+{
+  return name.empty() || ((!raster || EndsWithRasterExtension(name)) && name != out);
+}
+
+bool AllWithin(const std::vector<double>& values, double lo, double hi)
+{
+  return std::all_of(values.begin(), values.end(), [&](double v) { return Within(v, lo, hi); });
+}
+
+void CheckSoilWater(const terroir::app::CommandLine& line)
+{
+  const auto& s = line.SoilWater;
+  Check(s.Precipitation.empty() ||
+    (s.Precipitation.size() == 12 && AllWithin(s.Precipitation, 0, 1e4)));
+  Check(s.Intensity.empty() || (s.Intensity.size() == 12 && AllWithin(s.Intensity, 0, 500)));
+  Check((s.Precipitation.empty() && s.Intensity.empty()) || s.ClimateFile.empty());
+  for (std::size_t k = 0; k < s.Precipitation.size() && k < s.Intensity.size(); ++k)
+  {
+    Check(s.Precipitation[k] == 0.0 || s.Intensity[k] > 0.0);
+  }
+  Check(s.InfiltrationInput.empty() || s.Operations.empty());
+  for (const auto& op : s.Operations)
+  {
+    if (op.Kind == "fill" || op.Kind == "paint-raster" || op.Kind == "paint-polygons")
+    {
+      Check(Within(op.Value, 0, 1000));
+    }
+    else if (op.Kind == "slope-rule")
+    {
+      Check(Within(op.Value, 0, 90));
+    }
+    else
+    {
+      Check(op.Kind == "soil-raster" || op.Kind == "soil-polygons");
+    }
+    Check((op.Kind == "fill" || op.Kind == "slope-rule") == op.File.empty());
+    Check((op.Kind == "soil-polygons") == !op.Attribute.empty());
+  }
+  if (line.Command == "humidity")
+  {
+    Check(ExtraOutput(s.WeightedOutput, line.Output) && ExtraOutput(s.StandingOutput, line.Output));
+    Check(s.WeightedOutput.empty() || s.WeightedOutput != s.StandingOutput);
+  }
+}
+
+void CheckFloodFill(const terroir::app::CommandLine& line)
+{
+  const auto& f = line.FloodFill;
+  Check(f.FillDepressions == f.Seeds.empty());
+  for (const auto& seed : f.Seeds)
+  {
+    Check(std::isfinite(seed.X) && std::isfinite(seed.Y));
+    Check(std::isnan(seed.Level) || std::isfinite(seed.Level));
+    Check(!seed.Cell ||
+      (Within(seed.X, 0, 2147483647.0) && Within(seed.Y, 0, 2147483647.0) &&
+        seed.X == std::floor(seed.X) && seed.Y == std::floor(seed.Y)));
+  }
+  Check(std::isnan(f.Level) || Within(f.Level, -20000, 20000));
+  Check(!f.FillDepressions || std::isnan(f.Level));
+  Check(Within(f.MinimumArea, 0, 1e15));
+  Check(ExtraOutput(f.IdsOutput, line.Output));
+}
+
+void CheckWaterFlow(const terroir::app::CommandLine& line)
+{
+  const auto& w = line.WaterFlow;
+  Check(Within(w.WaterMm, 0, 1e6));
+  Check(w.Month >= 0 && w.Month <= 12);
+  Check(!(w.Month > 0 && w.Annual));
+  Check(w.MaximumIterations >= 0 && w.MaximumIterations <= 100000000LL);
+  Check(Within(w.AutoStop, 0, 0.999) && Within(w.Time, 0, 1e12));
+  Check(Within(w.IterationDuration, 1e-6, 1e9));
+  Check(std::isnan(w.RiverThreshold) || Within(w.RiverThreshold, 0, 1e18));
+  if (line.Command == "waterflow")
+  {
+    Check(ExtraOutput(w.DischargeOutput, line.Output) && ExtraOutput(w.RiverOutput, line.Output));
+  }
+  for (const std::string& peer : line.Validate.Peers)
+  {
+    const std::size_t eq = peer.find('=');
+    Check(eq != std::string::npos && eq > 0 && eq + 1 < peer.size());
+  }
+}
+
+void CheckKMeans(const terroir::app::CommandLine& line)
+{
+  const auto& k = line.KMeans;
+  Check(k.Clusters >= 1 && k.Clusters <= 64);
+  Check(k.FeatureNames.size() == k.FeatureWeights.size());
+  for (std::size_t i = 0; i < k.FeatureNames.size(); ++i)
+  {
+    Check(!k.FeatureNames[i].empty() &&
+      Within(k.FeatureWeights[i], 0, std::numeric_limits<double>::max()));
+    Check(std::count(k.FeatureNames.begin(), k.FeatureNames.end(), k.FeatureNames[i]) == 1);
+  }
+  Check(k.Seeding == "diagonal" || k.Seeding == "kmeans++");
+  Check(k.Seed >= 0 && k.MaximumIterations >= 1 && Within(k.Tolerance, 0, 1e9));
+  for (const std::string* extra : { &k.Csv, &k.Json, &k.Png })
+  {
+    Check(ExtraOutput(*extra, line.Output, false));
+  }
+  Check(k.Csv.empty() || EndsWith(k.Csv, ".csv"));
+  Check(k.Json.empty() || EndsWith(k.Json, ".json"));
+  Check(k.Png.empty() || EndsWith(k.Png, ".png"));
+}
+
+void CheckView(const terroir::app::ViewSettings& v)
+{
+  Check(v.Width >= 320 && v.Width <= 7680 && v.Height >= 240 && v.Height <= 4320);
+  static const std::vector<std::string> overlays{
+    "none", "slope", "illumination", "sun-hours", "temperature", "humidity", "water", "clusters"
+  };
+  Check(std::find(overlays.begin(), overlays.end(), v.Overlay) != overlays.end());
+  Check(v.Style == "terrain" || v.Style == "first-person");
+  Check(Within(v.Sensitivity, 0.01, 100) && Within(v.MoveSpeed, 0.01, 100));
+  Check(v.Month >= 1 && v.Month <= 12 && Within(v.Hour, 0, 24));
+  Check(std::isnan(v.Orientation) || Within(v.Orientation, -360, 360));
+  Check(v.Clusters >= 1 && v.Clusters <= 64 && Within(v.LakeDepth, 0, 10000));
 }
 } // namespace
 
@@ -90,9 +220,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   const std::string& c = line.Command;
-  Check(c == "run" || c == "slope" || c == "temperature" || c == "illumination" || c == "bench" ||
-    c == "info" || c == "fractal");
+  static const std::vector<std::string> commands{ "run",
+    "slope",
+    "temperature",
+    "illumination",
+    "infiltration",
+    "humidity",
+    "floodfill",
+    "waterflow",
+    "flowacc",
+    "validate",
+    "kmeans",
+    "bench",
+    "info",
+    "fractal",
+    "view" };
+  Check(std::find(commands.begin(), commands.end(), c) != commands.end());
   Check(line.Backend == "auto" || line.Backend == "cpu" || line.Backend == "gpu");
+  Check(line.ZUnit == "auto" || line.ZUnit == "m" || line.ZUnit == "ft" || line.ZUnit == "us-ft");
   const auto& t = line.Temperature;
   Check(Within(t.Coldest, -90, 60) && Within(t.Warmest, -90, 60) && t.Coldest <= t.Warmest);
   Check(Within(t.LapseRate, 0, 20));
@@ -103,11 +248,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Check(Within(m, -90, 60));
   }
   Check(t.Monthly.empty() || t.ClimateFile.empty());
-  if (c == "slope" || c == "temperature" || c == "illumination" || c == "info")
+  const bool rasterIn = c != "run" && c != "bench" && c != "fractal" && c != "view";
+  if (rasterIn && c != "validate")
   {
     Check(!line.Input.empty());
   }
-  if (c == "slope" || c == "temperature" || c == "illumination" || c == "fractal")
+  if (rasterIn && c != "info" && c != "validate")
+  {
+    Check(EndsWithRasterExtension(line.Output));
+  }
+  if (c == "fractal")
   {
     Check(EndsWithRasterExtension(line.Output));
   }
@@ -152,6 +302,30 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     {
       Check(std::find(known.begin(), known.end(), stage) != known.end());
     }
+  }
+  if (c == "infiltration" || c == "humidity" || c == "run")
+  {
+    CheckSoilWater(line);
+  }
+  if (c == "floodfill")
+  {
+    CheckFloodFill(line);
+  }
+  if (c == "waterflow" || c == "validate")
+  {
+    CheckWaterFlow(line);
+  }
+  if (c == "flowacc")
+  {
+    Check(Within(line.FlowRiverThreshold, 0, 1e18));
+  }
+  if (c == "kmeans")
+  {
+    CheckKMeans(line);
+  }
+  if (c == "view")
+  {
+    CheckView(line.View);
   }
   if (c == "fractal")
   {

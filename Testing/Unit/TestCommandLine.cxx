@@ -131,6 +131,29 @@ TEST(TerroirCommandLineParse, HelpIsTextAndExitStatusZero)
   EXPECT_EQ(outcome.ExitCode, 0);
   EXPECT_NE(outcome.Stdout.find("--zfactor"), std::string::npos) << outcome.Stdout;
   EXPECT_EQ(outcome.Error, "");
+  // Every command's --help is its own help, not the program's.
+  for (const char* command : { "run",
+         "slope",
+         "temperature",
+         "illumination",
+         "infiltration",
+         "humidity",
+         "floodfill",
+         "waterflow",
+         "flowacc",
+         "validate",
+         "kmeans",
+         "bench",
+         "info",
+         "fractal",
+         "view" })
+  {
+    const auto help = Parse({ command, "--help" }, line);
+    EXPECT_EQ(help.ExitCode, 0) << command;
+    EXPECT_NE(help.Stdout.find(std::string("Usage: terroir ") + command + " "), std::string::npos)
+      << command << ":\n"
+      << help.Stdout;
+  }
 }
 
 TEST(TerroirCommandLineParse, NegativeOrAbsurdParametersAreRefused)
@@ -568,4 +591,154 @@ TEST(TerroirCommandLineParse, FloodFillSeeds)
     "--level applies to seeds, not to --fill-depressions");
   EXPECT_EQ(
     ErrorOf({ "floodfill", "d.tif", "l.tif", "--seed", "1,nan" }), "--seed: 'nan' is not a number");
+}
+
+TEST(TerroirCommandLineParse, WaterFlowFlowAccAndValidate)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "waterflow",
+                         "dem.tif",
+                         "w.tif",
+                         "--water",
+                         "50",
+                         "--max-iterations",
+                         "200",
+                         "--auto-stop",
+                         "0.01",
+                         "--time",
+                         "3600",
+                         "--iteration-duration",
+                         "5",
+                         "--river-threshold",
+                         "1e4",
+                         "--discharge",
+                         "q.tif",
+                         "--river",
+                         "r.vti" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Command, "waterflow");
+  const auto& w = line.WaterFlow;
+  EXPECT_EQ(w.WaterMm, 50.0);
+  EXPECT_EQ(w.MaximumIterations, 200);
+  EXPECT_EQ(w.AutoStop, 0.01);
+  EXPECT_EQ(w.Time, 3600.0);
+  EXPECT_EQ(w.IterationDuration, 5.0);
+  EXPECT_EQ(w.RiverThreshold, 1e4);
+  EXPECT_EQ(w.DischargeOutput, "q.tif");
+  EXPECT_EQ(w.RiverOutput, "r.vti");
+  EXPECT_EQ(ErrorOf({ "waterflow", "d.tif", "w.tif", "--water", "5", "--month", "3" }),
+    "--water, --month and --annual exclude each other");
+  EXPECT_EQ(ErrorOf({ "waterflow", "d.tif", "w.tif", "--discharge", "w.tif" }),
+    "'w.tif' is both OUT and an extra output");
+  EXPECT_EQ(ErrorOf({ "waterflow", "d.tif", "w.tif", "--auto-stop", "1" }),
+    "--auto-stop: 1 is outside [0, 0.999] (see terroir --help)");
+
+  outcome = Parse({ "flowacc", "dem.tif", "acc.vti", "--river-threshold", "2e5" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Command, "flowacc");
+  EXPECT_EQ(line.FlowRiverThreshold, 2e5);
+  EXPECT_EQ(ErrorOf({ "flowacc", "d.tif", "a.tif", "--river-threshold", "-1" }),
+    "--river-threshold: -1 is outside [0, 1e+18] (see terroir --help)");
+
+  // validate: the DEM may be left out (the bundled one); peers are NAME=RASTER.
+  outcome = Parse({ "validate", "--peer", "grass=g.tif", "--peer", "wbt=w.tif", "--annual" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Command, "validate");
+  EXPECT_EQ(line.Input, "");
+  EXPECT_EQ(line.Validate.Peers, (std::vector<std::string>{ "grass=g.tif", "wbt=w.tif" }));
+  EXPECT_TRUE(line.WaterFlow.Annual);
+  EXPECT_EQ(
+    ErrorOf({ "validate", "d.tif", "--peer", "grass" }), "--peer: 'grass' is not NAME=RASTER");
+  EXPECT_EQ(
+    ErrorOf({ "validate", "d.tif", "--peer", "=g.tif" }), "--peer: '=g.tif' is not NAME=RASTER");
+}
+
+TEST(TerroirCommandLineParse, KMeansFeaturesAndOutputs)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "kmeans",
+                         "terrain.vti",
+                         "zones.tif",
+                         "-k",
+                         "8",
+                         "--features",
+                         "Slope:2,Temperature",
+                         "--standardize",
+                         "--seeding",
+                         "kmeans++",
+                         "--seed",
+                         "7",
+                         "--csv",
+                         "t.CSV",
+                         "--png",
+                         "t.png" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  const auto& k = line.KMeans;
+  EXPECT_EQ(k.Clusters, 8);
+  EXPECT_EQ(k.FeatureNames, (std::vector<std::string>{ "Slope", "Temperature" }));
+  EXPECT_EQ(k.FeatureWeights, (std::vector<double>{ 2.0, 1.0 }));
+  EXPECT_TRUE(k.Standardize);
+  EXPECT_EQ(k.Seeding, "kmeans++");
+  EXPECT_EQ(k.Seed, 7);
+  EXPECT_EQ(k.Csv, "t.CSV");
+  EXPECT_EQ(k.Png, "t.png");
+  EXPECT_EQ(ErrorOf({ "kmeans", "t.vti", "z.tif", "-k", "65" }),
+    "--clusters: Value 65 not in range 1 to 64 (see terroir --help)");
+  EXPECT_EQ(ErrorOf({ "kmeans", "t.vti", "z.tif", "--features", "Slope,Slope:2" }),
+    "--features: 'Slope' is given twice");
+  EXPECT_EQ(ErrorOf({ "kmeans", "t.vti", "z.tif", "--features", "Slope:-1" }),
+    "--features: 'Slope:-1' needs one weight >= 0 after the colon");
+  EXPECT_EQ(ErrorOf({ "kmeans", "t.vti", "z.tif", "--png", "z.jpg" }),
+    "--png: 'z.jpg': unknown output format (use .png) (see terroir --help)");
+}
+
+TEST(TerroirCommandLineParse, ViewOptions)
+{
+  terroir::app::CommandLine line;
+  auto outcome = Parse({ "view" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.Command, "view");
+  EXPECT_EQ(line.Input, ""); // the bundled DEM
+  EXPECT_EQ(line.View.Width, 1024);
+  EXPECT_EQ(line.View.Height, 768);
+  // A GDAL network path is the viewer's to refuse or open (--allow-network-paths), not the
+  // parser's (Testing/Fuzz/regressions/CommandLine/view-with-network-path).
+  outcome = Parse({ "view", "/vsicurl/http://x/y.tif", "--allow-network-paths" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_TRUE(line.AllowNetwork);
+  outcome = Parse({ "view",
+                    "dem.tif",
+                    "--size",
+                    "800x600",
+                    "--overlay",
+                    "water",
+                    "--style",
+                    "first-person",
+                    "--month",
+                    "3",
+                    "--hour",
+                    "14.5",
+                    "--clusters",
+                    "6",
+                    "--lake-depth",
+                    "3" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  const auto& v = line.View;
+  EXPECT_EQ(v.Width, 800);
+  EXPECT_EQ(v.Height, 600);
+  EXPECT_EQ(v.Overlay, "water");
+  EXPECT_EQ(v.Style, "first-person");
+  EXPECT_EQ(v.Month, 3);
+  EXPECT_EQ(v.Hour, 14.5);
+  EXPECT_EQ(v.Clusters, 6);
+  EXPECT_EQ(v.LakeDepth, 3.0);
+  EXPECT_EQ(
+    ErrorOf({ "view", "--size", "100x100" }), "--size: 100x100 is outside 320x240 to 7680x4320");
+  EXPECT_EQ(ErrorOf({ "view", "--size", "1024x768x" }),
+    "--size: '1024x768x' is not WIDTHxHEIGHT (e.g. 1024x768)");
+  EXPECT_EQ(
+    ErrorOf({ "view", "--hour", "25" }), "--hour: 25 is outside [0, 24] (see terroir --help)");
 }
