@@ -760,7 +760,6 @@ bool ViewerSession::Pump()
       if (!in.Preview)
       {
         in.Preview = vtkSmartPointer<vtkFloatArray>::New();
-        in.Preview->SetName(vtkTerroirWaterFlow::WaterHeightName());
       }
       in.Preview->DeepCopy(in.Frame);
       in.Preview->SetName(vtkTerroirWaterFlow::WaterHeightName());
@@ -1191,11 +1190,9 @@ ClusterTable ClusterTable::FromKMeans(vtkTable* table, int month)
     if (info->Has(vtkDataArray::UNITS_LABEL()))
     {
       const std::string units = info->Get(vtkDataArray::UNITS_LABEL());
-      // Degrees as the sign, as in the legends.
-      const std::string sign = units == "deg" ? "\xc2\xb0"
-        : units == "degC"                     ? "\xc2\xb0"
-                                                "C"
-                                              : units;
+      // Degrees as the sign, as in the legends: "deg" and "degC" become ° and °C.
+      const bool degrees = units == "deg" || units == "degC";
+      const std::string sign = degrees ? "\xc2\xb0" + units.substr(3) : units;
       title += " (" + sign + ")";
     }
     t.Columns.push_back(title);

@@ -65,8 +65,8 @@ struct ViewerParameters
   /// terrain's meridian convergence, else 0.
   double Orientation = std::numeric_limits<double>::quiet_NaN();
   int Clusters = 5; ///< K of the clusters overlay, 1..64
-  double LakeDepth =
-    5.0; ///< a click's lake level above the clicked cell (at most the spill level), m
+  /// A click's lake level above the clicked cell (at most the spill level), m.
+  double LakeDepth = 5.0;
   double BrushRadius = 5.0;     ///< cells
   double BrushRate = 0.0;       ///< mm/h painted by the brush (and set everywhere by the fill)
   double SlopeThreshold = 30.0; ///< degrees: the slope rule sets 0 mm/h on steeper cells
@@ -202,8 +202,8 @@ public:
   /// stroke is a stroke of its own. EndStroke() returns the cells the stroke changed.
   /// FillInfiltration sets BrushRate on every cell with data; ApplySlopeRule sets 0 mm/h
   /// where the slope exceeds SlopeThreshold (vtkTerroirInfiltration's slope rule, Horn's
-  /// slope); both return the cells they changed (one undo step when any) and -1 with `error`
-  /// when the filter fails.
+  /// slope); both return the cells they changed (one undo step when any), ApplySlopeRule -1
+  /// with `error` when the filter fails.
   vtkFloatArray* GetInfiltration() const;
   unsigned long GetInfiltrationVersion() const;
   void BeginStroke();

@@ -5,7 +5,7 @@
 // line, the sliders, the compass (turned by dragging it) and the cluster table; it turns keys,
 // clicks, drags and slider moves into session calls; a repeating interactor timer collects the
 // worker thread's results (water-flow frames included); and it replays --script actions as
-// real interactor events (SetEventInformationFlipY + InvokeEvent), so that scripts test the
+// real interactor events (SetEventInformation + InvokeEvent), so that scripts test the
 // interaction code.
 #include "TerroirViewerPlugin.h"
 
@@ -227,7 +227,7 @@ private:
   // ---- script ------------------------------------------------------------------------------
   bool RunAction(const ViewerAction& a, const std::string& where, bool& quit, std::string& error);
   void SendKey(const std::string& symbol, bool control, bool shift);
-  void SendClick(int x, int y);
+  void SendDrag(int x0, int y0, int x1, int y1, int steps, bool control, bool shift);
   void PrintState();
 
   ViewerSession& Session;
@@ -1179,7 +1179,7 @@ void ViewerWindow::PressButton(int k)
       this->Undo();
       break;
     case 7:
-      this->ShowTable(!(this->TablePane->GetDraw() != 0));
+      this->ShowTable(this->TablePane->GetDraw() == 0);
       if (this->TableWanted && this->Shown.Overlay != ViewerOverlay::Clusters)
       {
         this->Message = "The cluster table comes with the clusters overlay (key 7)";
@@ -1462,7 +1462,7 @@ void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
     {
       // The arrow follows the pointer about the compass centre: turning it clockwise on the
       // screen turns grid north anticlockwise from true north.
-      double turned = pointerAngle() - this->TurnStartAngle;
+      const double turned = pointerAngle() - this->TurnStartAngle;
       auto& p = this->Session.Parameters();
       p.Orientation = std::fmod(this->TurnStartOrientation - turned + 720.0, 360.0);
       this->ParametersChanged(true);
@@ -1537,15 +1537,22 @@ void ViewerWindow::SendKey(const std::string& symbol, bool control, bool shift)
   rwi->InvokeEvent(vtkCommand::KeyReleaseEvent, nullptr);
 }
 
-void ViewerWindow::SendClick(int x, int y)
+void ViewerWindow::SendDrag(int x0, int y0, int x1, int y1, int steps, bool control, bool shift)
 {
-  // Display coordinates (origin bottom left), no modifier.
+  // Display coordinates (origin bottom left): press at (x0, y0), `steps` moves to (x1, y1),
+  // release there (a click: the same point and no steps).
   vtkRenderWindowInteractor* rwi = this->Interactor;
-  rwi->SetEventInformation(x, y, 0, 0);
+  rwi->SetEventInformation(x0, y0, control, shift);
   rwi->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
-  rwi->SetEventInformation(x, y, 0, 0);
+  rwi->SetEventInformation(x0, y0, control, shift);
   rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent, nullptr);
-  rwi->SetEventInformation(x, y, 0, 0);
+  for (int k = 1; k <= steps; ++k)
+  {
+    rwi->SetEventInformation(
+      x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps, control, shift);
+    rwi->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
+  }
+  rwi->SetEventInformation(x1, y1, control, shift);
   rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent, nullptr);
 }
 
@@ -1640,8 +1647,9 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
     const int* size = this->Window->GetSize();
     const double* vp = this->ButtonPane->GetViewport();
     const double u = 0.5 * (cell[0] + cell[2]), v = 0.5 * (cell[1] + cell[3]);
-    this->SendClick(static_cast<int>((vp[0] + u * (vp[2] - vp[0])) * size[0]),
-      static_cast<int>((vp[1] + v * (vp[3] - vp[1])) * size[1]));
+    const int x = static_cast<int>((vp[0] + u * (vp[2] - vp[0])) * size[0]);
+    const int y = static_cast<int>((vp[1] + v * (vp[3] - vp[1])) * size[1]);
+    this->SendDrag(x, y, x, y, 0, false, false);
   }
   else if (a.Verb == "state")
   {
@@ -1671,23 +1679,13 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
   }
   else if (a.Verb == "click" || a.Verb == "drag")
   {
-    const int x0 = static_cast<int>(n[0]), y0 = static_cast<int>(n[1]);
-    const int x1 = a.Verb == "drag" ? static_cast<int>(n[2]) : x0;
-    const int y1 = a.Verb == "drag" ? static_cast<int>(n[3]) : y0;
-    rwi->SetEventInformationFlipY(x0, y0, a.Control, a.Shift);
-    rwi->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
-    rwi->SetEventInformationFlipY(x0, y0, a.Control, a.Shift);
-    rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent, nullptr);
-    const int steps = a.Verb == "drag" ? 10 : 0;
-    for (int k = 1; k <= steps; ++k)
-    {
-      const int x = x0 + (x1 - x0) * k / steps;
-      const int y = y0 + (y1 - y0) * k / steps;
-      rwi->SetEventInformationFlipY(x, y, a.Control, a.Shift);
-      rwi->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
-    }
-    rwi->SetEventInformationFlipY(x1, y1, a.Control, a.Shift);
-    rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent, nullptr);
+    // Script coordinates have their origin at the top left (as SetEventInformationFlipY).
+    const int top = rwi->GetSize()[1] - 1;
+    const int x0 = static_cast<int>(n[0]), y0 = top - static_cast<int>(n[1]);
+    const bool drag = a.Verb == "drag";
+    const int x1 = drag ? static_cast<int>(n[2]) : x0;
+    const int y1 = drag ? top - static_cast<int>(n[3]) : y0;
+    this->SendDrag(x0, y0, x1, y1, drag ? 10 : 0, a.Control, a.Shift);
   }
   else if (a.Verb == "wheel")
   {
