@@ -67,18 +67,20 @@ std::string Reason(vtkImageData* out)
   return a && a->GetNumberOfValues() == 1 ? a->GetValue(0) : std::string("?");
 }
 
-std::vector<double> Values(vtkImageData* out, const char* name)
+/// The first component of `a` (empty for no array).
+std::vector<double> Values(vtkDataArray* a)
 {
-  vtkDataArray* a = out->GetPointData()->GetArray(name);
   std::vector<double> v;
-  if (a)
+  for (vtkIdType k = 0; a && k < a->GetNumberOfTuples(); ++k)
   {
-    for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
-    {
-      v.push_back(a->GetComponent(k, 0));
-    }
+    v.push_back(a->GetComponent(k, 0));
   }
   return v;
+}
+
+std::vector<double> Values(vtkImageData* out, const char* name)
+{
+  return Values(out->GetPointData()->GetArray(name));
 }
 
 TEST(TerroirWaterFlow, ArraysUnitsDefaults)
@@ -263,12 +265,7 @@ struct Watcher
     self->Iterations.push_back(*static_cast<vtkIdType*>(callData));
     vtkNew<vtkFloatArray> state;
     EXPECT_TRUE(self->Filter->GetCurrentWaterHeight(state));
-    std::vector<double> v;
-    for (vtkIdType k = 0; k < state->GetNumberOfTuples(); ++k)
-    {
-      v.push_back(state->GetValue(k));
-    }
-    self->States.push_back(v);
+    self->States.push_back(Values(state));
   }
 };
 
@@ -315,12 +312,7 @@ TEST(TerroirWaterFlow, IterationEventsShowTheStateAsTheRunGoesOn)
   // After the update the current state is the output.
   vtkNew<vtkFloatArray> now;
   ASSERT_TRUE(f->GetCurrentWaterHeight(now));
-  std::vector<double> current;
-  for (vtkIdType k = 0; k < now->GetNumberOfTuples(); ++k)
-  {
-    current.push_back(now->GetValue(k));
-  }
-  EXPECT_EQ(current, Values(watched, "WaterHeight"));
+  EXPECT_EQ(Values(now), Values(watched, "WaterHeight"));
   // Setting the interval keeps the cache (it does not change the result): the stop's
   // iteration is served from it, no iteration is computed again.
   f->SetIterationEventInterval(0);
