@@ -13,7 +13,8 @@ target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore)
 target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 
-add_executable(terroir terroir.cxx TerroirApp.cxx TerroirApp.h TerroirOverlayPlugin.h
+add_executable(terroir terroir.cxx TerroirApp.cxx TerroirAppCore.cxx TerroirApp.h
+  TerroirBench.cxx TerroirBench.h TerroirOverlayPlugin.h
   TerroirWaterCommands.cxx TerroirWaterCommands.h TerroirFlowCommands.cxx TerroirFlowCommands.h
   TerroirClusterCommands.cxx TerroirClusterCommands.h)
 target_compile_definitions(terroir PRIVATE

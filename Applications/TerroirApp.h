@@ -19,6 +19,14 @@ namespace terroir
 {
 namespace app
 {
+struct CommandLine;
+}
+}
+
+namespace terroir
+{
+namespace app
+{
 
 /// A failure reported to the user as one line ("terroir: error: <what>") and exit code 1.
 class Failure : public std::runtime_error
@@ -30,6 +38,11 @@ public:
 /// Routes VTK's error and warning text to one clean line each (no file/line/object
 /// address), remembers the last error, and silences VTK's INFO log unless verbose.
 void InstallQuietOutput(bool verbose);
+/// What every `terroir`-style program does first: parses the command line into `line`, checks
+/// TERROIR_MEMORY_LIMIT, installs quiet output and the signal cleanup. Returns -1 when the
+/// command is to run, else the exit code (help and version printed, or a one-line error
+/// "<program>: error: ..." on stderr).
+int StartCommandLine(int argc, const char* const* argv, CommandLine& line, const char* program);
 /// The last error VTK reported since the previous call (then cleared).
 std::string TakeLastVTKError();
 

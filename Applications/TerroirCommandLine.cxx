@@ -818,7 +818,13 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   };
   auto addCommon = [&](CLI::App* sub)
   {
-    sub->add_option("--backend", line.Backend, "auto, cpu or gpu (TERROIR_BACKEND overrides auto)")
+    sub
+      ->add_option("--backend",
+        line.Backend,
+        "auto, cpu or gpu (TERROIR_BACKEND overrides auto). auto runs a stage on the GPU only "
+        "where its GPU path is recorded as verified, correct and faster than the CPU, on this "
+        "kind of GPU (Documentation/Compute.md; no GPU has such a record yet, so auto means "
+        "the CPU); gpu forces the GPU path")
       ->check(CLI::IsMember({ "auto", "cpu", "gpu" }))
       ->capture_default_str();
     sub->add_flag("--overwrite", line.Overwrite, "Replace existing output files");
@@ -1087,6 +1093,11 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   bench->add_flag("--bandwidth",
     line.BenchBandwidth,
     "Also measure memory bandwidth and the slope, soil-humidity and water-flow kernels' share");
+  bench->add_flag("--gpu-breakdown",
+    line.BenchGPUBreakdown,
+    "Also run each GPU stage once more with GPU profiling and print where its time goes "
+    "(allocation, upload, kernels by GL timer queries, download, the rest) and the kernels' "
+    "share of the GPU's copy bandwidth");
   bench->add_option("--json", line.BenchJson, "Also write the results as JSON here");
   std::string stages;
   {

@@ -207,6 +207,7 @@ struct CommandLine
   std::vector<std::string> BenchBackends{ "cpu", "gpu" };
   std::vector<std::string> BenchStages; ///< --stages, in the order of BenchStageNames()
   bool BenchBandwidth = false;
+  bool BenchGPUBreakdown = false; ///< --gpu-breakdown
   std::string BenchJson;
 
   int FractalSize = 1024;

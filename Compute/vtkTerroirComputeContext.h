@@ -8,10 +8,11 @@
  *
  * - `CPU` and `GPU` requests are honoured; a `GPU` request without a context is an error.
  * - `Auto` becomes whatever the environment variable `TERROIR_BACKEND` says (`cpu` or `gpu`),
- *   else the GPU when a hardware context can be made and the filter has a GPU path, else the
- *   CPU. A software rasterizer (Mesa llvmpipe, softpipe, SwiftShader) is not chosen by `Auto`:
- *   measured here it runs the kernels 10-20x slower than the CPU path; tests and users reach it
- *   with `GPU` or `TERROIR_BACKEND=gpu`.
+ *   else the GPU only where the stage's GPU path is recorded as verified -- correct and faster
+ *   than its CPU path -- on the context's kind of hardware (the table of IsVerifiedFaster and
+ *   Documentation/Compute.md, "Verified GPU paths"), else the CPU. Software rasterizers
+ *   (llvmpipe) have rows there, all slower than the CPU, so `Auto` never picks them; tests and
+ *   users reach any GPU path with `GPU` or `TERROIR_BACKEND=gpu`.
  */
 #ifndef vtkTerroirComputeContext_h
 #define vtkTerroirComputeContext_h
@@ -56,6 +57,25 @@ public:
    * or TERROIR_BACKEND holds something other than cpu/gpu/auto).
    */
   static int ResolveBackend(int requested, bool hasGPUPath, std::string& reason);
+  /// The same for the stage `stage` (a filter's class name, e.g. "vtkTerroirSlope"): `Auto`
+  /// picks the GPU only where IsVerifiedFaster(stage, renderer).
+  static int ResolveBackend(int requested,
+    const std::string& stage,
+    bool hasGPUPath,
+    std::string& reason);
+
+  /**
+   * True when the table of verified GPU paths has a row for `stage` whose hardware pattern
+   * occurs in `renderer` (case-insensitive), with the GPU path correct and faster than the CPU
+   * path there. `row` (may be null) gets that row, or the best row found for the stage, in
+   * words.
+   */
+  static bool IsVerifiedFaster(const std::string& stage,
+    const std::string& renderer,
+    std::string* row = nullptr);
+  /// The table of verified GPU paths, one line per row (stage, hardware, correct, speed ratio
+  /// CPU time / GPU time, date, what ran).
+  static std::string GetVerifiedTable();
 
 protected:
   vtkTerroirComputeContext() = default;

@@ -12,7 +12,9 @@
 #include <pthread.h>
 
 #include <algorithm>
+#include <cfenv>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
@@ -24,6 +26,9 @@
 #include <sstream>
 #include <system_error>
 #include <thread>
+#if defined(__x86_64__) || defined(__i386__)
+#include <xmmintrin.h>
+#endif
 
 namespace terroir
 {
@@ -36,9 +41,26 @@ namespace
 thread_local bool tlsOnContextThread = false;
 /// The limits of the one context (written once on the worker before any job runs).
 Limits gContextLimits;
+/// Marks the global context lost (set by its constructor).
+std::function<void(const std::string&)> gMarkLost;
+
+/// The unsigned number of megabytes in environment variable `name`, or `fallback` bytes.
+std::size_t EnvMegabytes(const char* name, std::size_t fallback)
+{
+  const char* env = std::getenv(name);
+  if (!env || !*env)
+  {
+    return fallback;
+  }
+  char* end = nullptr;
+  const unsigned long long mb = std::strtoull(env, &end, 10);
+  return (end && *end == '\0') ? static_cast<std::size_t>(mb) << 20 : fallback;
+}
 
 constexpr std::chrono::seconds kCreateTimeout{ 60 };
 constexpr std::chrono::seconds kShutdownTimeout{ 10 };
+/// Budget of a job run without one (Context::Run(job)).
+constexpr double kDefaultBudgetSeconds = 600.0;
 
 std::string Hex(unsigned value)
 {
@@ -146,7 +168,9 @@ struct Context::Internals
 
   struct Task
   {
-    const std::function<void()>* Job = nullptr;
+    std::function<void()> Job;
+    std::string Stage;
+    double BudgetSeconds = 0.0;
     std::exception_ptr Error;
     bool Done = false;
   };
@@ -157,7 +181,8 @@ struct Context::Internals
   std::condition_variable DoneCv; // callers wait for task completion, start and shutdown
   State Status = State::NotStarted;
   std::string Reason;
-  std::deque<Task*> Queue;
+  std::deque<std::shared_ptr<Task>> Queue;
+  bool Lost = false; ///< a stage ran past its budget: the context is given up
   bool StopRequested = false;
   bool WorkerFinished = false;
   std::thread Worker;
@@ -174,6 +199,16 @@ struct Context::Internals
 
   void EnsureStarted();
   void Shutdown();
+  void MarkLost(const std::string& why)
+  {
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    this->Lost = true;
+    this->Status = State::Failed;
+    this->Reason = why;
+  }
+  /// Reads TERROIR_GPU_STRESS, TERROIR_GPU_TRANSFER and the cache sizes (on the worker, once the
+  /// context works).
+  static void Configure();
   static void WorkerMain(Internals* self);
 
   bool CreateGL(std::string& reason);
@@ -330,6 +365,26 @@ bool Context::Internals::ProbeGL(const char* platform, std::string& reason)
     reason = "GL on " + lim.Renderer + " reports no compute work groups";
     return false;
   }
+  // glBufferStorage (pooled buffers, persistently mapped staging): core in 4.4.
+  GLint extensions = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
+  bool bufferStorage = major > 4 || (major == 4 && minor >= 4);
+  bool nvxMemory = false;
+  for (GLint i = 0; i < extensions; ++i)
+  {
+    const GLubyte* e = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+    const std::string name = e ? reinterpret_cast<const char*>(e) : "";
+    bufferStorage = bufferStorage || name == "GL_ARB_buffer_storage";
+    nvxMemory = nvxMemory || name == "GL_NVX_gpu_memory_info";
+  }
+  lim.ImmutableStorage = bufferStorage;
+  if (nvxMemory)
+  {
+    GLint kb = 0;
+    glGetIntegerv(0x9048 /* GL_GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX */, &kb);
+    lim.DeviceMemoryBytes = static_cast<long long>(kb) * 1024;
+  }
+  detail::ClearGLErrors();
   gContextLimits = lim;
   return true;
 }
@@ -460,15 +515,124 @@ void Context::Internals::DestroyGL()
 }
 
 //------------------------------------------------------------------------------
+/// Sets the stress modes from a comma-separated list (unknown names are logged and ignored).
+static void ApplyStress(const std::string& text)
+{
+  detail::Runtime& rt = detail::State();
+  rt.FillNaN = rt.FillPattern = rt.Split = rt.Shuffle = false;
+  rt.StressText.clear();
+  std::stringstream list(Lower(text));
+  std::string mode;
+  while (std::getline(list, mode, ','))
+  {
+    mode.erase(0, mode.find_first_not_of(" \t"));
+    mode.erase(mode.find_last_not_of(" \t") + 1);
+    bool* flag = mode == "fill-nan" ? &rt.FillNaN
+      : mode == "fill-pattern"      ? &rt.FillPattern
+      : mode == "split"             ? &rt.Split
+      : mode == "shuffle"           ? &rt.Shuffle
+                                    : nullptr;
+    if (flag)
+    {
+      *flag = true;
+      rt.StressText += (rt.StressText.empty() ? "" : ",") + mode;
+    }
+    else if (!mode.empty())
+    {
+      vtkLogF(WARNING,
+        "TERROIR_GPU_STRESS: '%s' is not fill-nan, fill-pattern, split or shuffle: ignored",
+        mode.c_str());
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void Context::Internals::Configure()
+{
+  detail::Runtime& rt = detail::State();
+  std::string renderer = Lower(gContextLimits.Renderer);
+  bool software = false;
+  for (const char* name :
+    { "llvmpipe", "softpipe", "swiftshader", "swrast", "software rasterizer", "lavapipe" })
+  {
+    software = software || renderer.find(name) != std::string::npos;
+  }
+  // Measured (Documentation/Compute.md): on llvmpipe a buffer is host memory, and a mapped copy
+  // on all cores beats glBufferSubData's one-thread memcpy (the staging ring only adds a copy);
+  // on a discrete GPU the driver's glBufferSubData runs at 2-4 GB/s, a copy from pinned
+  // staging memory at bus speed.
+  rt.Method = software ? Transfer::Mapped : Transfer::Staging;
+  if (const char* env = std::getenv("TERROIR_GPU_TRANSFER"))
+  {
+    const std::string v = Lower(env);
+    if (v == "subdata")
+    {
+      rt.Method = Transfer::SubData;
+    }
+    else if (v == "staging")
+    {
+      rt.Method = Transfer::Staging;
+    }
+    else if (v == "mapped")
+    {
+      rt.Method = Transfer::Mapped;
+    }
+    else if (!v.empty())
+    {
+      vtkLogF(WARNING, "TERROIR_GPU_TRANSFER='%s' is not subdata, staging or mapped: ignored", env);
+    }
+  }
+  if (const char* env = std::getenv("TERROIR_GPU_LEGACY_BUFFERS"))
+  {
+    rt.Legacy = std::string(env) == "1";
+  }
+  if (!gContextLimits.ImmutableStorage || rt.Legacy)
+  {
+    rt.Method = Transfer::SubData;
+  }
+  if (const char* env = std::getenv("TERROIR_GPU_STRESS"))
+  {
+    ApplyStress(env);
+  }
+  // Tests: a smaller storage-block limit makes every GPU path cut its work into slices and
+  // bands as it must on a driver with a small limit (llvmpipe's is 128 MiB).
+  const std::size_t cap = EnvMegabytes("TERROIR_GPU_MAX_STORAGE_BLOCK_MB", 0);
+  if (cap > 0 &&
+    (gContextLimits.MaxShaderStorageBlockSize <= 0 ||
+      static_cast<long long>(cap) < gContextLimits.MaxShaderStorageBlockSize))
+  {
+    gContextLimits.MaxShaderStorageBlockSize = static_cast<long long>(cap);
+  }
+  const long long device = gContextLimits.DeviceMemoryBytes;
+  const std::size_t mib = std::size_t(1) << 20;
+  rt.PoolCapBytes = EnvMegabytes("TERROIR_GPU_POOL_MB",
+    device > 0 ? static_cast<std::size_t>(device / 8) : (software ? 512 : 2048) * mib);
+  rt.ResidentCapBytes = EnvMegabytes(
+    "TERROIR_GPU_CACHE_MB", device > 0 ? static_cast<std::size_t>(device / 4) : 1024 * mib);
+}
+
+//------------------------------------------------------------------------------
 void Context::Internals::WorkerMain(Internals* self)
 {
   tlsOnContextThread = true;
+  {
+    // The floating-point environment host code inside jobs must keep (the driver's libraries
+    // may change it when they load or later).
+    detail::Runtime& state = detail::State();
+    std::fegetenv(&state.HostEnv);
+    state.HostControl = detail::FloatingPointControl();
+    state.HostEnvSet = true;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   std::string reason;
   bool ok = false;
   try
   {
     ok = self->CreateGL(reason);
+    if (ok)
+    {
+      Configure();
+    }
   }
   catch (const std::exception& e)
   {
@@ -499,9 +663,10 @@ void Context::Internals::WorkerMain(Internals* self)
     return;
   }
 
+  detail::Runtime& rt = detail::State();
   for (;;)
   {
-    Task* task = nullptr;
+    std::shared_ptr<Task> task;
     {
       std::unique_lock<std::mutex> lock(self->Mutex);
       self->WorkCv.wait(lock, [self] { return self->StopRequested || !self->Queue.empty(); });
@@ -512,14 +677,29 @@ void Context::Internals::WorkerMain(Internals* self)
       task = self->Queue.front();
       self->Queue.pop_front();
     }
+    detail::RestoreHostFloatingPoint();
+    const auto t0 = detail::Clock::now();
+    rt.Stage = task->Stage;
+    rt.BudgetSeconds = task->BudgetSeconds;
+    rt.Deadline = t0 +
+      std::chrono::duration_cast<detail::Clock::duration>(
+        std::chrono::duration<double>(task->BudgetSeconds));
     try
     {
-      (*task->Job)();
+      task->Job();
+      if (rt.Profiling)
+      {
+        detail::CollectQueries();
+      }
     }
     catch (...)
     {
       task->Error = std::current_exception();
     }
+    rt.Stage.clear();
+    rt.Deadline = detail::Clock::time_point::max();
+    const double seconds = detail::Since(t0);
+    detail::Count([seconds](Stats& c) { c.JobSeconds += seconds; });
     {
       std::lock_guard<std::mutex> lock(self->Mutex);
       task->Done = true;
@@ -527,10 +707,20 @@ void Context::Internals::WorkerMain(Internals* self)
     self->DoneCv.notify_all();
   }
 
-  // Shut down on the GL thread: programs first, then the context and display.
-  self->Programs.clear();
-  glFinish();
-  self->DestroyGL();
+  // Shut down on the GL thread: programs and buffers first, then the context and display. A
+  // lost context may still run a kernel that never ends: then nothing waits for the GPU.
+  bool lost = false;
+  {
+    std::lock_guard<std::mutex> lock(self->Mutex);
+    lost = self->Lost;
+  }
+  if (!lost)
+  {
+    self->Programs.clear();
+    detail::ReleaseAll();
+    glFinish();
+    self->DestroyGL();
+  }
   {
     std::lock_guard<std::mutex> lock(self->Mutex);
     self->WorkerFinished = true;
@@ -544,6 +734,14 @@ void Context::Internals::EnsureStarted()
   std::call_once(this->StartOnce,
     [this]
     {
+      // Mesa's shader disk cache runs a queue of threads whose condition variable a child of
+      // fork() inherits mid-use: the child's exit() then hangs in Mesa's atexit handler (seen
+      // here after new shaders were compiled). Compiling a kernel takes milliseconds, so the
+      // context goes without that cache unless the user configured it.
+      if (!std::getenv("MESA_SHADER_CACHE_DISABLE") && !std::getenv("MESA_GLSL_CACHE_DISABLE"))
+      {
+        setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
+      }
       std::unique_lock<std::mutex> lock(this->Mutex);
       this->Status = State::Starting;
       try
@@ -605,6 +803,17 @@ void Context::Internals::Shutdown()
   std::unique_lock<std::mutex> lock(this->Mutex);
   if (this->Status != State::Ready || this->StopRequested)
   {
+    if (this->Lost && !this->StopRequested)
+    {
+      // A lost context's worker may be stuck in the driver: leave it, never wait at exit.
+      this->StopRequested = true;
+      this->WorkCv.notify_all();
+      lock.unlock();
+      if (this->Worker.joinable())
+      {
+        this->Worker.detach();
+      }
+    }
     return;
   }
   this->StopRequested = true;
@@ -636,6 +845,7 @@ Context::Context()
   : Impl(new Internals)
 {
   gContextForFork = this;
+  gMarkLost = [this](const std::string& why) { this->Impl->MarkLost(why); };
   static std::once_flag forkOnce;
   std::call_once(forkOnce,
     []
@@ -747,32 +957,85 @@ Limits Context::GetLimits()
 
 void Context::Run(const std::function<void()>& job)
 {
+  this->Run(std::string(), kDefaultBudgetSeconds, job);
+}
+
+void Context::Run(const std::string& stage, double budgetSeconds, const std::function<void()>& job)
+{
   if (!job)
   {
     throw Error("terroir::gpu::Context::Run: empty job");
   }
   if (tlsOnContextThread)
   {
-    job(); // re-entrant call from inside a job
+    job(); // re-entrant call from inside a job: the outer job's stage and budget apply
     return;
   }
+  if (!(budgetSeconds > 0.0))
+  {
+    budgetSeconds = kDefaultBudgetSeconds;
+  }
   this->Impl->EnsureStarted();
-  Internals::Task task;
-  task.Job = &job;
+  auto task = std::make_shared<Internals::Task>();
+  task->Job = job;
+  task->Stage = stage;
+  task->BudgetSeconds = budgetSeconds;
   {
     std::unique_lock<std::mutex> lock(this->Impl->Mutex);
     if (this->Impl->Status != Internals::State::Ready || this->Impl->StopRequested)
     {
       throw Error("GPU compute context unavailable: " + this->Impl->Reason);
     }
-    this->Impl->Queue.push_back(&task);
+    this->Impl->Queue.push_back(task);
     this->Impl->WorkCv.notify_one();
-    this->Impl->DoneCv.wait(lock, [&task] { return task.Done; });
+    // Jobs queued before this one have budgets of their own: wait for them too, then for the
+    // budget of this one and a grace period (the job normally throws at its deadline first).
+    for (;;)
+    {
+      const double grace = std::min(60.0, 5.0 + 0.5 * budgetSeconds);
+      const auto limit = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(budgetSeconds + grace));
+      if (this->Impl->DoneCv.wait_for(lock, limit, [&task] { return task->Done; }))
+      {
+        break;
+      }
+      auto queued = std::find(this->Impl->Queue.begin(), this->Impl->Queue.end(), task);
+      if (queued != this->Impl->Queue.end())
+      {
+        continue; // not started yet: an earlier job holds the worker (it has its own limit)
+      }
+      // The job started and never returned: the driver or the GPU hangs.
+      std::ostringstream msg;
+      msg << (stage.empty() ? std::string("GPU job") : stage)
+          << ": the GPU did not finish within the stage's budget of " << budgetSeconds
+          << " s (the driver does not return); the compute context is given up, so GPU stages "
+             "now run on the CPU under Auto (TERROIR_GPU_BUDGET_SCALE raises the budget of a "
+             "slow GPU)";
+      this->Impl->Lost = true;
+      this->Impl->Status = Internals::State::Failed;
+      this->Impl->Reason = msg.str();
+      throw Error(msg.str());
+    }
   }
-  if (task.Error)
+  if (task->Error)
   {
-    std::rethrow_exception(task.Error);
+    std::rethrow_exception(task->Error);
   }
+}
+
+double Context::Budget(double workUnits)
+{
+  double scale = 1.0;
+  if (const char* env = std::getenv("TERROIR_GPU_BUDGET_SCALE"))
+  {
+    char* end = nullptr;
+    const double v = std::strtod(env, &end);
+    if (end != env && v > 0.0 && std::isfinite(v))
+    {
+      scale = v;
+    }
+  }
+  return scale * (60.0 + 1e-6 * std::max(0.0, workUnits));
 }
 
 Program& Context::GetProgram(const std::string& name,
@@ -798,15 +1061,143 @@ Program& Context::GetProgram(const std::string& name,
   Internals::CachedProgram entry;
   entry.Source = source;
   entry.Prog.reset(new Program(name, source, defines)); // throws on compile/link failure
+  detail::RestoreHostFloatingPoint();
   Program& result = *entry.Prog;
   this->Impl->Programs.emplace(key, std::move(entry));
   return result;
 }
 
+void Context::WaitIdle()
+{
+  detail::RequireContextThread("terroir::gpu::Context::WaitIdle");
+  detail::WaitAll("WaitIdle");
+}
+
 void Context::Finish()
 {
-  detail::RequireContextThread("terroir::gpu::Context::Finish");
-  glFinish();
+  this->WaitIdle();
+}
+
+void Context::ClearResident()
+{
+  if (!this->IsAvailable())
+  {
+    return;
+  }
+  this->Run(
+    []
+    {
+      detail::Runtime& rt = detail::State();
+      rt.ResidentList.clear();
+      rt.ResidentBytes = 0;
+    });
+}
+
+void Context::TrimPool()
+{
+  {
+    std::lock_guard<std::mutex> lock(this->Impl->Mutex);
+    if (this->Impl->Status != Internals::State::Ready)
+    {
+      return;
+    }
+  }
+  this->Run([] { detail::TrimFree(0); });
+}
+
+std::size_t Context::PooledBytes()
+{
+  std::size_t bytes = 0;
+  if (this->IsAvailable())
+  {
+    this->Run([&bytes] { bytes = detail::State().FreeBytes; });
+  }
+  return bytes;
+}
+
+std::size_t Context::ResidentBytes()
+{
+  std::size_t bytes = 0;
+  if (this->IsAvailable())
+  {
+    this->Run([&bytes] { bytes = detail::State().ResidentBytes; });
+  }
+  return bytes;
+}
+
+Stats Context::GetStats()
+{
+  detail::Runtime& rt = detail::State();
+  std::lock_guard<std::mutex> lock(rt.CountersMutex);
+  return rt.Counters;
+}
+
+void Context::ResetStats()
+{
+  detail::Runtime& rt = detail::State();
+  std::lock_guard<std::mutex> lock(rt.CountersMutex);
+  rt.Counters = Stats();
+}
+
+void Context::SetProfiling(bool on)
+{
+  this->Impl->EnsureStarted();
+  if (this->IsAvailable())
+  {
+    this->Run([on] { detail::State().Profiling = on; });
+  }
+}
+
+bool Context::GetProfiling()
+{
+  return detail::State().Profiling;
+}
+
+void Context::SetTransfer(Transfer method)
+{
+  if (this->IsAvailable())
+  {
+    this->Run(
+      [method]
+      {
+        detail::Runtime& rt = detail::State();
+        if (rt.Method == method)
+        {
+          return;
+        }
+        // Buffers are made with the flags of their method: start afresh.
+        rt.ResidentList.clear();
+        rt.ResidentBytes = 0;
+        detail::TrimFree(0);
+        rt.Method = gContextLimits.ImmutableStorage ? method : Transfer::SubData;
+      });
+  }
+}
+
+Transfer Context::GetTransfer()
+{
+  this->Impl->EnsureStarted();
+  return detail::State().Method;
+}
+
+void Context::SetStressModes(const std::string& modes)
+{
+  if (this->IsAvailable())
+  {
+    this->Run([modes] { ApplyStress(modes); });
+  }
+}
+
+std::string Context::StressModes()
+{
+  this->Impl->EnsureStarted();
+  return detail::State().StressText;
+}
+
+bool Context::IsLost()
+{
+  std::lock_guard<std::mutex> lock(this->Impl->Mutex);
+  return this->Impl->Lost;
 }
 
 //------------------------------------------------------------------------------
@@ -876,6 +1267,56 @@ const Limits& ContextLimits()
 const char* CommonSource()
 {
   return vtkTerroirCommonGLSL;
+}
+
+Runtime& State()
+{
+  static Runtime* runtime = new Runtime; // never destroyed (used until the worker stops)
+  return *runtime;
+}
+
+void CheckDeadline(const char* what)
+{
+  const Runtime& rt = State();
+  if (Clock::now() >= rt.Deadline)
+  {
+    std::ostringstream msg;
+    msg << (rt.Stage.empty() ? std::string("GPU job") : rt.Stage)
+        << ": past the stage's time budget of " << rt.BudgetSeconds << " s (before " << what
+        << "); stopped (TERROIR_GPU_BUDGET_SCALE raises the budget of a slow GPU)";
+    throw Error(msg.str());
+  }
+}
+
+unsigned FloatingPointControl()
+{
+#if defined(__x86_64__) || defined(__i386__)
+  // MXCSR without its exception flags, and the x87 control word (precision and rounding of
+  // the x87 unit, which parts of libm use).
+  unsigned short x87 = 0;
+  __asm__ __volatile__("fnstcw %0" : "=m"(x87));
+  return (_mm_getcsr() & 0xffc0u) | (static_cast<unsigned>(x87) << 16);
+#else
+  return static_cast<unsigned>(std::fegetround());
+#endif
+}
+
+void RestoreHostFloatingPoint()
+{
+  Runtime& rt = State();
+  if (rt.HostEnvSet && FloatingPointControl() != rt.HostControl)
+  {
+    std::fesetenv(&rt.HostEnv);
+    Count([](Stats& c) { ++c.HostFloatingPointResets; });
+  }
+}
+
+void MarkLost(const std::string& reason)
+{
+  if (gMarkLost)
+  {
+    gMarkLost(reason);
+  }
 }
 } // namespace detail
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <random>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -163,6 +164,8 @@ Program::Program(const std::string& name,
     throw Error(name + ": compute program link failed\n--- driver log ---\n" + linkLog);
   }
   this->Handle = program;
+  this->GroupOffsetLocation = glGetUniformLocation(program, "terroirGroupOffset");
+  this->GroupCountLocation = glGetUniformLocation(program, "terroirGroupCount");
   detail::CheckGLError(name + ": creating the program");
 }
 
@@ -280,11 +283,197 @@ void Program::Dispatch(unsigned groupsX, unsigned groupsY, unsigned groupsZ)
   {
     return;
   }
+  detail::CheckDeadline(this->ShaderName.c_str());
+  detail::Runtime& rt = detail::State();
+  const bool profiling = rt.Profiling;
+  if (profiling)
+  {
+    detail::WaitAll(this->ShaderName.c_str());
+  }
+  const auto t0 = detail::Clock::now();
   detail::ClearGLErrors();
   glUseProgram(this->Handle);
-  glDispatchCompute(groupsX, groupsY, groupsZ);
+  // The whole grid, which TERROIR_NUM_WORKGROUPS reports, and the offset of each piece.
+  if (this->GroupCountLocation >= 0)
+  {
+    glUniform3ui(this->GroupCountLocation, groupsX, groupsY, groupsZ);
+  }
+  GLuint query = 0;
+  if (profiling)
+  {
+    glGenQueries(1, &query);
+    glBeginQuery(GL_TIME_ELAPSED, query);
+  }
+  if ((rt.Split || rt.Shuffle) && this->GroupOffsetLocation >= 0)
+  {
+    // Stress modes: up to 4 x 4 x 4 pieces; shuffled, they run in a random order (llvmpipe
+    // runs one dispatch at a time, so a kernel that needs one group to run before another, or
+    // reads the groups' output within the dispatch, gives another answer).
+    struct Piece
+    {
+      unsigned o[3];
+      unsigned n[3];
+    };
+    std::vector<Piece> pieces;
+    unsigned step[3];
+    for (int d = 0; d < 3; ++d)
+    {
+      step[d] = std::max(1u, (groups[d] + 3) / 4);
+    }
+    for (unsigned z = 0; z < groupsZ; z += step[2])
+    {
+      for (unsigned y = 0; y < groupsY; y += step[1])
+      {
+        for (unsigned x = 0; x < groupsX; x += step[0])
+        {
+          Piece p{ { x, y, z },
+            { std::min(step[0], groupsX - x),
+              std::min(step[1], groupsY - y),
+              std::min(step[2], groupsZ - z) } };
+          pieces.push_back(p);
+        }
+      }
+    }
+    if (rt.Shuffle)
+    {
+      static std::mt19937_64 rng(20261126);
+      for (std::size_t i = pieces.size(); i > 1; --i)
+      {
+        std::swap(pieces[i - 1], pieces[static_cast<std::size_t>(rng() % i)]);
+      }
+    }
+    for (const Piece& p : pieces)
+    {
+      glUniform3ui(this->GroupOffsetLocation, p.o[0], p.o[1], p.o[2]);
+      glDispatchCompute(p.n[0], p.n[1], p.n[2]);
+    }
+    glUniform3ui(this->GroupOffsetLocation, 0u, 0u, 0u);
+  }
+  else
+  {
+    if (this->GroupOffsetLocation >= 0)
+    {
+      glUniform3ui(this->GroupOffsetLocation, 0u, 0u, 0u);
+    }
+    glDispatchCompute(groupsX, groupsY, groupsZ);
+  }
+  if (profiling)
+  {
+    glEndQuery(GL_TIME_ELAPSED);
+    rt.PendingQueries.push_back(query);
+  }
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   detail::CheckGLError(this->ShaderName + ": glDispatchCompute");
+  double seconds = 0.0;
+  if (profiling)
+  {
+    detail::WaitAll(this->ShaderName.c_str());
+    seconds = detail::Since(t0);
+    detail::CollectQueries();
+  }
+  detail::Count(
+    [seconds](Stats& c)
+    {
+      ++c.Dispatches;
+      c.DispatchSeconds += seconds;
+    });
+  detail::RestoreHostFloatingPoint();
+}
+
+//------------------------------------------------------------------------------
+GridPlan PlanGrid(const Limits& limits, std::size_t perItem, std::size_t local)
+{
+  GridPlan p;
+  p.Local = std::max<std::size_t>(1, local);
+  p.MaxX =
+    limits.MaxWorkGroupCount[0] > 0 ? static_cast<std::size_t>(limits.MaxWorkGroupCount[0]) : 65535;
+  p.MaxY =
+    limits.MaxWorkGroupCount[1] > 0 ? static_cast<std::size_t>(limits.MaxWorkGroupCount[1]) : 65535;
+  // Invocation indices are 32-bit in the kernels.
+  const std::size_t invocations = std::min<std::size_t>(
+    static_cast<std::size_t>(p.MaxX) * p.MaxY * p.Local, std::size_t(0xffffffffu) - p.Local);
+  p.MaxItems = invocations / std::max<std::size_t>(1, perItem);
+  return p;
+}
+
+Groups GridPlan::For(std::size_t invocations) const
+{
+  const std::size_t groups = (invocations + this->Local - 1) / this->Local;
+  Groups g;
+  if (groups == 0)
+  {
+    g.x = 0;
+    return g;
+  }
+  const std::size_t gx = std::min(groups, this->MaxX);
+  const std::size_t gy = (groups + gx - 1) / gx;
+  if (gy > this->MaxY)
+  {
+    throw Error("dispatch of " + std::to_string(invocations) + " invocations exceeds " +
+      "GL_MAX_COMPUTE_WORK_GROUP_COUNT (" + std::to_string(this->MaxX) + " x " +
+      std::to_string(this->MaxY) + " groups of " + std::to_string(this->Local) + ")");
+  }
+  g.x = static_cast<unsigned>(gx);
+  g.y = static_cast<unsigned>(gy);
+  return g;
+}
+
+//------------------------------------------------------------------------------
+double Context::MeasureCopyBandwidth(std::size_t bytes, int repeats)
+{
+  static const char* const kCopy = R"(
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) readonly buffer Src { uint src[]; };
+layout(std430, binding = 1) writeonly buffer Dst { uint dst[]; };
+uniform uint uN;
+void main()
+{
+  uint i = TERROIR_GLOBAL_ID.y * (TERROIR_NUM_WORKGROUPS.x * 256u) + TERROIR_GLOBAL_ID.x;
+  if (i < uN)
+  {
+    dst[i] = src[i];
+  }
+}
+)";
+  const std::size_t n = std::max<std::size_t>(1, bytes / 4);
+  double best = 0.0;
+  this->Run("copy bandwidth",
+    Context::Budget(static_cast<double>(n) * (repeats + 1)),
+    [&]
+    {
+      StorageBuffer a(n * 4, Contents::Zero);
+      StorageBuffer b(n * 4, Contents::Undefined);
+      auto& prog = this->GetProgram("TerroirCopy.comp", kCopy);
+      prog.SetUInt("uN", static_cast<unsigned>(n));
+      a.Bind(0);
+      b.Bind(1);
+      const unsigned groups = static_cast<unsigned>((n + 255) / 256);
+      const unsigned gx = std::min(groups, 4096u);
+      const unsigned gy = (groups + gx - 1) / gx;
+      prog.Dispatch(gx, gy); // warm-up
+      detail::WaitAll("copy bandwidth");
+      GLuint query = 0;
+      glGenQueries(1, &query);
+      double seconds = 1e300;
+      for (int r = 0; r < std::max(1, repeats); ++r)
+      {
+        // GL's timer when it measures compute work (llvmpipe's reads nanoseconds: then the
+        // wall time of the dispatch to completion).
+        const auto t0 = detail::Clock::now();
+        glBeginQuery(GL_TIME_ELAPSED, query);
+        prog.Dispatch(gx, gy);
+        glEndQuery(GL_TIME_ELAPSED);
+        detail::WaitAll("copy bandwidth");
+        const double wall = detail::Since(t0);
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+        const double timer = static_cast<double>(ns) * 1e-9;
+        seconds = std::min(seconds, timer > 0.1 * wall ? timer : wall);
+      }
+      glDeleteQueries(1, &query);
+      best = 2.0 * static_cast<double>(n * 4) / seconds;
+    });
+  return best;
 }
 
 } // namespace gpu

@@ -58,7 +58,7 @@ shared uint sChanged;
 void main()
 {
   uint lid = gl_LocalInvocationID.x;
-  uint c0 = 8u * gl_GlobalInvocationID.x;
+  uint c0 = 8u * TERROIR_GLOBAL_ID.x;
   if (lid == 0u)
   {
     sChanged = 0u;
@@ -142,6 +142,6 @@ void main()
   barrier();
   if (lid == 0u)
   {
-    changed[uGroupOffset + gl_WorkGroupID.x] = sChanged;
+    changed[uGroupOffset + TERROIR_WORKGROUP_ID.x] = sChanged;
   }
 }

@@ -31,9 +31,14 @@
 //   1  readonly  int    labels[n]       block pass: labels 0..K-1 (KMeansAssign.comp)
 //   2  readonly  float  distances[n]    block pass: d2 of each cell to its own centre
 //   3            double partials[B*R]   block pass writes, final pass reads
-//   4            double totals[R]       final pass: read and written (running totals)
+//   4            double totals[R]       final pass: read and written (running totals);
 //                                       host layout: sums[k * F + f] = totals[f * K + k],
 //                                       counts[k] = totals[F * K + k], inertia = totals[R - 1]
+//   5            dvec4  scratch[]       block pass: MAX_K accumulators per invocation
+//                                       (invocation i's at i * MAX_K), written before read;
+//                                       a buffer, not a local array: NVIDIA's compiler (driver
+//                                       580.159.04) returned other values than those stored
+//                                       in local arrays of doubles
 // Uniforms: uint uCells (n), int uFeatures (F >= 1), int uK (1..MAX_K), uint uBlocks (B),
 // uint uBlockCells (KMeansBlockCells).
 // Defines: LOCAL_X (work group, 64 by default); MAX_K (accumulators per invocation, >= uK,
@@ -55,6 +60,7 @@ layout(std430, binding = 1) readonly buffer LabelBuffer { int labels[]; };
 layout(std430, binding = 2) readonly buffer DistanceBuffer { float distances[]; };
 layout(std430, binding = 3) buffer PartialBuffer { double partials[]; };
 layout(std430, binding = 4) buffer TotalBuffer { double totals[]; };
+layout(std430, binding = 5) buffer ScratchBuffer { dvec4 scratch[]; };
 
 uniform uint uCells;
 uniform int uFeatures;
@@ -67,7 +73,7 @@ uniform uint uBlockCells;
 void main()
 {
   uint slots = uint(uFeatures + 1) * uint(uK) + 1u;
-  uint i = gl_GlobalInvocationID.x;
+  uint i = TERROIR_GLOBAL_ID.x;
   if (i >= slots)
   {
     return;
@@ -87,7 +93,7 @@ void main()
   // Invocation i = b * groups + g: g < groups - 1 sums features 4g .. 4g + 3 (those < F), the
   // last one counts and sums the inertia.
   uint groups = (uint(uFeatures) + 3u) / 4u + 1u;
-  uint i = gl_GlobalInvocationID.x;
+  uint i = TERROIR_GLOBAL_ID.x;
   uint b = i / groups;
   if (b >= uBlocks)
   {
@@ -101,10 +107,13 @@ void main()
   uint f0 = counter ? 0u : 4u * g;
   uvec4 row = min(uvec4(f0, f0 + 1u, f0 + 2u, f0 + 3u), uvec4(uint(uFeatures) - 1u)) * uCells;
 
-  dvec4 acc[MAX_K];
-  for (int k = 0; k < MAX_K; ++k)
+  // The invocation's accumulators, one per cluster, in `scratch` (no local array of doubles:
+  // NVIDIA's compiler, driver 580.159.04, gave other values for them than the ones stored;
+  // TestGPUDataPath.DoubleIdiomsOfTheKernels).
+  uint base = i * uint(MAX_K);
+  for (int k = 0; k < uK; ++k)
   {
-    acc[k] = dvec4(0.0LF);
+    scratch[base + uint(k)] = dvec4(0.0LF);
   }
   precise double inertia = 0.0LF;
   // The accumulators of the current run of equal labels live in `run` (labels come in runs on
@@ -117,9 +126,9 @@ void main()
     int label = labels[c];
     if (label != current)
     {
-      acc[current] = run;
+      scratch[base + uint(current)] = run;
       current = label;
-      run = acc[current];
+      run = scratch[base + uint(current)];
     }
     if (counter)
     {
@@ -132,14 +141,14 @@ void main()
       run = run + dvec4(features[x.x], features[x.y], features[x.z], features[x.w]);
     }
   }
-  acc[current] = run;
+  scratch[base + uint(current)] = run;
   uint slots = uint(uFeatures + 1) * uint(uK) + 1u;
   uint record = b * slots;
   if (counter)
   {
     for (int k = 0; k < uK; ++k)
     {
-      partials[record + uint(uFeatures * uK + k)] = acc[k].x;
+      partials[record + uint(uFeatures * uK + k)] = scratch[base + uint(k)].x;
     }
     partials[record + slots - 1u] = inertia;
     return;
@@ -148,7 +157,7 @@ void main()
   {
     for (int k = 0; k < uK; ++k)
     {
-      partials[record + (f0 + q) * uint(uK) + uint(k)] = acc[k][q];
+      partials[record + (f0 + q) * uint(uK) + uint(k)] = scratch[base + uint(k)][q];
     }
   }
 }

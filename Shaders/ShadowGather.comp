@@ -35,7 +35,7 @@ uniform int uHasMask;
 
 void main()
 {
-  uvec2 ij = gl_GlobalInvocationID.xy;
+  uvec2 ij = TERROIR_GLOBAL_ID.xy;
   if (!terroirInside(ij, uvec2(uNx, uNy)))
   {
     return;
@@ -73,9 +73,7 @@ void main()
   }
   else
   {
-    precise float a = f * ta;
-    precise float b = (1.0 - f) * tb;
-    precise float sum = a + b;
+    precise float sum = f * ta + (1.0 - f) * tb;
     tangents[k] = sum;
   }
 }

@@ -1,22 +1,24 @@
-// WaterFlow.comp: one iteration of the hydrostatic water flow in two passes (a gather), plus the
-// snapshot copies the stop test needs; mirrors terroir::hydrology::WaterFlowSimulation::RowBlock
-// and WaterFlowEvacuation (Filters/Hydrology/Core/WaterFlow.{h,cxx}): the same double
-// operations in the same order (`precise`: no fused multiply-add), on the same padded
+// WaterFlow.comp: one iteration of the hydrostatic water flow in two passes (a gather); mirrors
+// terroir::hydrology::WaterFlowSimulation::RowBlock and WaterFlowEvacuation
+// (Filters/Hydrology/Core/WaterFlow.{h,cxx}): the same double operations in the same order
+// (`precise`: no fused multiply-add, no reassociation;
+// divisions correctly rounded by terroirDiv, as the CPU's,
+// where GLSL leaves double division's accuracy to the driver), on the same padded
 // (nx + 2) x (ny + 2) arrays, row 0 = the southern border row.
 // Double precision, the one exception to the float32 rule of Documentation/Shaders.md: water
 // depths are kept in double by the core, and the GPU path must stop after the same iteration.
 //
-// uPass 0  givers: for every padded cell, (level, scale, out) of WaterFlowEvacuation from its
+// Two kernels (one file), since llvmpipe runs every branch of a kernel, taken or not:
+// WATERFLOW_GIVERS  for every padded cell, (level, scale, out) of WaterFlowEvacuation from its
 //          terrain, water and its 8 neighbours' heights T + W (order E, NE, N, NW, W, SW, S, SE);
 //          zeros on the border rows and columns and on dry cells (outlets are always dry).
-// uPass 1  gather: for every padded cell, in = sum over the 8 neighbours of
+// (default) gather: for every padded cell, in = sum over the 8 neighbours of
 //          scale * c * max(0, level - H) (neighbours outside the padded array give nothing;
 //          volume from rows r +- 1 becomes depth through the area ratio); on cells (interior row,
 //          isCell) waterOut = max(0, W - out + in) and discharge += out; on outlets waterOut = 0.
 //          Each work group reduces out * area (moved) and in * area of its outlets (outflow), in
 //          a fixed tree order, into partials[2 * (uSlot * uGroups + group) + {0, 1}] (m^3).
-// uPass 2  snapshot: snapWater = waterIn, snapDischarge = discharge.
-// uPass 3  restore: waterOut = snapWater, discharge = snapDischarge.
+// (The host snapshots and restores water and discharge with buffer copies.)
 //
 // Bindings (std430; N = (nx + 2) * (ny + 2) padded cells, index r * uStride + column):
 //   0  readonly  float  terrain[N]          T, metres (border and no-data heights included)
@@ -27,20 +29,18 @@
 //                                           SE/SW (r to r-1, 0 on row 0), area ratio from the
 //                                           north A[r+1]/A[r] (0 on the last row), from the
 //                                           south A[r-1]/A[r] (0 on row 0), cell area A[r] (m^2)
-//   3  readonly  double waterIn[N]          W, metres (passes 0, 1, 2)
-//   4  writeonly double waterOut[N]         W', metres (passes 1, 3)
-//   5            double giverLevel[N]       L, metres (written by pass 0, read by pass 1)
-//   6            double giverScale[N]       s (pass 0 -> pass 1)
-//   7            double giverOut[N]         water the cell gives, metres (pass 0 -> pass 1)
-//   8            double discharge[N]        accumulated out, metres of depth
-//   9  writeonly double partials[]          2 per work group and iteration slot (pass 1)
-//  10            double snapWater[N]        passes 2 (write) and 3 (read)
-//  11            double snapDischarge[N]    passes 2 (write) and 3 (read)
-// Uniforms: int uPass; uint uStride (nx + 2), uint uRows (ny + 2), uint uCount (N),
-// uint uGroups (work groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration).
+//   3  readonly  double waterIn[N]          W, metres
+//   4  writeonly double waterOut[N]         W', metres (gather)
+//   5            double giverLevel[N]       L, metres (written by the givers, read by the gather)
+//   6            double giverScale[N]       s (givers -> gather)
+//   7            double giverOut[N]         water the cell gives, metres (givers -> gather)
+//   8            double discharge[N]        accumulated out, metres of depth (gather)
+//   9  writeonly double partials[]          2 per work group and iteration slot (gather)
+// Uniforms: uint uStride (nx + 2), uint uRows (ny + 2), uint uCount (N), uint uGroups (work
+// groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration).
 // Work group LOCAL_X (define, a power of two, 256 by default); dispatch ceil(N / LOCAL_X)
 // groups, as gx x gy when that exceeds GL_MAX_COMPUTE_WORK_GROUP_COUNT[0] (group index
-// gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x).
+// TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + TERROIR_WORKGROUP_ID.x).
 
 #ifndef LOCAL_X
 #define LOCAL_X 256
@@ -58,18 +58,17 @@ layout(std430, binding = 6) buffer ScaleBuffer { double giverScale[]; };
 layout(std430, binding = 7) buffer OutBuffer { double giverOut[]; };
 layout(std430, binding = 8) buffer DischargeBuffer { double discharge[]; };
 layout(std430, binding = 9) writeonly buffer PartialsBuffer { double partials[]; };
-layout(std430, binding = 10) buffer SnapWaterBuffer { double snapWater[]; };
-layout(std430, binding = 11) buffer SnapDischargeBuffer { double snapDischarge[]; };
 
-uniform int uPass;
 uniform uint uStride;
 uniform uint uRows;
 uniform uint uCount;
 uniform uint uGroups;
 uniform uint uSlot;
 
+#ifndef WATERFLOW_GIVERS
 shared double sMoved[LOCAL_X];
 shared double sOutflow[LOCAL_X];
+#endif
 
 // Row data slots.
 const uint kEW = 0u;
@@ -93,7 +92,28 @@ double Height(uint c)
   return h;
 }
 
-// Pass 0: WaterFlowEvacuation for padded cell c at column i, row r.
+// Neighbour k of padded cell c, in the order E, NE, N, NW, W, SW, S, SE.
+uint Neighbour(uint c, int k)
+{
+  int dx = (k == 0 || k == 1 || k == 7) ? 1 : ((k >= 3 && k <= 5) ? -1 : 0);
+  int dy = (k >= 1 && k <= 3) ? 1 : (k >= 5 ? -1 : 0);
+  return uint(int(c) + dy * int(uStride) + dx);
+}
+
+// Closeness of a cell of padded row r to its neighbour k.
+double Closeness(uint r, int k)
+{
+  return (k == 0 || k == 4) ? Row(r, kEW)
+    : (k == 1 || k == 3)    ? Row(r, kNE)
+    : k == 2                ? Row(r, kN)
+    : k == 6                ? Row(r, kS)
+                            : Row(r, kSE);
+}
+
+// Pass 0: WaterFlowEvacuation for padded cell c at column i, row r. No local arrays of doubles:
+// NVIDIA's compiler (driver 580.159.04, H200) gave other values for them than the ones stored
+// (TestGPUDataPath.DoubleIdiomsOfTheKernels); the neighbours' heights and closenesses are read
+// from the buffers where they are used.
 void Givers(uint c, uint i, uint r)
 {
   double level = 0.0LF;
@@ -106,31 +126,17 @@ void Givers(uint c, uint i, uint r)
     double t = double(terrain[c]);
     precise double h = t + water;
     level = h;
-    // Neighbours E, NE, N, NW, W, SW, S, SE and their closeness.
-    uint nb[8] = uint[8](c + 1u, c + uStride + 1u, c + uStride, c + uStride - 1u, c - 1u,
-      c - uStride - 1u, c - uStride, c - uStride + 1u);
-    double cEW = Row(r, kEW);
-    double cNE = Row(r, kNE);
-    double cN = Row(r, kN);
-    double cSE = Row(r, kSE);
-    double cS = Row(r, kS);
-    double close[8] = double[8](cEW, cNE, cN, cNE, cEW, cSE, cS, cSE);
-    double height[8];
-    for (int k = 0; k < 8; ++k)
-    {
-      height[k] = Height(nb[k]);
-    }
     precise double all = 0.0LF;
     for (int k = 0; k < 8; ++k)
     {
-      precise double drop = max(0.0LF, t - height[k]);
-      all = all + close[k] * drop;
+      precise double drop = max(0.0LF, t - Height(Neighbour(c, k)));
+      all = all + Closeness(r, k) * drop;
     }
     bool moves = true;
     if (all >= water)
     {
       level = t;
-      scale = water / all;
+      scale = terroirDiv(water, all);
     }
     else
     {
@@ -140,10 +146,11 @@ void Givers(uint c, uint i, uint r)
       uint receivers = 0u;
       for (int k = 0; k < 8; ++k)
       {
-        if (height[k] < h)
+        double hk = Height(Neighbour(c, k));
+        if (hk < h)
         {
-          num = num + close[k] * height[k];
-          den = den + close[k];
+          num = num + Closeness(r, k) * hk;
+          den = den + Closeness(r, k);
           receivers |= 1u << uint(k);
         }
       }
@@ -153,23 +160,24 @@ void Givers(uint c, uint i, uint r)
       }
       else
       {
-        double lv = num / den;
+        double lv = terroirDiv(num, den);
         for (bool changed = true; changed;)
         {
           changed = false;
           for (int k = 0; k < 8; ++k)
           {
-            if (((receivers >> uint(k)) & 1u) != 0u && height[k] >= lv)
+            double hk = Height(Neighbour(c, k));
+            if (((receivers >> uint(k)) & 1u) != 0u && hk >= lv)
             {
-              num = num - close[k] * height[k];
-              den = den - close[k];
+              num = num - Closeness(r, k) * hk;
+              den = den - Closeness(r, k);
               receivers &= ~(1u << uint(k));
               changed = true;
             }
           }
           if (changed)
           {
-            lv = num / den;
+            lv = terroirDiv(num, den);
           }
         }
         level = lv;
@@ -187,8 +195,8 @@ void Givers(uint c, uint i, uint r)
         precise double sum = 0.0LF;
         for (int k = 0; k < 8; ++k)
         {
-          precise double drop = max(0.0LF, level - height[k]);
-          sum = sum + close[k] * drop;
+          precise double drop = max(0.0LF, level - Height(Neighbour(c, k)));
+          sum = sum + Closeness(r, k) * drop;
         }
         out_ = sum;
       }
@@ -253,59 +261,53 @@ dvec2 Gather(uint c, uint i, uint r)
   return dvec2(0.0LF, outflow);
 }
 
+#ifdef WATERFLOW_GIVERS
+
 void main()
 {
-  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  uint group = TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + TERROIR_WORKGROUP_ID.x;
+  uint c = group * uint(LOCAL_X) + gl_LocalInvocationID.x;
+  if (c < uCount)
+  {
+    uint r = c / uStride;
+    Givers(c, c - r * uStride, r);
+  }
+}
+
+#else
+
+void main()
+{
+  uint group = TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + TERROIR_WORKGROUP_ID.x;
   uint lid = gl_LocalInvocationID.x;
   uint c = group * uint(LOCAL_X) + lid;
   bool live = c < uCount;
   uint r = live ? c / uStride : 0u;
   uint i = live ? c - r * uStride : 0u;
-  if (uPass == 0)
+  // Every invocation reaches the barriers, live (c < N) or not.
+  dvec2 v = live ? Gather(c, i, r) : dvec2(0.0LF);
+  sMoved[lid] = v.x;
+  sOutflow[lid] = v.y;
+  memoryBarrierShared();
+  barrier();
+  for (uint half_ = uint(LOCAL_X) / 2u; half_ > 0u; half_ >>= 1u)
   {
-    if (live)
+    if (lid < half_)
     {
-      Givers(c, i, r);
+      precise double m = sMoved[lid] + sMoved[lid + half_];
+      precise double o = sOutflow[lid] + sOutflow[lid + half_];
+      sMoved[lid] = m;
+      sOutflow[lid] = o;
     }
-  }
-  else if (uPass == 1)
-  {
-    // Every invocation reaches the barriers, live (c < N) or not.
-    dvec2 v = live ? Gather(c, i, r) : dvec2(0.0LF);
-    sMoved[lid] = v.x;
-    sOutflow[lid] = v.y;
     memoryBarrierShared();
     barrier();
-    for (uint half_ = uint(LOCAL_X) / 2u; half_ > 0u; half_ >>= 1u)
-    {
-      if (lid < half_)
-      {
-        precise double m = sMoved[lid] + sMoved[lid + half_];
-        precise double o = sOutflow[lid] + sOutflow[lid + half_];
-        sMoved[lid] = m;
-        sOutflow[lid] = o;
-      }
-      memoryBarrierShared();
-      barrier();
-    }
-    if (lid == 0u && group < uGroups)
-    {
-      uint p = 2u * (uSlot * uGroups + group);
-      partials[p] = sMoved[0];
-      partials[p + 1u] = sOutflow[0];
-    }
   }
-  else if (uPass == 2)
+  if (lid == 0u && group < uGroups)
   {
-    if (live)
-    {
-      snapWater[c] = waterIn[c];
-      snapDischarge[c] = discharge[c];
-    }
-  }
-  else if (live)
-  {
-    waterOut[c] = snapWater[c];
-    discharge[c] = snapDischarge[c];
+    uint p = 2u * (uSlot * uGroups + group);
+    partials[p] = sMoved[0];
+    partials[p + 1u] = sOutflow[0];
   }
 }
+
+#endif

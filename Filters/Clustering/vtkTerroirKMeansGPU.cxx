@@ -160,17 +160,18 @@ public:
       }
       // Labels start at -1, as the CPU engine's: the first assignment changes every label.
       chunk.labels = gpu::StorageBuffer(chunk.cells * sizeof(std::int32_t), unassigned.data());
-      chunk.distances = gpu::StorageBuffer(chunk.cells * sizeof(float));
+      chunk.distances = gpu::StorageBuffer(chunk.cells * sizeof(float), gpu::Contents::Undefined);
       this->Chunks.push_back(std::move(chunk));
     }
     staging.clear();
     staging.shrink_to_fit();
-    this->Centres =
-      gpu::StorageBuffer(static_cast<std::size_t>(KMeansMaxClusters) * f * sizeof(float));
-    this->Changed = gpu::StorageBuffer(groups * sizeof(std::uint32_t));
+    this->Centres = gpu::StorageBuffer(
+      static_cast<std::size_t>(KMeansMaxClusters) * f * sizeof(float), gpu::Contents::Undefined);
+    this->Changed = gpu::StorageBuffer(groups * sizeof(std::uint32_t), gpu::Contents::Undefined);
     this->ChangedHost.resize(groups);
-    this->Partials = gpu::StorageBuffer(plan.blocksPerChunk * plan.slots * sizeof(double));
-    this->Totals = gpu::StorageBuffer(plan.slots * sizeof(double));
+    this->Partials = gpu::StorageBuffer(
+      plan.blocksPerChunk * plan.slots * sizeof(double), gpu::Contents::Undefined);
+    this->Totals = gpu::StorageBuffer(plan.slots * sizeof(double), gpu::Contents::Undefined);
   }
 
   std::size_t Assign(const std::vector<float>& centres, int k) override
@@ -243,6 +244,11 @@ public:
     this->Totals.Clear();
     this->Partials.Bind(3);
     this->Totals.Bind(4);
+    // The block pass's accumulators (MAX_K per invocation), from the pool.
+    const std::size_t invocations = this->Plan.blocksPerChunk * SumGroups(f);
+    gpu::StorageBuffer scratch(
+      invocations * static_cast<std::size_t>(AccumulatorCount(k)) * 32, gpu::Contents::Undefined);
+    scratch.Bind(5);
     for (const Chunk& chunk : this->Chunks)
     {
       chunk.features.Bind(0);
@@ -389,7 +395,10 @@ KMeansResult RunKMeansGPU(const KMeansFeatures& features,
   auto& ctx = gpu::Context::Global();
   const ChunkPlan plan = PlanChunks(features, ctx.GetLimits(), chunkBlocks);
   KMeansResult result;
-  ctx.Run(
+  const double work = static_cast<double>(features.cells) * features.features * k *
+    std::max(1, options.maximumIterations);
+  ctx.Run("k-means",
+    gpu::Context::Budget(work),
     [&]
     {
       GPUEngine engine(features, plan);

@@ -6,7 +6,9 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -35,6 +37,86 @@ void CheckBufferSize(const char* what, std::size_t bytes, const gpu::Limits& lim
       std::to_string(limits.MaxShaderStorageBlockSize) +
       " bytes); the grid is too large for the GPU path, use the CPU backend");
   }
+}
+/// Valid-cell bytes packed four to a word, as binding 1 of the kernel reads them.
+std::vector<std::uint32_t> PackCells(const std::vector<std::uint8_t>& isCell)
+{
+  std::vector<std::uint32_t> words((isCell.size() + 3) / 4, 0u);
+  for (std::size_t c = 0; c < isCell.size(); ++c)
+  {
+    words[c / 4] |= static_cast<std::uint32_t>(isCell[c] ? 1u : 0u) << (8 * (c % 4));
+  }
+  return words;
+}
+
+/// Per padded row the closenesses, area ratios and area that RowBlock uses (the ratios divided
+/// here, in double, exactly as the core divides them).
+std::vector<double> RowData(const WaterFlowSimulation& sim)
+{
+  const std::size_t rows = static_cast<std::size_t>(sim.Ny()) + 2;
+  const std::vector<double>& closeEW = sim.ClosenessEW();
+  const std::vector<double>& closeNS = sim.ClosenessNS();
+  const std::vector<double>& closeDiag = sim.ClosenessDiagonal();
+  const std::vector<double>& area = sim.CellArea();
+  std::vector<double> rowData(kRowDoubles * rows, 0.0);
+  for (std::size_t r = 0; r < rows; ++r)
+  {
+    double* d = rowData.data() + kRowDoubles * r;
+    d[0] = closeEW[r];
+    d[1] = closeNS[r];
+    d[2] = closeDiag[r];
+    d[3] = r > 0 ? closeNS[r - 1] : 0.0;
+    d[4] = r > 0 ? closeDiag[r - 1] : 0.0;
+    d[5] = r + 1 < rows ? area[r + 1] / area[r] : 0.0;
+    d[6] = r > 0 ? area[r - 1] / area[r] : 0.0;
+    d[7] = area[r];
+  }
+  return rowData;
+}
+
+/// The moved volume of the iteration whose partial sums start at `p`.
+double Moved(const double* p, std::size_t groups)
+{
+  double moved = 0.0;
+  for (std::size_t g = 0; g < groups; ++g)
+  {
+    moved += p[2 * g];
+  }
+  return moved;
+}
+
+/**
+ * Iterations of the next block: about half of those the automatic stop is still expected to
+ * need, so that few iterations run past it (and are undone), and no more than `maxBlock`. The
+ * expectation extrapolates the block's geometric decay of the moved volume (first to last
+ * moved over `count` iterations) down to autoStopRatio times the total moved; without a decay
+ * to go by the block doubles.
+ */
+std::size_t NextBlock(std::size_t length,
+  std::size_t maxBlock,
+  std::size_t count,
+  double firstMoved,
+  double lastMoved,
+  double movedTotal,
+  double autoStopRatio)
+{
+  if (count >= 2 && firstMoved > 0.0 && lastMoved > 0.0 && lastMoved < firstMoved &&
+    autoStopRatio > 0.0)
+  {
+    const double decay = std::pow(lastMoved / firstMoved, 1.0 / static_cast<double>(count - 1));
+    const double target = autoStopRatio * movedTotal;
+    if (decay < 1.0 && target < lastMoved)
+    {
+      const double left = std::log(target / lastMoved) / std::log(decay);
+      return std::max<std::size_t>(
+        1, std::min(maxBlock, static_cast<std::size_t>(std::max(1.0, 0.5 * left))));
+    }
+    if (target >= lastMoved)
+    {
+      return 1; // the stop is due now
+    }
+  }
+  return std::min(maxBlock, 2 * length);
 }
 } // namespace
 
@@ -104,42 +186,17 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
   }
   const std::size_t dispatched = gx * gy;
 
-  // Iterations per read-back: checkEvery, or fewer when the partials would not fit one buffer.
-  std::size_t block = static_cast<std::size_t>(checkEvery);
+  // Iterations per read-back: at most checkEvery, and fewer when the partials would not fit one
+  // buffer; the length of each block adapts (NextBlock).
+  std::size_t maxBlock = static_cast<std::size_t>(checkEvery);
   const std::size_t slotBytes = dispatched * 2 * sizeof(double);
   if (limits.MaxShaderStorageBlockSize > 0)
   {
-    block = std::min(block, static_cast<std::size_t>(limits.MaxShaderStorageBlockSize) / slotBytes);
+    maxBlock =
+      std::min(maxBlock, static_cast<std::size_t>(limits.MaxShaderStorageBlockSize) / slotBytes);
   }
-  block = std::max<std::size_t>(block, 1);
-  CheckBufferSize("partial volumes", block * slotBytes, limits);
-
-  // Inputs in the kernel's layouts: valid-cell bytes packed four to a word, and per padded row
-  // the closenesses, area ratios and area that RowBlock uses (the ratios divided here, in
-  // double, exactly as the core divides them).
-  const std::vector<std::uint8_t>& isCell = sim.PaddedIsCell();
-  std::vector<std::uint32_t> cellWords((n + 3) / 4, 0u);
-  for (std::size_t c = 0; c < n; ++c)
-  {
-    cellWords[c / 4] |= static_cast<std::uint32_t>(isCell[c] ? 1u : 0u) << (8 * (c % 4));
-  }
-  const std::vector<double>& closeEW = sim.ClosenessEW();
-  const std::vector<double>& closeNS = sim.ClosenessNS();
-  const std::vector<double>& closeDiag = sim.ClosenessDiagonal();
-  const std::vector<double>& area = sim.CellArea();
-  std::vector<double> rowData(kRowDoubles * rows, 0.0);
-  for (std::size_t r = 0; r < rows; ++r)
-  {
-    double* d = rowData.data() + kRowDoubles * r;
-    d[0] = closeEW[r];
-    d[1] = closeNS[r];
-    d[2] = closeDiag[r];
-    d[3] = r > 0 ? closeNS[r - 1] : 0.0;
-    d[4] = r > 0 ? closeDiag[r - 1] : 0.0;
-    d[5] = r + 1 < rows ? area[r + 1] / area[r] : 0.0;
-    d[6] = r > 0 ? area[r - 1] / area[r] : 0.0;
-    d[7] = area[r];
-  }
+  maxBlock = std::max<std::size_t>(maxBlock, 1);
+  CheckBufferSize("partial volumes", maxBlock * slotBytes, limits);
 
   // The simulation changes only when the whole run succeeded: the iterations are kept here
   // (with the running total the stop rule needs, summed as RecordIteration sums it) and the
@@ -149,77 +206,145 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
   double movedTotal = sim.TotalMoved();
   std::vector<double> water = sim.PaddedWater();
   std::vector<double> discharge = sim.PaddedDischarge();
-  std::vector<double> partials(block * dispatched * 2);
+  std::vector<double> partials(maxBlock * dispatched * 2);
   const std::size_t cellBytes = n * sizeof(double);
+  const double work = static_cast<double>(targetIterations - iterations) * static_cast<double>(n);
 
-  ctx.Run(
+  ctx.Run("water flow",
+    gpu::Context::Budget(work),
     [&]
     {
-      gpu::StorageBuffer bTerrain(n * sizeof(float), sim.PaddedTerrain().data());
-      gpu::StorageBuffer bCell(cellWords.size() * sizeof(std::uint32_t), cellWords.data());
-      gpu::StorageBuffer bRow(rowData.size() * sizeof(double), rowData.data());
+      // The terrain and the kernel's tables never change for a simulation: resident under its
+      // id (one simulation at a time per key).
+      static const char terrainTag = 0, cellTag = 0, rowTag = 0;
+      const std::uint64_t id = sim.Id();
+      auto bTerrain = ctx.FindResident(&terrainTag, id, n * sizeof(float));
+      if (!bTerrain)
+      {
+        bTerrain = ctx.Resident(&terrainTag, id, n * sizeof(float), sim.PaddedTerrain().data());
+      }
+      auto bCell = ctx.FindResident(&cellTag, id, ((n + 3) / 4) * sizeof(std::uint32_t));
+      if (!bCell)
+      {
+        const std::vector<std::uint32_t> cellWords = PackCells(sim.PaddedIsCell());
+        bCell =
+          ctx.Resident(&cellTag, id, cellWords.size() * sizeof(std::uint32_t), cellWords.data());
+      }
+      auto bRow = ctx.FindResident(&rowTag, id, kRowDoubles * rows * sizeof(double));
+      if (!bRow)
+      {
+        const std::vector<double> rowData = RowData(sim);
+        bRow = ctx.Resident(&rowTag, id, rowData.size() * sizeof(double), rowData.data());
+      }
+      const auto undefined = gpu::Contents::Undefined;
       gpu::StorageBuffer bWater[2] = { gpu::StorageBuffer(cellBytes, water.data()),
-        gpu::StorageBuffer(cellBytes) };
-      gpu::StorageBuffer bLevel(cellBytes);
-      gpu::StorageBuffer bScale(cellBytes);
-      gpu::StorageBuffer bOut(cellBytes);
+        gpu::StorageBuffer(cellBytes, undefined) };
+      gpu::StorageBuffer bLevel(cellBytes, undefined);
+      gpu::StorageBuffer bScale(cellBytes, undefined);
+      gpu::StorageBuffer bOut(cellBytes, undefined);
       gpu::StorageBuffer bDischarge(cellBytes, discharge.data());
-      gpu::StorageBuffer bPartials(partials.size() * sizeof(double));
-      // The snapshot is only needed to undo the end of a block after a stop rule fired.
-      gpu::StorageBuffer bSnapWater(applyStopRules ? cellBytes : sizeof(double));
-      gpu::StorageBuffer bSnapDischarge(applyStopRules ? cellBytes : sizeof(double));
+      // Two blocks are in flight: each has its partial volumes and, when a stop rule may undo
+      // its end, a snapshot of the water and discharge at its start.
+      const std::size_t partialBytes = partials.size() * sizeof(double);
+      gpu::StorageBuffer bPartials[2] = { gpu::StorageBuffer(partialBytes, undefined),
+        gpu::StorageBuffer(partialBytes, undefined) };
+      const std::size_t snapBytes = applyStopRules ? cellBytes : sizeof(double);
+      gpu::StorageBuffer bSnapWater[2] = { gpu::StorageBuffer(snapBytes, undefined),
+        gpu::StorageBuffer(snapBytes, undefined) };
+      gpu::StorageBuffer bSnapDischarge[2] = { gpu::StorageBuffer(snapBytes, undefined),
+        gpu::StorageBuffer(snapBytes, undefined) };
 
-      auto& prog = ctx.GetProgram("WaterFlow.comp", vtkTerroirWaterFlowCS, { "LOCAL_X 256" });
-      prog.Use();
-      prog.SetUInt("uStride", static_cast<unsigned>(stride));
-      prog.SetUInt("uRows", static_cast<unsigned>(rows));
-      prog.SetUInt("uCount", static_cast<unsigned>(n));
-      prog.SetUInt("uGroups", static_cast<unsigned>(dispatched));
-      bTerrain.Bind(0);
-      bCell.Bind(1);
-      bRow.Bind(2);
+      auto& givers = ctx.GetProgram(
+        "WaterFlow.comp", vtkTerroirWaterFlowCS, { "LOCAL_X 256", "WATERFLOW_GIVERS" });
+      auto& gather = ctx.GetProgram("WaterFlow.comp", vtkTerroirWaterFlowCS, { "LOCAL_X 256" });
+      for (auto* prog : { &givers, &gather })
+      {
+        prog->SetUInt("uStride", static_cast<unsigned>(stride));
+        prog->SetUInt("uRows", static_cast<unsigned>(rows));
+        prog->SetUInt("uCount", static_cast<unsigned>(n));
+        prog->SetUInt("uGroups", static_cast<unsigned>(dispatched));
+      }
+      bTerrain->Bind(0);
+      bCell->Bind(1);
+      bRow->Bind(2);
       bLevel.Bind(5);
       bScale.Bind(6);
       bOut.Bind(7);
       bDischarge.Bind(8);
-      bPartials.Bind(9);
-      bSnapWater.Bind(10);
-      bSnapDischarge.Bind(11);
       const unsigned dx = static_cast<unsigned>(gx);
       const unsigned dy = static_cast<unsigned>(gy);
 
-      int current = 0; // bWater[current] holds the water now
-      auto pass = [&](int which)
-      {
-        prog.SetInt("uPass", which);
-        prog.Dispatch(dx, dy);
-      };
-      auto iterate = [&](std::size_t slot)
+      int current = 0; // bWater[current] holds the water after the iterations issued so far
+      auto iterate = [&](std::size_t slot, gpu::StorageBuffer& out)
       {
         bWater[current].Bind(3);
         bWater[1 - current].Bind(4);
-        pass(0);
-        prog.SetUInt("uSlot", static_cast<unsigned>(slot));
-        pass(1);
+        out.Bind(9);
+        givers.Dispatch(dx, dy);
+        gather.SetUInt("uSlot", static_cast<unsigned>(slot));
+        gather.Dispatch(dx, dy);
         current = 1 - current;
       };
 
-      while (iterations < targetIterations && !result.stopped)
+      struct Block
       {
-        const std::size_t count = static_cast<std::size_t>(
-          std::min<long long>(static_cast<long long>(block), targetIterations - iterations));
-        const int snapshot = current;
+        std::size_t count = 0; ///< iterations
+        int start = 0;         ///< bWater index holding the water at its start
+        int ring = 0;          ///< its partials and snapshot buffers
+        gpu::Fence done;       ///< after its last iteration
+      };
+      std::deque<Block> flight;
+      long long issued = iterations;
+      int ring = 0;
+      std::size_t length = std::min<std::size_t>(maxBlock, applyStopRules ? 4 : maxBlock);
+      auto issue = [&]()
+      {
+        Block b;
+        b.count = static_cast<std::size_t>(
+          std::min<long long>(static_cast<long long>(length), targetIterations - issued));
+        b.start = current;
+        b.ring = ring;
+        ring = 1 - ring;
         if (applyStopRules)
         {
-          bWater[current].Bind(3);
-          pass(2);
+          bSnapWater[b.ring].CopyFrom(bWater[current], cellBytes);
+          bSnapDischarge[b.ring].CopyFrom(bDischarge, cellBytes);
         }
-        for (std::size_t b = 0; b < count; ++b)
+        for (std::size_t k = 0; k < b.count; ++k)
         {
-          iterate(b);
+          iterate(k, bPartials[b.ring]);
         }
-        bPartials.Download(partials.data(), count * dispatched * 2 * sizeof(double));
-        for (std::size_t b = 0; b < count; ++b)
+        b.done = gpu::Fence();
+        issued += static_cast<long long>(b.count);
+        flight.push_back(std::move(b));
+      };
+      auto restore = [&](const Block& b)
+      {
+        bWater[b.start].CopyFrom(bSnapWater[b.ring], cellBytes);
+        bDischarge.CopyFrom(bSnapDischarge[b.ring], cellBytes);
+        current = b.start;
+      };
+
+      while (!result.stopped)
+      {
+        // Keep the GPU one block ahead of the stop test: the next block runs while this one's
+        // volumes are read (no wait for the GPU between blocks).
+        while (flight.size() < 2 && issued < targetIterations)
+        {
+          issue();
+        }
+        if (flight.empty())
+        {
+          break;
+        }
+        Block block = std::move(flight.front());
+        flight.pop_front();
+        block.done.Wait();
+        bPartials[block.ring].Download(
+          partials.data(), block.count * dispatched * 2 * sizeof(double));
+        const double firstMoved = partials.empty() ? 0.0 : Moved(partials.data(), dispatched);
+        double lastMoved = firstMoved;
+        for (std::size_t b = 0; b < block.count; ++b)
         {
           WaterFlowIteration it;
           const double* p = partials.data() + b * dispatched * 2;
@@ -228,6 +353,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
             it.moved += p[2 * g];
             it.outflow += p[2 * g + 1];
           }
+          lastMoved = it.moved;
           const double before = movedTotal;
           movedTotal += it.moved;
           ++iterations;
@@ -248,20 +374,28 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
           }
           if (result.stopped)
           {
-            if (b + 1 < count)
+            if (b + 1 < block.count)
             {
-              // Undo the block and run it again up to the stopping iteration (the kernel is
+              // Undo the block and run it again up to the stopping iteration (the kernels are
               // deterministic, so these are the iterations just recorded).
-              current = snapshot;
-              bWater[current].Bind(4);
-              pass(3);
+              restore(block);
               for (std::size_t again = 0; again <= b; ++again)
               {
-                iterate(again);
+                iterate(again, bPartials[block.ring]);
               }
             }
+            else if (!flight.empty())
+            {
+              restore(flight.front()); // the next block's start is this block's end
+            }
+            flight.clear();
             break;
           }
+        }
+        if (applyStopRules && !result.stopped)
+        {
+          length = NextBlock(
+            length, maxBlock, block.count, firstMoved, lastMoved, movedTotal, autoStopRatio);
         }
       }
       bWater[current].Download(water.data(), cellBytes);

@@ -147,7 +147,8 @@ int vtkTerroirImageAlgorithm::RequestData(vtkInformation*,
 int vtkTerroirImageAlgorithm::SelectBackend(bool hasGPUPath)
 {
   std::string reason;
-  const int backend = vtkTerroirComputeContext::ResolveBackend(this->Backend, hasGPUPath, reason);
+  const int backend = vtkTerroirComputeContext::ResolveBackend(
+    this->Backend, this->GetClassName(), hasGPUPath, reason);
   this->LastBackendReason = reason;
   if (backend < 0)
   {

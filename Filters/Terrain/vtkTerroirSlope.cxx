@@ -43,13 +43,15 @@ struct SlopeFunctor
   }
 };
 
-/// Runs Shaders/Slope.comp (bindings documented there) on the compute context.
-void RunSlopeGPU(const terroir::GridView<float>& v,
+/// Runs Shaders/Slope.comp (bindings documented there) on the compute context: the interior
+/// kernel, then the border kernel, per band of rows; the elevation and mask stay resident.
+void RunSlopeGPU(const terroir::TerrainInput& terrain,
   const terroir::terrain::SlopeParams& params,
   float* slope,
   float* aspect,
   float* normals)
 {
+  const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
   // Per-row coefficients, as the core computes them (double, then float).
   std::vector<float> coef(4 * static_cast<std::size_t>(v.ny));
@@ -61,15 +63,6 @@ void RunSlopeGPU(const terroir::GridView<float>& v,
     coef[4 * j + 1] = static_cast<float>(params.zFactor / (8.0 * v.DxAt(j)));
     coef[4 * j + 2] = static_cast<float>(params.zFactor / (8.0 * v.DxAt(js)));
     coef[4 * j + 3] = static_cast<float>(params.zFactor / (8.0 * v.DyAt(j)));
-  }
-  // Validity packed four cells per uint (byte k of word w is cell 4w + k).
-  std::vector<std::uint32_t> mask(v.valid ? (n + 3) / 4 : 1, 0u);
-  if (v.valid)
-  {
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      mask[k / 4] |= static_cast<std::uint32_t>(v.valid[k] ? 1u : 0u) << (8 * (k % 4));
-    }
   }
   auto& ctx = terroir::gpu::Context::Global();
   const long long maxBlock = ctx.GetLimits().MaxShaderStorageBlockSize;
@@ -86,27 +79,49 @@ void RunSlopeGPU(const terroir::GridView<float>& v,
   {
     bandRows = std::max(16, static_cast<int>(maxBlock / bytesPerRow) / 16 * 16);
   }
-  ctx.Run(
+  std::vector<std::string> outputs;
+  if (params.units == terroir::terrain::SlopeUnits::Percent)
+  {
+    outputs.push_back("SLOPE_PERCENT");
+  }
+  if (aspect)
+  {
+    outputs.push_back("SLOPE_ASPECT");
+  }
+  if (normals)
+  {
+    outputs.push_back("SLOPE_NORMALS");
+  }
+  std::vector<std::string> inner = { "LOCAL_X 16", "LOCAL_Y 16" };
+  std::vector<std::string> border = { "LOCAL_X 64", "LOCAL_Y 1", "SLOPE_BORDER" };
+  inner.insert(inner.end(), outputs.begin(), outputs.end());
+  border.insert(border.end(), outputs.begin(), outputs.end());
+  if (v.valid)
+  {
+    inner.push_back("SLOPE_MASK");
+  }
+  ctx.Run("slope",
+    terroir::gpu::Context::Budget(static_cast<double>(n)),
     [&]
     {
-      terroir::gpu::StorageBuffer bz(n * sizeof(float), v.data);
-      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
+      const terroir::GPUTerrain t = terroir::ResidentTerrain(terrain);
       terroir::gpu::StorageBuffer bcoef(coef.size() * sizeof(float), coef.data());
       const std::size_t bandCells = static_cast<std::size_t>(bandRows) * v.nx;
-      terroir::gpu::StorageBuffer bslope(bandCells * sizeof(float));
-      terroir::gpu::StorageBuffer baspect(aspect ? bandCells * sizeof(float) : sizeof(float));
-      terroir::gpu::StorageBuffer bnormals(normals ? 3 * bandCells * sizeof(float) : sizeof(float));
-      auto& prog = ctx.GetProgram("Slope.comp", vtkTerroirSlopeCS, { "LOCAL_X 16", "LOCAL_Y 16" });
-      prog.Use();
-      prog.SetInt("uNx", v.nx);
-      prog.SetInt("uNy", v.ny);
-      prog.SetInt("uHasMask", v.valid ? 1 : 0);
-      prog.SetInt("uPercent", params.units == terroir::terrain::SlopeUnits::Percent ? 1 : 0);
-      prog.SetInt("uAspect", aspect ? 1 : 0);
-      prog.SetInt("uNormals", normals ? 1 : 0);
-      prog.SetFloat("uConvergence", static_cast<float>(params.convergenceDeg));
-      bz.Bind(0);
-      bmask.Bind(1);
+      const auto undefined = terroir::gpu::Contents::Undefined;
+      terroir::gpu::StorageBuffer bslope(bandCells * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer baspect(aspect ? bandCells * sizeof(float) : 4, undefined);
+      terroir::gpu::StorageBuffer bnormals(normals ? 3 * bandCells * sizeof(float) : 4, undefined);
+      auto& interior = ctx.GetProgram("Slope.comp", vtkTerroirSlopeCS, inner);
+      auto& edges = ctx.GetProgram("Slope.comp", vtkTerroirSlopeCS, border);
+      for (auto* prog : { &interior, &edges })
+      {
+        prog->SetInt("uNx", v.nx);
+        prog->SetInt("uNy", v.ny);
+        prog->SetInt("uHasMask", v.valid ? 1 : 0);
+        prog->SetFloat("uConvergence", static_cast<float>(params.convergenceDeg));
+      }
+      t.elevation->Bind(0);
+      t.mask->Bind(1);
       bcoef.Bind(2);
       bslope.Bind(3);
       baspect.Bind(4);
@@ -116,9 +131,20 @@ void RunSlopeGPU(const terroir::GridView<float>& v,
         const int j1 = std::min(v.ny, j0 + bandRows);
         const std::size_t cells = static_cast<std::size_t>(j1 - j0) * v.nx;
         const std::size_t first = static_cast<std::size_t>(j0) * v.nx;
-        prog.SetInt("uRowStart", j0);
-        prog.SetInt("uRowEnd", j1);
-        prog.Dispatch((v.nx + 15) / 16, static_cast<unsigned>((j1 - j0 + 15) / 16));
+        // Interior: columns 1 .. nx-2, rows max(j0, 1) .. min(j1, ny-1) - 1.
+        const int innerRows = std::max(0, std::min(j1, v.ny - 1) - std::max(j0, 1));
+        const int innerCols = std::max(0, v.nx - 2);
+        for (auto* prog : { &interior, &edges })
+        {
+          prog->SetInt("uRowStart", j0);
+          prog->SetInt("uRowEnd", j1);
+        }
+        interior.Dispatch(static_cast<unsigned>((innerCols + 15) / 16),
+          static_cast<unsigned>((innerRows + 15) / 16));
+        // Border: rows 0 and ny-1 when in the band, columns 0 and nx-1 of the other rows.
+        const int borderCells = (j0 == 0 ? v.nx : 0) + (j1 == v.ny && v.ny > 1 ? v.nx : 0) +
+          2 * std::max(0, std::min(j1, v.ny - 1) - std::max(j0, 1));
+        edges.Dispatch(static_cast<unsigned>((borderCells + 63) / 64));
         bslope.Download(slope + first, cells * sizeof(float));
         if (aspect)
         {
@@ -208,7 +234,7 @@ int vtkTerroirSlope::RequestTerrainData(vtkImageData* input,
   }
   if (backend == 2)
   {
-    backend = this->RunGPUPath([&] { RunSlopeGPU(v, params, pSlope, pAspect, pNormals); });
+    backend = this->RunGPUPath([&] { RunSlopeGPU(terrain, params, pSlope, pAspect, pNormals); });
     if (backend < 0)
     {
       return 0;

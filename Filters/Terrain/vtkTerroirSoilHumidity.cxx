@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -51,51 +52,66 @@ struct SoilHumidityFunctor
   }
 };
 
-/// Runs Shaders/SoilHumidity.comp (bindings documented there) in slices of cells.
-void RunSoilHumidityGPU(const float* rate,
-  const std::uint8_t* valid,
-  std::size_t n,
+/// Runs Shaders/SoilHumidity.comp (bindings documented there) in slices of cells whose outputs
+/// fit one storage buffer; the rates (under `rateKey`, `rateStamp`) and the terrain's mask stay
+/// resident when the whole grid fits one.
+void RunSoilHumidityGPU(const terroir::TerrainInput& terrain,
+  const float* rate,
+  const void* rateKey,
+  unsigned long long rateStamp,
   const terroir::terrain::MonthlyRain& rain,
   float* humidity,
   float* weighted,
   float* standing)
 {
-  std::vector<std::uint32_t> mask(valid ? (n + 3) / 4 : 1, 0u);
-  if (valid)
-  {
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      mask[k / 4] |= static_cast<std::uint32_t>(valid[k] ? 1u : 0u) << (8 * (k % 4));
-    }
-  }
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
   auto& ctx = terroir::gpu::Context::Global();
   const terroir::gpu::Limits limits = ctx.GetLimits();
-  std::size_t slice = std::min(n, kGPUSliceCells);
-  if (limits.MaxShaderStorageBlockSize > 0)
+  const std::size_t maxBlock = limits.MaxShaderStorageBlockSize > 0
+    ? static_cast<std::size_t>(limits.MaxShaderStorageBlockSize)
+    : std::size_t(128) << 20;
+  const terroir::gpu::GridPlan plan = terroir::gpu::PlanGrid(limits, 1, 256);
+  const std::size_t slice =
+    std::max<std::size_t>(1, std::min({ n, kGPUSliceCells, plan.MaxItems, maxBlock / 48 }));
+  const bool whole = n * sizeof(float) <= maxBlock;
+  std::vector<std::string> defines = { "LOCAL_X 256" };
+  if (v.valid)
   {
-    slice = std::min<std::size_t>(
-      slice, static_cast<std::size_t>(limits.MaxShaderStorageBlockSize) / (12 * sizeof(float)));
+    defines.push_back("HUMIDITY_MASK");
   }
-  if (limits.MaxWorkGroupCount[0] > 0)
+  if (weighted)
   {
-    slice =
-      std::min<std::size_t>(slice, static_cast<std::size_t>(limits.MaxWorkGroupCount[0]) * 256);
+    defines.push_back("HUMIDITY_WEIGHTED");
   }
-  slice = std::max<std::size_t>(slice, 1);
-  ctx.Run(
+  if (standing)
+  {
+    defines.push_back("HUMIDITY_STANDING");
+  }
+  const double outputs = 1.0 + (weighted ? 1 : 0) + (standing ? 1 : 0);
+  ctx.Run("soil humidity",
+    terroir::gpu::Context::Budget(12.0 * outputs * static_cast<double>(n)),
     [&]
     {
+      const auto undefined = terroir::gpu::Contents::Undefined;
+      std::shared_ptr<terroir::gpu::StorageBuffer> brate, bmask;
+      if (whole)
+      {
+        brate = ctx.Resident(rateKey, rateStamp, n * sizeof(float), rate);
+        bmask = terroir::ResidentTerrain(terrain).mask;
+      }
+      else
+      {
+        const std::vector<std::uint32_t> mask = terroir::PackValidMask(v);
+        bmask = std::make_shared<terroir::gpu::StorageBuffer>(
+          mask.size() * sizeof(std::uint32_t), mask.data());
+        brate = std::make_shared<terroir::gpu::StorageBuffer>(slice * sizeof(float), undefined);
+      }
       const std::size_t outBytes = 12 * slice * sizeof(float);
-      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
-      terroir::gpu::StorageBuffer brate(slice * sizeof(float));
-      terroir::gpu::StorageBuffer bh(outBytes);
-      terroir::gpu::StorageBuffer bw(weighted ? outBytes : 4);
-      terroir::gpu::StorageBuffer bs(standing ? outBytes : 4);
-      auto& prog = ctx.GetProgram("SoilHumidity.comp", vtkTerroirSoilHumidityCS, { "LOCAL_X 256" });
-      prog.Use();
-      prog.SetInt("uHasMask", valid ? 1 : 0);
-      prog.SetInt("uWeighted", weighted ? 1 : 0);
-      prog.SetInt("uStanding", standing ? 1 : 0);
+      terroir::gpu::StorageBuffer bh(outBytes, undefined);
+      terroir::gpu::StorageBuffer bw(weighted ? outBytes : 16, undefined);
+      terroir::gpu::StorageBuffer bs(standing ? outBytes : 16, undefined);
+      auto& prog = ctx.GetProgram("SoilHumidity.comp", vtkTerroirSoilHumidityCS, defines);
       // The same per-month constants as terroir::terrain::SoilHumidityLong2016.
       float q[12];
       float inverse[12];
@@ -107,18 +123,23 @@ void RunSoilHumidityGPU(const float* rate,
       }
       prog.SetFloatArray("uQuantity", q, 12);
       prog.SetFloatArray("uInverseIntensity", inverse, 12);
-      brate.Bind(0);
-      bmask.Bind(1);
+      brate->Bind(0);
+      bmask->Bind(1);
       bh.Bind(2);
       bw.Bind(3);
       bs.Bind(4);
       for (std::size_t first = 0; first < n; first += slice)
       {
         const std::size_t count = std::min(slice, n - first);
-        brate.Upload(rate + first, count * sizeof(float));
+        if (!whole)
+        {
+          brate->Upload(rate + first, count * sizeof(float));
+        }
         prog.SetUInt("uCount", static_cast<unsigned>(count));
         prog.SetUInt("uFirst", static_cast<unsigned>(first));
-        prog.Dispatch(static_cast<unsigned>((count + 255) / 256));
+        prog.SetUInt("uRateFirst", whole ? static_cast<unsigned>(first) : 0u);
+        const terroir::gpu::Groups g = plan.For(count);
+        prog.Dispatch(g.x, g.y);
         bh.Download(humidity + 12 * first, 12 * count * sizeof(float));
         if (weighted)
         {
@@ -340,7 +361,8 @@ int vtkTerroirSoilHumidity::RequestTerrainData(vtkImageData* input,
   }
   if (backend == 2)
   {
-    backend = this->RunGPUPath([&] { RunSoilHumidityGPU(rate, v.valid, n, rain, h, w, s); });
+    backend = this->RunGPUPath(
+      [&] { RunSoilHumidityGPU(terrain, rate, rateArray, rateArray->GetMTime(), rain, h, w, s); });
     if (backend < 0)
     {
       return 0;

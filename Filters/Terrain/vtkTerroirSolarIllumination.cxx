@@ -24,6 +24,7 @@
 #include "SolarPosition.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -46,26 +47,12 @@ struct vtkTerroirSolarIllumination::Internals
   bool Curvature = false;
   int Backend = 0;
   std::size_t Cells = 0;
+  unsigned long long Stamp = 0; ///< identifies the map computed last (its device copy's stamp)
 };
 
 namespace
 {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-/// Validity packed four cells per uint (byte k of word w is cell 4w + k), as the shaders read.
-std::vector<std::uint32_t> PackMask(const terroir::GridView<float>& v)
-{
-  const std::size_t n = v.Size();
-  std::vector<std::uint32_t> mask(v.valid ? (n + 3) / 4 : 1, 0u);
-  if (v.valid)
-  {
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      mask[k / 4] |= static_cast<std::uint32_t>(v.valid[k] ? 1u : 0u) << (8 * (k % 4));
-    }
-  }
-  return mask;
-}
 
 /// Throws when a buffer of `bytes` cannot be one storage buffer of the context.
 void CheckBlock(terroir::gpu::Context& ctx, std::size_t bytes, const char* what)
@@ -78,12 +65,24 @@ void CheckBlock(terroir::gpu::Context& ctx, std::size_t bytes, const char* what)
   }
 }
 
-/// Horizon map on the GPU: Shaders/ShadowSweep.comp per line, then ShadowGather.comp per
-/// cell, one sector after another (bindings documented in the shaders).
-void HorizonMapGPU(const terroir::GridView<float>& v, int sectors, float curvature, float* map)
+/// Key of the device copy of a horizon map held in `map` (the host cache's storage).
+const void* MapKey(const float* map)
 {
+  return map;
+}
+
+/// Horizon map on the GPU: Shaders/ShadowSweep.comp per line, then ShadowGather.comp per
+/// cell, one sector after another (bindings documented in the shaders), downloaded into `map`.
+/// When the whole map fits one storage buffer it also stays on the device, under
+/// MapKey(map) and `stamp`, for the accumulation (no upload there).
+void HorizonMapGPU(const terroir::TerrainInput& terrain,
+  int sectors,
+  float curvature,
+  float* map,
+  unsigned long long stamp)
+{
+  const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
-  const std::vector<std::uint32_t> mask = PackMask(v);
   auto& ctx = terroir::gpu::Context::Global();
   std::size_t maxLines = 0;
   std::vector<tt::SweepPlan> plans;
@@ -96,17 +95,26 @@ void HorizonMapGPU(const terroir::GridView<float>& v, int sectors, float curvatu
   }
   CheckBlock(ctx, maxLines * sizeof(float), "sweep lines");
   CheckBlock(ctx, n * sizeof(float), "elevation");
-  ctx.Run(
+  const long long maxBlock = ctx.GetLimits().MaxShaderStorageBlockSize;
+  const std::size_t mapBytes = static_cast<std::size_t>(sectors) * n * sizeof(float);
+  const bool keep = maxBlock <= 0 || static_cast<long long>(mapBytes) <= maxBlock;
+  ctx.Run("horizon map",
+    terroir::gpu::Context::Budget(2.0 * sectors * static_cast<double>(n)),
     [&]
     {
-      terroir::gpu::StorageBuffer bz(n * sizeof(float), v.data);
-      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
+      const auto undefined = terroir::gpu::Contents::Undefined;
+      const terroir::GPUTerrain t = terroir::ResidentTerrain(terrain);
       const std::size_t maxMajor = static_cast<std::size_t>(std::max(v.nx, v.ny));
-      terroir::gpu::StorageBuffer btable(2 * maxMajor * sizeof(float));
-      terroir::gpu::StorageBuffer bhullS(maxLines * sizeof(float));
-      terroir::gpu::StorageBuffer bhullW(maxLines * sizeof(float));
-      terroir::gpu::StorageBuffer blines(maxLines * sizeof(float));
-      terroir::gpu::StorageBuffer bplane(n * sizeof(float));
+      terroir::gpu::StorageBuffer btable(2 * maxMajor * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer bhullS(maxLines * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer bhullW(maxLines * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer blines(maxLines * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer bplane(n * sizeof(float), undefined);
+      std::shared_ptr<terroir::gpu::StorageBuffer> whole;
+      if (keep)
+      {
+        whole = std::make_shared<terroir::gpu::StorageBuffer>(mapBytes, undefined);
+      }
       auto& sweep = ctx.GetProgram("ShadowSweep.comp", vtkTerroirShadowSweepCS, { "LOCAL_X 64" });
       auto& gather = ctx.GetProgram(
         "ShadowGather.comp", vtkTerroirShadowGatherCS, { "LOCAL_X 16", "LOCAL_Y 16" });
@@ -126,7 +134,6 @@ void HorizonMapGPU(const terroir::GridView<float>& v, int sectors, float curvatu
         btable.Upload(table.data(), 2 * p.nMajor * sizeof(std::int32_t));
         for (auto* prog : { &sweep, &gather })
         {
-          prog->Use();
           prog->SetInt("uNx", v.nx);
           prog->SetInt("uNy", v.ny);
           prog->SetInt("uAlongX", p.dir.alongX ? 1 : 0);
@@ -137,19 +144,25 @@ void HorizonMapGPU(const terroir::GridView<float>& v, int sectors, float curvatu
           prog->SetFloat("uLength", p.dir.length);
           prog->SetFloat("uCurvature", curvature);
         }
-        bz.Bind(0);
-        bmask.Bind(1);
+        t.elevation->Bind(0);
+        t.mask->Bind(1);
         btable.Bind(2);
         bhullS.Bind(3);
         bhullW.Bind(4);
         blines.Bind(5);
         bplane.Bind(6);
-        sweep.Use();
         sweep.Dispatch(static_cast<unsigned>((p.lineCount + 63) / 64));
-        gather.Use();
         gather.Dispatch(
           static_cast<unsigned>((v.nx + 15) / 16), static_cast<unsigned>((v.ny + 15) / 16));
+        if (whole)
+        {
+          whole->CopyFrom(bplane, n * sizeof(float), 0, static_cast<std::size_t>(k) * n * 4);
+        }
         bplane.Download(map + static_cast<std::size_t>(k) * n, n * sizeof(float));
+      }
+      if (whole)
+      {
+        ctx.KeepResident(MapKey(map), stamp, whole);
       }
     });
 }
@@ -189,19 +202,21 @@ std::vector<GPUStep> PackSteps(const std::vector<tt::SunStep>& steps)
 }
 
 /// Accumulation on the GPU (Shaders/SolarIllumination.comp), in slices of cells whose map
-/// planes fit one storage buffer.
-void AccumulateGPU(const terroir::GridView<float>& v,
+/// planes fit one storage buffer; a map that HorizonMapGPU left on the device (one slice) is
+/// used there, without an upload.
+void AccumulateGPU(const terroir::TerrainInput& terrain,
   const tt::ShadowSource<float>& source,
   int sectors,
+  unsigned long long mapStamp,
   const float* normals,
   const std::vector<tt::SunStep>& steps,
   int slots,
   float* hours,
   float* energy)
 {
+  const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
   const std::vector<GPUStep> packed = PackSteps(steps);
-  const std::vector<std::uint32_t> mask = PackMask(v);
   auto& ctx = terroir::gpu::Context::Global();
   const long long maxBlock = ctx.GetLimits().MaxShaderStorageBlockSize;
   const bool rayMarch = source.map == nullptr;
@@ -211,24 +226,42 @@ void AccumulateGPU(const terroir::GridView<float>& v,
   if (maxBlock > 0)
   {
     slice = std::min<std::size_t>(slice,
-      static_cast<std::size_t>(maxBlock) / (sizeof(float) * std::max<std::size_t>(perCell, slots)));
+      static_cast<std::size_t>(maxBlock) /
+        (sizeof(float) * std::max<std::size_t>({ perCell, 3, static_cast<std::size_t>(slots) })));
   }
+  // One 1-D dispatch of 64-wide groups per slice (4 Mi cells would need 65536 groups, one more
+  // than GL's minimum GL_MAX_COMPUTE_WORK_GROUP_COUNT).
+  const int maxGroups = ctx.GetLimits().MaxWorkGroupCount[0];
+  slice =
+    std::min<std::size_t>(slice, static_cast<std::size_t>(maxGroups > 0 ? maxGroups : 65535) * 64);
   slice = std::max<std::size_t>(1, std::min<std::size_t>(slice, 1u << 22));
   CheckBlock(ctx, n * sizeof(float), "elevation");
-  ctx.Run(
+  const double work = static_cast<double>(n) * static_cast<double>(steps.size()) *
+    (rayMarch || source.refine ? 64.0 : 4.0);
+  ctx.Run("solar illumination",
+    terroir::gpu::Context::Budget(work),
     [&]
     {
+      const auto undefined = terroir::gpu::Contents::Undefined;
+      const terroir::GPUTerrain t = terroir::ResidentTerrain(terrain);
       terroir::gpu::StorageBuffer bsteps(packed.size() * sizeof(GPUStep), packed.data());
-      terroir::gpu::StorageBuffer bin(rayMarch ? sizeof(float) : perCell * slice * sizeof(float));
-      terroir::gpu::StorageBuffer bnormals(3 * slice * sizeof(float));
-      terroir::gpu::StorageBuffer bhours(static_cast<std::size_t>(slots) * slice * sizeof(float));
-      terroir::gpu::StorageBuffer benergy(static_cast<std::size_t>(slots) * slice * sizeof(float));
-      terroir::gpu::StorageBuffer bz(n * sizeof(float), v.data);
-      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
-      auto& prog =
-        ctx.GetProgram("SolarIllumination.comp", vtkTerroirSolarIlluminationCS, { "LOCAL_X 64" });
-      prog.Use();
-      prog.SetInt("uMethod", rayMarch ? 0 : (source.refine ? 2 : 1));
+      std::shared_ptr<terroir::gpu::StorageBuffer> planesOnDevice;
+      if (!rayMarch && slice == n)
+      {
+        planesOnDevice =
+          ctx.FindResident(MapKey(map), mapStamp, static_cast<std::size_t>(sectors) * n * 4);
+      }
+      terroir::gpu::StorageBuffer bin(
+        rayMarch || planesOnDevice ? sizeof(float) : perCell * slice * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer bnormals(3 * slice * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer bhours(
+        static_cast<std::size_t>(slots) * slice * sizeof(float), undefined);
+      terroir::gpu::StorageBuffer benergy(
+        static_cast<std::size_t>(slots) * slice * sizeof(float), undefined);
+      const int method = rayMarch ? 0 : (source.refine ? 2 : 1);
+      auto& prog = ctx.GetProgram("SolarIllumination.comp",
+        vtkTerroirSolarIlluminationCS,
+        { "LOCAL_X 64", "ILLUMINATION_METHOD " + std::to_string(method) });
       prog.SetInt("uStepCount", static_cast<int>(packed.size()));
       prog.SetInt("uSlots", slots);
       prog.SetInt("uNx", v.nx);
@@ -240,9 +273,9 @@ void AccumulateGPU(const terroir::GridView<float>& v,
       for (std::size_t first = 0; first < n; first += slice)
       {
         const std::size_t count = std::min(slice, n - first);
-        bz.Bind(0);
-        bmask.Bind(1);
-        if (!rayMarch)
+        t.elevation->Bind(0);
+        t.mask->Bind(1);
+        if (!rayMarch && !planesOnDevice)
         {
           planes.resize(static_cast<std::size_t>(sectors) * count);
           for (int k = 0; k < sectors; ++k)
@@ -253,7 +286,7 @@ void AccumulateGPU(const terroir::GridView<float>& v,
           }
           bin.Upload(planes.data(), planes.size() * sizeof(float));
         }
-        bin.Bind(6);
+        (planesOnDevice ? *planesOnDevice : bin).Bind(6);
         bnormals.Upload(normals + 3 * first, 3 * count * sizeof(float));
         bhours.Upload(hours + slots * first, slots * count * sizeof(float));
         benergy.Upload(energy + slots * first, slots * count * sizeof(float));
@@ -532,9 +565,14 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
       const auto t0 = std::chrono::steady_clock::now();
       float* map = cache.Map.data();
       const int sectors = this->HorizonSectors;
+      // Every map computed gets a new stamp: its device copy (HorizonMapGPU) is keyed on it.
+      static std::atomic<unsigned long long> mapStamps{ 0 };
+      const unsigned long long mapStamp = ++mapStamps;
+      cache.Stamp = mapStamp;
       if (backend == 2)
       {
-        backend = this->RunGPUPath([&] { HorizonMapGPU(v, sectors, curvature, map); });
+        backend =
+          this->RunGPUPath([&] { HorizonMapGPU(terrain, sectors, curvature, map, mapStamp); });
         if (backend < 0)
         {
           return 0;
@@ -618,8 +656,17 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
   if (backend == 2)
   {
     backend = this->RunGPUPath(
-      [&] {
-        AccumulateGPU(v, source, this->HorizonSectors, normals.data(), steps, slots, hours, energy);
+      [&]
+      {
+        AccumulateGPU(terrain,
+          source,
+          this->HorizonSectors,
+          cache.Stamp,
+          normals.data(),
+          steps,
+          slots,
+          hours,
+          energy);
       });
     if (backend < 0)
     {

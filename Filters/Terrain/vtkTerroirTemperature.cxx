@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkTerroirTemperature);
@@ -60,22 +62,15 @@ struct TemperatureFunctor
   }
 };
 
-/// Runs Shaders/Temperature.comp (bindings documented there) in slices of cells that fit in
-/// one storage buffer.
-void RunTemperatureGPU(const terroir::GridView<float>& v,
+/// Runs Shaders/Temperature.comp (bindings documented there) in slices of cells whose output
+/// fits one storage buffer; the elevation stays resident when the whole grid fits one.
+void RunTemperatureGPU(const terroir::TerrainInput& terrain,
   const double seaLevel[12],
   double lapseRate,
   float* out)
 {
+  const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
-  std::vector<std::uint32_t> mask(v.valid ? (n + 3) / 4 : 1, 0u);
-  if (v.valid)
-  {
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      mask[k / 4] |= static_cast<std::uint32_t>(v.valid[k] ? 1u : 0u) << (8 * (k % 4));
-    }
-  }
   float sea[12];
   for (int m = 0; m < 12; ++m)
   {
@@ -83,39 +78,55 @@ void RunTemperatureGPU(const terroir::GridView<float>& v,
   }
   auto& ctx = terroir::gpu::Context::Global();
   const terroir::gpu::Limits limits = ctx.GetLimits();
-  std::size_t slice = std::min<std::size_t>(n, 1u << 22); // 4 Mi cells, 192 MiB out
-  if (limits.MaxShaderStorageBlockSize > 0)
-  {
-    slice = std::min<std::size_t>(
-      slice, static_cast<std::size_t>(limits.MaxShaderStorageBlockSize) / (12 * sizeof(float)));
-  }
-  if (limits.MaxWorkGroupCount[0] > 0)
-  {
-    slice =
-      std::min<std::size_t>(slice, static_cast<std::size_t>(limits.MaxWorkGroupCount[0]) * 256);
-  }
-  slice = std::max<std::size_t>(slice, 1);
-  ctx.Run(
+  const std::size_t maxBlock = limits.MaxShaderStorageBlockSize > 0
+    ? static_cast<std::size_t>(limits.MaxShaderStorageBlockSize)
+    : std::size_t(128) << 20;
+  const terroir::gpu::GridPlan plan = terroir::gpu::PlanGrid(limits, 1, 256);
+  std::size_t slice = std::min<std::size_t>(n, std::size_t(1) << 22); // 4 Mi cells, 192 MiB out
+  slice = std::max<std::size_t>(1, std::min({ slice, plan.MaxItems, maxBlock / 48 }));
+  const bool whole = n * sizeof(float) <= maxBlock;
+  ctx.Run("temperature",
+    terroir::gpu::Context::Budget(12.0 * static_cast<double>(n)),
     [&]
     {
-      terroir::gpu::StorageBuffer bmask(mask.size() * sizeof(std::uint32_t), mask.data());
-      terroir::gpu::StorageBuffer bz(slice * sizeof(float));
-      terroir::gpu::StorageBuffer bt(12 * slice * sizeof(float));
-      auto& prog = ctx.GetProgram("Temperature.comp", vtkTerroirTemperatureCS, { "LOCAL_X 256" });
-      prog.Use();
-      prog.SetInt("uHasMask", v.valid ? 1 : 0);
+      terroir::GPUTerrain t;
+      std::unique_ptr<terroir::gpu::StorageBuffer> sliceZ;
+      if (whole)
+      {
+        t = terroir::ResidentTerrain(terrain);
+      }
+      else
+      {
+        const std::vector<std::uint32_t> mask = terroir::PackValidMask(v);
+        t.mask = std::make_shared<terroir::gpu::StorageBuffer>(
+          mask.size() * sizeof(std::uint32_t), mask.data());
+        sliceZ.reset(new terroir::gpu::StorageBuffer(
+          slice * sizeof(float), terroir::gpu::Contents::Undefined));
+      }
+      terroir::gpu::StorageBuffer bt(12 * slice * sizeof(float), terroir::gpu::Contents::Undefined);
+      std::vector<std::string> defines = { "LOCAL_X 256" };
+      if (v.valid)
+      {
+        defines.push_back("TEMPERATURE_MASK");
+      }
+      auto& prog = ctx.GetProgram("Temperature.comp", vtkTerroirTemperatureCS, defines);
       prog.SetFloatArray("uSeaLevel", sea, 12);
       prog.SetFloat("uRate", static_cast<float>(lapseRate / 1000.0));
-      bz.Bind(0);
-      bmask.Bind(1);
+      (whole ? *t.elevation : *sliceZ).Bind(0);
+      t.mask->Bind(1);
       bt.Bind(2);
       for (std::size_t first = 0; first < n; first += slice)
       {
         const std::size_t count = std::min(slice, n - first);
-        bz.Upload(v.data + first, count * sizeof(float));
+        if (!whole)
+        {
+          sliceZ->Upload(v.data + first, count * sizeof(float));
+        }
         prog.SetUInt("uCount", static_cast<unsigned>(count));
         prog.SetUInt("uFirst", static_cast<unsigned>(first));
-        prog.Dispatch(static_cast<unsigned>((count + 255) / 256));
+        prog.SetUInt("uElevationFirst", whole ? static_cast<unsigned>(first) : 0u);
+        const terroir::gpu::Groups g = plan.For(count);
+        prog.Dispatch(g.x, g.y);
         bt.Download(out + 12 * first, 12 * count * sizeof(float));
       }
     });
@@ -241,7 +252,7 @@ int vtkTerroirTemperature::RequestTerrainData(vtkImageData* input,
   }
   if (backend == 2)
   {
-    backend = this->RunGPUPath([&] { RunTemperatureGPU(v, sea, this->LapseRate, out); });
+    backend = this->RunGPUPath([&] { RunTemperatureGPU(terrain, sea, this->LapseRate, out); });
     if (backend < 0)
     {
       return 0;

@@ -6,9 +6,11 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkPointData.h"
+#include "vtkTerroirGPU.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <new>
@@ -144,6 +146,9 @@ bool ExtractTerrain(vtkImageData* image,
     out.hasNoData = true;
   }
 
+  out.key = elevation;
+  out.stamp = std::max<unsigned long long>(elevation->GetMTime(), mask ? mask->GetMTime() : 0);
+
   // Per-row spacing of geographic grids.
   if (vtkDoubleArray* rows = vtkTerroirGeoreference::GetRowSpacing(image))
   {
@@ -235,6 +240,49 @@ vtkFloatArray* NewOutputArray(const char* name,
     a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
   }
   return a;
+}
+
+std::vector<std::uint32_t> PackValidMask(const GridView<float>& v)
+{
+  const std::size_t n = v.Size();
+  std::vector<std::uint32_t> mask(v.valid ? (n + 3) / 4 : 1, 0u);
+  if (v.valid)
+  {
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      mask[k / 4] |= static_cast<std::uint32_t>(v.valid[k] ? 1u : 0u) << (8 * (k % 4));
+    }
+  }
+  return mask;
+}
+
+GPUTerrain ResidentTerrain(const TerrainInput& terrain)
+{
+  auto& ctx = gpu::Context::Global();
+  const GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+  GPUTerrain out;
+  if (!terrain.key)
+  {
+    // A view made without ExtractTerrain: nothing to key a cache entry on.
+    out.elevation = std::make_shared<gpu::StorageBuffer>(n * sizeof(float), v.data);
+    const std::vector<std::uint32_t> mask = PackValidMask(v);
+    out.mask =
+      std::make_shared<gpu::StorageBuffer>(mask.size() * sizeof(std::uint32_t), mask.data());
+    return out;
+  }
+  out.elevation = ctx.Resident(terrain.key, terrain.stamp, n * sizeof(float), v.data);
+  // The mask's entry: another key derived from the same array (never dereferenced).
+  const void* maskKey = static_cast<const char*>(terrain.key) + 1;
+  const std::size_t maskWords = v.valid ? (n + 3) / 4 : 1;
+  out.mask = ctx.FindResident(maskKey, terrain.stamp, maskWords * sizeof(std::uint32_t));
+  if (!out.mask)
+  {
+    const std::vector<std::uint32_t> packed = PackValidMask(v);
+    out.mask =
+      ctx.Resident(maskKey, terrain.stamp, packed.size() * sizeof(std::uint32_t), packed.data());
+  }
+  return out;
 }
 
 } // namespace terroir

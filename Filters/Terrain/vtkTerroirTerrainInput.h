@@ -22,6 +22,7 @@
 #include "vtkTerroirFiltersTerrainModule.h" // For export macro
 
 #include <cstdint> // For std::uint8_t
+#include <memory>  // For std::shared_ptr
 #include <string>  // For std::string
 #include <vector>  // For std::vector
 
@@ -41,7 +42,36 @@ struct VTKTERROIRFILTERSTERRAIN_EXPORT TerrainInput
   std::vector<double> rowDx;        ///< used for geographic grids (TerroirRowSpacing)
   std::vector<double> rowDy;
   bool hasNoData = false; ///< true when some cell is invalid
+  /// Identity and version of the data behind `view` (the elevation array and the larger of its
+  /// and the mask array's MTime), under which its device copies are cached (ResidentTerrain).
+  const void* key = nullptr;
+  unsigned long long stamp = 0;
 };
+
+namespace gpu
+{
+class StorageBuffer;
+}
+
+/// Device copies of a terrain for GPU kernels, kept resident between jobs and filters.
+struct GPUTerrain
+{
+  std::shared_ptr<gpu::StorageBuffer> elevation; ///< float, nx * ny (the view's values)
+  std::shared_ptr<gpu::StorageBuffer> mask;      ///< validity packed four cells per uint (byte
+                                                 ///< k of word w = cell 4w + k); one zero word
+                                                 ///< when the terrain has no no-data
+};
+
+/**
+ * The device copies of `terrain`'s elevation and validity, uploaded only when the compute
+ * context has no copy of the same array at the same modification time (gpu::Context::Resident):
+ * a chain of GPU filters on one terrain uploads it once. Only inside gpu::Context::Run.
+ */
+VTKTERROIRFILTERSTERRAIN_EXPORT GPUTerrain ResidentTerrain(const TerrainInput& terrain);
+
+/// The view's validity packed four cells per uint, as the kernels read it (one zero word when
+/// the view has no mask).
+VTKTERROIRFILTERSTERRAIN_EXPORT std::vector<std::uint32_t> PackValidMask(const GridView<float>& v);
 
 /// Validates `image` and `elevation` and fills `out` (see the file comment).
 VTKTERROIRFILTERSTERRAIN_EXPORT bool ExtractTerrain(vtkImageData* image,

@@ -583,3 +583,46 @@ TEST(KMeansGPU, DISABLED_Timings)
               << " s (GPU: with context, compile and uploads)" << std::endl;
   }
 }
+
+// Diagnosis on a new GPU (not run by default: --gtest_also_run_disabled_tests): the squared
+// distances of one assignment, GPU against CPU, with the first differing cells in full.
+TEST(KMeansGPU, DISABLED_FirstDifferences)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  const Data d = Blobs(10000, 3, 5, 11);
+  const std::vector<float> centres = PlusPlus(d, 5, 3);
+  const Outcome cpu = RunCPU(d, centres, 5, Options(1, 0.0));
+  const Outcome gpu = RunGPU(d, centres, 5, Options(1, 0.0));
+  int differ = 0;
+  for (std::size_t c = 0; c < cpu.distances.size(); ++c)
+  {
+    if (Bits(cpu.distances[c]) != Bits(gpu.distances[c]) && differ++ < 3)
+    {
+      const int k = cpu.labels[c];
+      float acc = 0.0f;
+      for (int f = 0; f < 3; ++f)
+      {
+        volatile float diff = d.values[static_cast<std::size_t>(f) * d.cells + c] -
+          centres[static_cast<std::size_t>(k) * 3 + f];
+        volatile float sq = diff * diff;
+        acc = acc + sq;
+      }
+      std::printf("[ first    ] cell %zu label cpu %d gpu %d: d2 cpu %a gpu %a scalar %a; x = "
+                  "(%a, %a, %a), m = (%a, %a, %a)\n",
+        c,
+        k,
+        gpu.labels[c],
+        cpu.distances[c],
+        gpu.distances[c],
+        acc,
+        d.values[c],
+        d.values[d.cells + c],
+        d.values[2 * d.cells + c],
+        centres[k * 3],
+        centres[k * 3 + 1],
+        centres[k * 3 + 2]);
+    }
+  }
+  std::printf(
+    "[ first    ] %d of %zu distances differ after one assignment\n", differ, cpu.distances.size());
+}

@@ -25,6 +25,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <functional>
 #include <iostream>
 #include <limits>
@@ -381,5 +383,45 @@ TEST(TerroirWaterFlowGPU, DISABLED_Timings)
               << vtkSMPTools::GetEstimatedNumberOfThreads() << " threads " << seconds(t2, t3)
               << " s (" << 1e3 * seconds(t2, t3) / it << " ms/it), GPU " << seconds(t4, t5)
               << " s (" << 1e3 * seconds(t4, t5) / it << " ms/it)" << std::endl;
+  }
+}
+
+// Diagnosis on a new GPU (not run by default: --gtest_also_run_disabled_tests): after 1, 2 and 3
+// iterations, how many padded cells differ from the CPU bit for bit, and the first of them.
+TEST(TerroirWaterFlowGPU, DISABLED_FirstDifferences)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  Scene scene = RandomWalled(48, 40, 7);
+  for (int iterations = 1; iterations <= 3; ++iterations)
+  {
+    hy::WaterFlowSimulation cpu = scene.Make();
+    hy::WaterFlowSimulation gpu = scene.Make();
+    for (int k = 0; k < iterations; ++k)
+    {
+      cpu.Step();
+    }
+    hy::RunWaterFlowGPU(gpu, iterations, false, 1e-3, 16);
+    int differ = 0;
+    for (std::size_t c = 0; c < cpu.PaddedWater().size(); ++c)
+    {
+      const double a = cpu.PaddedWater()[c], b = gpu.PaddedWater()[c];
+      if (std::memcmp(&a, &b, sizeof a) != 0 && differ++ < 3)
+      {
+        std::printf("[ first    ] after %d: cell %zu water cpu %.17g gpu %.17g (terrain %.9g, "
+                    "initial %.17g); discharge cpu %.17g gpu %.17g\n",
+          iterations,
+          c,
+          a,
+          b,
+          static_cast<double>(cpu.PaddedTerrain()[c]),
+          scene.Make().PaddedWater()[c],
+          cpu.PaddedDischarge()[c],
+          gpu.PaddedDischarge()[c]);
+      }
+    }
+    std::printf("[ first    ] after %d: %d of %zu padded cells differ\n",
+      iterations,
+      differ,
+      cpu.PaddedWater().size());
   }
 }

@@ -1,6 +1,7 @@
 #include "WaterFlow.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -595,6 +596,15 @@ struct WaterFlowSimulation::ScratchPool
 
 //------------------------------------------------------------------------------
 WaterFlowSimulation::~WaterFlowSimulation() = default;
+namespace
+{
+std::uint64_t NextSimulationId()
+{
+  static std::atomic<std::uint64_t> next{ 0 };
+  return ++next;
+}
+} // namespace
+
 WaterFlowSimulation::WaterFlowSimulation(WaterFlowSimulation&&) noexcept = default;
 WaterFlowSimulation& WaterFlowSimulation::operator=(WaterFlowSimulation&&) noexcept = default;
 
@@ -602,6 +612,7 @@ WaterFlowSimulation& WaterFlowSimulation::operator=(WaterFlowSimulation&&) noexc
 WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const double* waterMetres)
   : NX(terrain.nx)
   , NY(terrain.ny)
+  , Identity(NextSimulationId())
   , Scratch(new ScratchPool)
 {
   if (NX <= 0 || NY <= 0 || !terrain.data || !waterMetres)

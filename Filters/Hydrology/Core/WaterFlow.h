@@ -298,6 +298,10 @@ public:
   const std::vector<double>& CellArea() const { return this->Area; }
   ///@}
 
+  /// Unique per simulation constructed in this process (a moved simulation keeps it): a cache
+  /// key for its terrain, closenesses and areas, which never change.
+  std::uint64_t Id() const { return this->Identity; }
+
   ///@{
   /// Volume moved and outflow of every iteration so far (m^3), in order.
   const std::vector<double>& MovedHistory() const { return this->Moved; }
@@ -325,6 +329,7 @@ private:
 
   int NX = 0;
   int NY = 0;
+  std::uint64_t Identity = 0;
   std::vector<float> Terrain;
   std::vector<std::uint8_t> IsCell;
   std::vector<double> Water;
