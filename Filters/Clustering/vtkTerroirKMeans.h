@@ -60,7 +60,8 @@
  * Theory 28(2):129-137. doi:10.1109/TIT.1982.1056489
  * Arthur, D., Vassilvitskii, S. (2007). k-means++: the advantages of careful seeding. Proc.
  * 18th ACM-SIAM Symposium on Discrete Algorithms, 1027-1035.
- * Long, J. (2016). Terrain resources and ecosystem simulation (the seed system), chapter 4.
+ * Long, H. (2016). Using procedural methods to generate realistic virtual rural worlds. MSc
+ * minor dissertation (the seed system), chapter 4.
  *
  * @sa vtkTerroirImageAlgorithm vtkTerroirTemperature vtkTerroirSolarIllumination
  */

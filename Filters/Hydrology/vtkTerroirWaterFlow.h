@@ -59,8 +59,8 @@
  * runs, errors), Testing/GPU/TestWaterFlowGPU.cxx, Testing/Pipeline/TestDeterminism.cxx.
  *
  * @par Reference
- * Long, J. (2016), the seed system's thesis, section 3.3 (hydrostatic water flow, table 3.3,
- * equations 3.8-3.12, the 1-D form generalised in WaterFlow.h).
+ * Long, H. (2016), the seed system's MSc dissertation, section 3.3 (hydrostatic water flow,
+ * table 3.3, equations 3.8-3.12, the 1-D form generalised in WaterFlow.h).
  *
  * @sa vtkTerroirSoilHumidity vtkTerroirFlowAccumulation
  */

@@ -40,7 +40,8 @@
  * - S. P. Lloyd, "Least squares quantization in PCM", IEEE Trans. Inf. Theory 28(2), 1982,
  *   doi:10.1109/TIT.1982.1056489.
  * - D. Arthur, S. Vassilvitskii, "k-means++: the advantages of careful seeding", SODA 2007.
- * - J. Long, "Terrain resources and ecosystem simulation" (the seed), 2016, chapter 4.
+ * - H. Long, "Using procedural methods to generate realistic virtual rural worlds", MSc
+ *   minor dissertation (the seed), 2016, chapter 4.
  */
 #ifndef terroir_clustering_KMeans_h
 #define terroir_clustering_KMeans_h

@@ -69,7 +69,8 @@
  * the GPU kernel against this code.
  *
  * @par Reference
- * Long, J. (2016). Thesis of the seed system (the issue tracker's "Long 2016"), section 3.3,
+ * Long, H. (2016). Using procedural methods to generate realistic virtual rural worlds. MSc
+ * minor dissertation (the seed system, the issue tracker's "Long 2016"), section 3.3,
  * hydrostatic water flow, table 3.3 and equations 3.8-3.12 (the 1-D form generalised here).
  */
 #ifndef terroir_hydrology_WaterFlow_h
