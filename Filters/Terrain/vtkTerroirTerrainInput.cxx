@@ -147,7 +147,10 @@ bool ExtractTerrain(vtkImageData* image,
   }
 
   out.key = elevation;
-  out.stamp = std::max<unsigned long long>(elevation->GetMTime(), mask ? mask->GetMTime() : 0);
+  out.stamp = elevation->GetMTime();
+  // Never dereferenced; offset by one so that it differs from any array's own key.
+  out.maskKey = static_cast<const char*>(static_cast<const void*>(mask ? mask : elevation)) + 1;
+  out.maskStamp = std::max<unsigned long long>(out.stamp, mask ? mask->GetMTime() : 0);
 
   // Per-row spacing of geographic grids.
   if (vtkDoubleArray* rows = vtkTerroirGeoreference::GetRowSpacing(image))
@@ -272,15 +275,14 @@ GPUTerrain ResidentTerrain(const TerrainInput& terrain)
     return out;
   }
   out.elevation = ctx.Resident(terrain.key, terrain.stamp, n * sizeof(float), v.data);
-  // The mask's entry: another key derived from the same array (never dereferenced).
-  const void* maskKey = static_cast<const char*>(terrain.key) + 1;
   const std::size_t maskWords = v.valid ? (n + 3) / 4 : 1;
-  out.mask = ctx.FindResident(maskKey, terrain.stamp, maskWords * sizeof(std::uint32_t));
+  out.mask =
+    ctx.FindResident(terrain.maskKey, terrain.maskStamp, maskWords * sizeof(std::uint32_t));
   if (!out.mask)
   {
     const std::vector<std::uint32_t> packed = PackValidMask(v);
-    out.mask =
-      ctx.Resident(maskKey, terrain.stamp, packed.size() * sizeof(std::uint32_t), packed.data());
+    out.mask = ctx.Resident(
+      terrain.maskKey, terrain.maskStamp, packed.size() * sizeof(std::uint32_t), packed.data());
   }
   return out;
 }

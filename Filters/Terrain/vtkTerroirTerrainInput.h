@@ -42,10 +42,13 @@ struct VTKTERROIRFILTERSTERRAIN_EXPORT TerrainInput
   std::vector<double> rowDx;        ///< used for geographic grids (TerroirRowSpacing)
   std::vector<double> rowDy;
   bool hasNoData = false; ///< true when some cell is invalid
-  /// Identity and version of the data behind `view` (the elevation array and the larger of its
-  /// and the mask array's MTime), under which its device copies are cached (ResidentTerrain).
+  /// Identity and version of the data behind `view`, under which its device copies are cached
+  /// (ResidentTerrain): the elevation array and its MTime; for the validity, the mask array
+  /// (or the elevation array when there is none) and the larger of the two MTimes.
   const void* key = nullptr;
   unsigned long long stamp = 0;
+  const void* maskKey = nullptr;
+  unsigned long long maskStamp = 0;
 };
 
 namespace gpu

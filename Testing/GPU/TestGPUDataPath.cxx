@@ -5,6 +5,7 @@
 #include "TerroirFilterTestUtilities.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirGPU.h"
+#include "vtkTerroirGeoreference.h"
 
 #include "vtkDataArray.h"
 #include "vtkExtractVOI.h"
@@ -19,6 +20,7 @@
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirWaterFlow.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
 
@@ -785,6 +787,52 @@ TEST(GPUDataPath, ResidentTerrainIsUploadedOnceAndFollowsChanges)
   EXPECT_LE(MaxDifference(slope->GetOutput()->GetPointData()->GetArray("Slope"),
               cpu->GetOutput()->GetPointData()->GetArray("Slope")),
     1e-3);
+}
+
+TEST(GPUDataPath, ReplacedValidityMaskIsNotTakenFromTheCache)
+{
+  // The validity mask is cached under its own array: a new mask array replacing the old one is
+  // uploaded even when it is older than the elevation's last change (so no MTime grew).
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  auto& ctx = Context::Global();
+  auto dem = Crop(120, 100);
+  const vtkIdType n = dem->GetNumberOfPoints();
+  auto makeMask = [n](int i0, int i1)
+  {
+    auto m = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    m->SetName(vtkTerroirGeoreference::ValidMaskName());
+    m->SetNumberOfTuples(n);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      const int i = static_cast<int>(k % 120);
+      m->SetValue(k, i >= i0 && i < i1 ? 0 : 1);
+    }
+    return m;
+  };
+  auto later = makeMask(70, 90); // replaces `first` below; made before the elevation changes
+  auto first = makeMask(10, 30);
+  dem->GetPointData()->AddArray(first);
+  vtkFloatArray* z = vtkFloatArray::SafeDownCast(dem->GetPointData()->GetArray("Elevation"));
+  ASSERT_NE(z, nullptr);
+  z->SetValue(0, z->GetValue(0) + 1.0f);
+  z->Modified();
+  ctx.ClearResident();
+  vtkNew<vtkTerroirSlope> gpu;
+  gpu->SetBackendToGPU();
+  gpu->SetInputData(dem);
+  gpu->Update();
+  dem->GetPointData()->AddArray(later); // same name: replaces `first`
+  dem->Modified();
+  gpu->Update();
+  vtkNew<vtkTerroirSlope> cpu;
+  cpu->SetBackendToCPU();
+  cpu->SetInputData(dem);
+  cpu->Update();
+  vtkDataArray* g = gpu->GetOutput()->GetPointData()->GetArray("Slope");
+  ASSERT_NE(g, nullptr);
+  EXPECT_TRUE(std::isnan(g->GetTuple1(80)));  // column 80: invalid under the new mask
+  EXPECT_FALSE(std::isnan(g->GetTuple1(20))); // column 20: valid again
+  EXPECT_LE(MaxDifference(g, cpu->GetOutput()->GetPointData()->GetArray("Slope")), 1e-3);
 }
 
 TEST(GPUDataPath, GPUChainMatchesCPUChainWithACPUFilterInBetween)
