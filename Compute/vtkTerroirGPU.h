@@ -31,6 +31,7 @@
 #include "vtkTerroirComputeModule.h" // For export macro
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -139,6 +140,11 @@ struct GridPlan
 VTKTERROIRCOMPUTE_EXPORT GridPlan PlanGrid(const Limits& limits,
   std::size_t perItem,
   std::size_t local);
+
+/// Flags (one byte per cell, nonzero = set) packed four to a uint as the kernels read them:
+/// byte k of word w is 1 or 0 for cell 4w + k. At least one word (zero) when `n` is 0.
+VTKTERROIRCOMPUTE_EXPORT std::vector<std::uint32_t> PackFlags(const std::uint8_t* flags,
+  std::size_t n);
 
 /// RAII shader storage buffer (GL_SHADER_STORAGE_BUFFER) from the context's pool. Context
 /// thread only: construction and every method throw `Error` elsewhere; out-of-range transfers

@@ -396,6 +396,16 @@ GridPlan PlanGrid(const Limits& limits, std::size_t perItem, std::size_t local)
   return p;
 }
 
+std::vector<std::uint32_t> PackFlags(const std::uint8_t* flags, std::size_t n)
+{
+  std::vector<std::uint32_t> words(std::max<std::size_t>(1, (n + 3) / 4), 0u);
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    words[c / 4] |= static_cast<std::uint32_t>(flags[c] ? 1u : 0u) << (8 * (c % 4));
+  }
+  return words;
+}
+
 Groups GridPlan::For(std::size_t invocations) const
 {
   const std::size_t groups = (invocations + this->Local - 1) / this->Local;

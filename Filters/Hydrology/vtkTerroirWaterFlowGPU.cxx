@@ -38,17 +38,6 @@ void CheckBufferSize(const char* what, std::size_t bytes, const gpu::Limits& lim
       " bytes); the grid is too large for the GPU path, use the CPU backend");
   }
 }
-/// Valid-cell bytes packed four to a word, as binding 1 of the kernel reads them.
-std::vector<std::uint32_t> PackCells(const std::vector<std::uint8_t>& isCell)
-{
-  std::vector<std::uint32_t> words((isCell.size() + 3) / 4, 0u);
-  for (std::size_t c = 0; c < isCell.size(); ++c)
-  {
-    words[c / 4] |= static_cast<std::uint32_t>(isCell[c] ? 1u : 0u) << (8 * (c % 4));
-  }
-  return words;
-}
-
 /// Per padded row the closenesses, area ratios and area that RowBlock uses (the ratios divided
 /// here, in double, exactly as the core divides them).
 std::vector<double> RowData(const WaterFlowSimulation& sim)
@@ -72,17 +61,6 @@ std::vector<double> RowData(const WaterFlowSimulation& sim)
     d[7] = area[r];
   }
   return rowData;
-}
-
-/// The moved volume of the iteration whose partial sums start at `p`.
-double Moved(const double* p, std::size_t groups)
-{
-  double moved = 0.0;
-  for (std::size_t g = 0; g < groups; ++g)
-  {
-    moved += p[2 * g];
-  }
-  return moved;
 }
 
 /**
@@ -226,7 +204,8 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
       auto bCell = ctx.FindResident(&cellTag, id, ((n + 3) / 4) * sizeof(std::uint32_t));
       if (!bCell)
       {
-        const std::vector<std::uint32_t> cellWords = PackCells(sim.PaddedIsCell());
+        const std::vector<std::uint32_t> cellWords =
+          gpu::PackFlags(sim.PaddedIsCell().data(), sim.PaddedIsCell().size());
         bCell =
           ctx.Resident(&cellTag, id, cellWords.size() * sizeof(std::uint32_t), cellWords.data());
       }
@@ -342,8 +321,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
         block.done.Wait();
         bPartials[block.ring].Download(
           partials.data(), block.count * dispatched * 2 * sizeof(double));
-        const double firstMoved = partials.empty() ? 0.0 : Moved(partials.data(), dispatched);
-        double lastMoved = firstMoved;
+        double firstMoved = 0.0, lastMoved = 0.0;
         for (std::size_t b = 0; b < block.count; ++b)
         {
           WaterFlowIteration it;
@@ -353,6 +331,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
             it.moved += p[2 * g];
             it.outflow += p[2 * g + 1];
           }
+          firstMoved = b == 0 ? it.moved : firstMoved;
           lastMoved = it.moved;
           const double before = movedTotal;
           movedTotal += it.moved;

@@ -247,16 +247,7 @@ vtkFloatArray* NewOutputArray(const char* name,
 
 std::vector<std::uint32_t> PackValidMask(const GridView<float>& v)
 {
-  const std::size_t n = v.Size();
-  std::vector<std::uint32_t> mask(v.valid ? (n + 3) / 4 : 1, 0u);
-  if (v.valid)
-  {
-    for (std::size_t k = 0; k < n; ++k)
-    {
-      mask[k / 4] |= static_cast<std::uint32_t>(v.valid[k] ? 1u : 0u) << (8 * (k % 4));
-    }
-  }
-  return mask;
+  return v.valid ? gpu::PackFlags(v.valid, v.Size()) : std::vector<std::uint32_t>(1, 0u);
 }
 
 GPUTerrain ResidentTerrain(const TerrainInput& terrain)

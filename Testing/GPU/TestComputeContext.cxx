@@ -517,6 +517,18 @@ bool Contains(const std::string& s, const std::string& part)
 }
 } // namespace
 
+TEST(TerroirComputeContext, PackFlagsPutsCellFourWPlusKInByteKOfWordW)
+{
+  // Worked by hand: cells 0 and 2 set in word 0 (bytes 0 and 2), cell 5 in word 1 (byte 1);
+  // any nonzero byte counts as set and is stored as 1.
+  const std::uint8_t flags[6] = { 1, 0, 7, 0, 0, 255 };
+  const std::vector<std::uint32_t> words = terroir::gpu::PackFlags(flags, 6);
+  ASSERT_EQ(words.size(), 2u);
+  EXPECT_EQ(words[0], 0x00010001u);
+  EXPECT_EQ(words[1], 0x00000100u);
+  EXPECT_EQ(terroir::gpu::PackFlags(flags, 0), std::vector<std::uint32_t>(1, 0u));
+}
+
 TEST(TerroirComputeContext, VerifiedGPUPathsTable)
 {
   using C = vtkTerroirComputeContext;
