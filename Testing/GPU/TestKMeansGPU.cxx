@@ -585,7 +585,8 @@ TEST(KMeansGPU, DISABLED_Timings)
 }
 
 // Diagnosis on a new GPU (not run by default: --gtest_also_run_disabled_tests): the squared
-// distances of one assignment, GPU against CPU, with the first differing cells in full.
+// distances of one assignment, GPU against CPU, bit for bit, printing the first differing cells
+// in full.
 TEST(KMeansGPU, DISABLED_FirstDifferences)
 {
   TERROIR_REQUIRE_GPU_OR_SKIP();
@@ -625,4 +626,5 @@ TEST(KMeansGPU, DISABLED_FirstDifferences)
   }
   std::printf(
     "[ first    ] %d of %zu distances differ after one assignment\n", differ, cpu.distances.size());
+  EXPECT_EQ(differ, 0); // the GPU engine's contract: the CPU engine's bits
 }
