@@ -237,7 +237,8 @@ int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverla
       vtkTerroirKMeans::ClusterIdName(),
       "Clusters",
       std::to_string(s.Clusters) + " ecological zones (k-means)",
-      s.Png);
+      s.Png,
+      false);
   }
 
   std::cout << "terroir kmeans (" << std::fixed << std::setprecision(3) << seconds << " s, "

@@ -687,6 +687,21 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
     ->capture_default_str();
   app->add_option("--river-threshold", s.RiverThreshold, "Discharge of a river cell, m3")
     ->check(FiniteIn(0.0, 1e18));
+  app
+    ->add_option("--mode",
+      s.Mode,
+      "pulse: the seed's single pulse; rivers: steady rain until the outflow balances it "
+      "(default: pulse for waterflow, rivers for validate and run)")
+    ->check(CLI::IsMember({ "pulse", "rivers" }));
+  app->add_option("--rain", s.RainRate, "Rivers mode: rain on every cell, mm/h")
+    ->check(FiniteIn(1e-9, 1e6))
+    ->capture_default_str();
+  app
+    ->add_option("--balance",
+      s.BalanceTolerance,
+      "Rivers mode: stop when the outflow reaches 1 - TOLERANCE of the rain")
+    ->check(FiniteIn(1e-9, 0.999))
+    ->capture_default_str();
 }
 
 void CheckWaterFlow(const WaterFlowSettings& s, const CLI::App& app)
@@ -795,6 +810,104 @@ std::vector<double> ParseNumberList(const std::string& text, const std::string& 
     values.push_back(v);
   }
   return values;
+}
+
+//------------------------------------------------------------------------------
+void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::string& value)
+{
+  if (name == "mode")
+  {
+    if (value != "pulse" && value != "rivers")
+    {
+      throw std::invalid_argument("--sweep: mode must be pulse or rivers, not '" + value + "'");
+    }
+    s.Mode = value;
+    return;
+  }
+  const std::vector<double> v = ParseNumberList(value, "--sweep " + name);
+  if (v.size() != 1)
+  {
+    throw std::invalid_argument("--sweep: '" + value + "' is not one number");
+  }
+  const double x = v[0];
+  auto need = [&](bool ok, const char* range)
+  {
+    if (!ok)
+    {
+      throw std::invalid_argument(
+        "--sweep: " + name + " = " + value + " is out of range (" + range + ")");
+    }
+  };
+  if (name == "water")
+  {
+    need(x >= 0.0 && x <= 1e6, "0 to 1e6 mm");
+    s.WaterMm = x;
+  }
+  else if (name == "rain")
+  {
+    need(x >= 1e-9 && x <= 1e6, "1e-9 to 1e6 mm/h");
+    s.RainRate = x;
+  }
+  else if (name == "balance")
+  {
+    need(x >= 1e-9 && x <= 0.999, "1e-9 to 0.999");
+    s.BalanceTolerance = x;
+  }
+  else if (name == "max-iterations")
+  {
+    need(x >= 0.0 && x <= 1e8 && x == std::floor(x), "a whole number, 0 to 1e8");
+    s.MaximumIterations = static_cast<long long>(x);
+  }
+  else if (name == "auto-stop")
+  {
+    need(x >= 0.0 && x <= 0.999, "0 to 0.999");
+    s.AutoStop = x;
+  }
+  else if (name == "time")
+  {
+    need(x >= 0.0 && x <= 1e12, "0 to 1e12 s");
+    s.Time = x;
+  }
+  else if (name == "iteration-duration")
+  {
+    need(x >= 1e-6 && x <= 1e9, "1e-6 to 1e9 s");
+    s.IterationDuration = x;
+  }
+  else if (name == "river-threshold")
+  {
+    need(x >= 0.0 && x <= 1e18, "0 to 1e18");
+    s.RiverThreshold = x;
+  }
+  else
+  {
+    throw std::invalid_argument("--sweep: unknown option '" + name +
+      "' (water, rain, balance, max-iterations, auto-stop, time, iteration-duration, "
+      "river-threshold, mode)");
+  }
+}
+
+void ParseSweep(const std::string& text, std::string& name, std::vector<std::string>& values)
+{
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 >= text.size())
+  {
+    throw std::invalid_argument(
+      "--sweep needs NAME=V1,V2,... (e.g. rain=0.1,0.3,1), not '" + text + "'");
+  }
+  name = text.substr(0, eq);
+  values.clear();
+  std::stringstream ss(text.substr(eq + 1));
+  std::string item;
+  WaterFlowSettings probe;
+  while (std::getline(ss, item, ','))
+  {
+    ApplySweepValue(probe, name, item);
+    values.push_back(item);
+  }
+  if (values.empty())
+  {
+    throw std::invalid_argument("--sweep " + name + ": no value");
+  }
 }
 
 ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& line)
@@ -954,8 +1067,9 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(flow);
 
   // flowacc
-  CLI::App* flowacc = app.add_subcommand(
-    "flowacc", "D8 flow accumulation after priority-flood filling (the classic baseline)");
+  CLI::App* flowacc = app.add_subcommand("flowacc",
+    "Flow accumulation after priority-flood filling: D8, MFD or D-infinity (the classic "
+    "baselines)");
   flowacc->add_option("IN", line.Input, "Input DEM")->required();
   flowacc->add_option("OUT", line.Output, "Output .tif (ContributingArea, m2) or .vti (all arrays)")
     ->required()
@@ -963,6 +1077,15 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   flowacc
     ->add_option("--river-threshold", line.FlowRiverThreshold, "Contributing area of a river, m2")
     ->check(FiniteIn(0.0, 1e18))
+    ->capture_default_str();
+  flowacc
+    ->add_option("--method",
+      line.FlowMethod,
+      "d8 (O'Callaghan & Mark 1984), mfd (Freeman 1991) or dinf (Tarboton 1997)")
+    ->check(CLI::IsMember({ "d8", "mfd", "dinf" }))
+    ->capture_default_str();
+  flowacc->add_option("--mfd-exponent", line.FlowMFDExponent, "MFD's slope exponent p")
+    ->check(FiniteIn(1e-3, 100.0))
     ->capture_default_str();
   addCommon(flowacc);
 
@@ -982,6 +1105,9 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   validate->add_option("--json", line.Validate.Json, "Also write the scores as JSON here");
   validate->add_option("--png", line.Validate.Png, "Also write the overlay picture here");
+  validate->add_option("--sweep",
+    line.Validate.Sweep,
+    "NAME=V1,V2,...: one simulation row per value of a water-flow option (e.g. rain=0.1,1,10)");
   AddWaterFlowOptions(validate, line.WaterFlow);
   addCommon(validate);
 
@@ -1201,6 +1327,12 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     if (*validate)
     {
       CheckWaterFlow(line.WaterFlow, *validate);
+      if (!line.Validate.Sweep.empty())
+      {
+        std::string name;
+        std::vector<std::string> values;
+        ParseSweep(line.Validate.Sweep, name, values);
+      }
       for (const std::string& peer : line.Validate.Peers)
       {
         const std::size_t eq = peer.find('=');

@@ -116,8 +116,11 @@ struct WaterFlowSettings
   double Time = 0.0;                   ///< --time SECONDS (0: no limit)
   double IterationDuration = 10.0;     ///< --iteration-duration SECONDS
   double RiverThreshold = std::numeric_limits<double>::quiet_NaN(); ///< --river-threshold M3
-  std::string DischargeOutput; ///< --discharge FILE (waterflow)
-  std::string RiverOutput;     ///< --river FILE (waterflow)
+  std::string Mode;               ///< --mode pulse|rivers; empty: the command's default
+  double RainRate = 0.3;          ///< --rain MM_PER_HOUR (rivers mode)
+  double BalanceTolerance = 0.02; ///< --balance TOLERANCE (rivers mode)
+  std::string DischargeOutput;    ///< --discharge FILE (waterflow)
+  std::string RiverOutput;        ///< --river FILE (waterflow)
 };
 
 /// Options of `validate`.
@@ -128,7 +131,19 @@ struct ValidateSettings
   std::vector<std::string> Peers; ///< --peer NAME=RASTER: accumulation rasters of peer tools
   std::string Json;               ///< --json FILE
   std::string Png;                ///< --png FILE (overlay)
+  std::string Sweep;              ///< --sweep NAME=V1,V2,...: one simulation row per value
 };
+
+/**
+ * Applies one value of a validate sweep to the simulation's settings: NAME is a water-flow
+ * option without its dashes (water, rain, balance, max-iterations, auto-stop, time,
+ * iteration-duration, river-threshold, mode). Throws std::invalid_argument naming --sweep and
+ * the bad name or value.
+ */
+void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::string& value);
+
+/// Splits "NAME=V1,V2,..." into the name and its values (checked with ApplySweepValue).
+void ParseSweep(const std::string& text, std::string& name, std::vector<std::string>& values);
 
 /// Options of the k-means clustering (`kmeans`; `run` uses Clusters only).
 struct KMeansSettings
@@ -197,6 +212,8 @@ struct CommandLine
   WaterFlowSettings WaterFlow;     ///< waterflow, validate
   ValidateSettings Validate;       ///< validate
   double FlowRiverThreshold = 1e5; ///< flowacc --river-threshold, m2
+  std::string FlowMethod = "d8";   ///< flowacc --method d8|mfd|dinf
+  double FlowMFDExponent = 1.1;    ///< flowacc --mfd-exponent
 
   KMeansSettings KMeans; ///< kmeans (run: Clusters)
 

@@ -43,8 +43,10 @@ namespace hy = terroir::hydrology;
 vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
   vtkImageData* terrain,
   const std::string& backend,
-  double& seconds)
+  double& seconds,
+  const char* defaultMode = "pulse")
 {
+  const bool rivers = (s.Mode.empty() ? std::string(defaultMode) : s.Mode) == "rivers";
   vtkSmartPointer<vtkImageData> input = terrain;
   if (s.Month > 0 || s.Annual)
   {
@@ -76,6 +78,9 @@ vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
   flow->SetAutoStopRatio(s.AutoStop);
   flow->SetMaximumSimulatedTime(s.Time);
   flow->SetIterationDuration(s.IterationDuration);
+  flow->SetMode(rivers ? vtkTerroirWaterFlow::Rivers : vtkTerroirWaterFlow::Pulse);
+  flow->SetRainRate(s.RainRate);
+  flow->SetBalanceTolerance(s.BalanceTolerance);
   if (std::isfinite(s.RiverThreshold))
   {
     flow->SetRiverThreshold(s.RiverThreshold);
@@ -112,13 +117,24 @@ std::string Fixed(double v, int digits)
 /// One line on what the simulation did.
 void PrintWaterFlow(vtkImageData* out, double seconds)
 {
-  const double initial = FieldNumber(out, "WaterFlowInitialVolume");
+  const double still = FieldNumber(out, "WaterFlowInitialVolume");
+  const double rain = FieldNumber(out, "WaterFlowRainVolume");
+  const bool rivers = std::isfinite(rain);
+  const double water = still + (rivers ? rain : 0.0);
   const double outflow = FieldNumber(out, "WaterFlowOutflowVolume");
   std::cout << "terroir waterflow (" << Fixed(seconds, 3) << " s): "
             << static_cast<long long>(FieldNumber(out, vtkTerroirWaterFlow::IterationsName()))
-            << " iterations (" << FieldText(out, vtkTerroirWaterFlow::StopReasonName())
-            << "), water " << Fixed(initial, 0) << " m3, left the terrain " << Fixed(outflow, 0)
-            << " m3 (" << Fixed(initial > 0.0 ? 100.0 * outflow / initial : 0.0, 1) << " %)\n";
+            << " iterations (" << FieldText(out, vtkTerroirWaterFlow::StopReasonName()) << "), ";
+  if (rivers)
+  {
+    std::cout << "still water " << Fixed(still, 0) << " m3, rain " << Fixed(rain, 0) << " m3";
+  }
+  else
+  {
+    std::cout << "water " << Fixed(water, 0) << " m3";
+  }
+  std::cout << ", left the terrain " << Fixed(outflow, 0) << " m3 ("
+            << Fixed(water > 0.0 ? 100.0 * outflow / water : 0.0, 1) << " %)\n";
 }
 
 /// A point array as doubles (NaN stays NaN), absolute values when `absolute`.
@@ -132,17 +148,6 @@ std::vector<double> AsDoubles(vtkDataArray* a, bool absolute)
   }
   return v;
 }
-
-/// The scores of one method.
-struct MethodScores
-{
-  std::string name;
-  std::string measure; ///< what the threshold applies to
-  double threshold = 0.0;
-  bool lengthMatched = true;
-  hy::RiverScores at30;
-  hy::RiverScores at60;
-};
 
 MethodScores Score(const std::string& name,
   const std::string& measure,
@@ -208,91 +213,18 @@ nlohmann::json ScoresJson(const hy::RiverScores& s)
 } // namespace
 
 //------------------------------------------------------------------------------
-int CommandWaterFlow(const CommandLine& c)
+RiverReference::RiverReference(vtkImageData* terrain,
+  const std::string& dem,
+  const std::string& reference,
+  const std::string& maskPath,
+  bool allowNetwork)
 {
-  const WaterFlowSettings& s = c.WaterFlow;
-  std::vector<std::string> outs = { c.Output };
-  for (const std::string* extra : { &s.DischargeOutput, &s.RiverOutput })
-  {
-    if (!extra->empty())
-    {
-      outs.push_back(*extra);
-    }
-  }
-  CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
-  double seconds = 0.0;
-  vtkSmartPointer<vtkImageData> out = SimulateWaterFlow(s, terrain, c.Backend, seconds);
-  WriteStageResult(out, vtkTerroirWaterFlow::WaterHeightName(), c.Output, c.Overwrite);
-  if (!s.DischargeOutput.empty())
-  {
-    WriteStageResult(out, vtkTerroirWaterFlow::DischargeName(), s.DischargeOutput, c.Overwrite);
-  }
-  if (!s.RiverOutput.empty())
-  {
-    WriteStageResult(out, vtkTerroirWaterFlow::RiverName(), s.RiverOutput, c.Overwrite);
-  }
-  PrintWaterFlow(out, seconds);
-  return 0;
-}
-
-//------------------------------------------------------------------------------
-int CommandFlowAccumulation(const CommandLine& c)
-{
-  CheckWritable({ c.Output }, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
-  vtkNew<vtkTerroirFlowAccumulation> d8;
-  d8->SetRiverThreshold(c.FlowRiverThreshold);
-  d8->SetInputData(terrain);
-  WatchProgress(d8, "flowacc");
-  const double t0 = Now();
-  UpdateOrThrow(d8, "flow accumulation");
-  const double seconds = Now() - t0;
-  vtkImageData* out = d8->GetOutput();
-  WriteStageResult(out, "ContributingArea", c.Output, c.Overwrite);
-  vtkDataArray* river = out->GetPointData()->GetArray("River");
-  long long rivers = 0;
-  for (vtkIdType k = 0; river && k < river->GetNumberOfTuples(); ++k)
-  {
-    rivers += river->GetComponent(k, 0) > 0.0 ? 1 : 0;
-  }
-  std::cout << "terroir flowacc (" << Fixed(seconds, 3) << " s): " << rivers
-            << " river cells (contributing area >= " << c.FlowRiverThreshold << " m2)\n";
-  return 0;
-}
-
-//------------------------------------------------------------------------------
-int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOverlay)
-{
-  const ValidateSettings& v = c.Validate;
-  const bool bundled = c.Input.empty();
-  const std::string dem = bundled ? DefaultDEM() : c.Input;
-  const std::string dataDir = dem.substr(0, dem.find_last_of('/') + 1);
-  const std::string reference = !v.Reference.empty()
-    ? v.Reference
-    : (bundled ? dataDir + "sagehen_nhd_flowlines_utm11n.geojson" : "");
-  const std::string maskPath =
-    !v.Mask.empty() ? v.Mask : (bundled ? dataDir + "sagehen_watershed_utm11n.geojson" : "");
-  if (reference.empty())
-  {
-    throw Failure("validate: --reference LINES is needed for a DEM other than the bundled one");
-  }
-  std::vector<std::string> outs;
-  for (const std::string* p : { &v.Json, &v.Png })
-  {
-    if (!p->empty())
-    {
-      outs.push_back(*p);
-    }
-  }
-  CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(dem, c.AllowNetwork, c.ZUnit);
   const std::size_t n = static_cast<std::size_t>(terrain->GetNumberOfPoints());
 
   // Reference lines on the DEM grid (GDAL's rasterisation: the cells of each segment's path).
-  vtkSmartPointer<vtkImageData> refImage =
-    RasterizePolygons(reference, "", terrain, c.AllowNetwork);
-  std::vector<std::uint8_t> ref(n, 0);
+  vtkSmartPointer<vtkImageData> refImage = RasterizePolygons(reference, "", terrain, allowNetwork);
+  std::vector<std::uint8_t>& ref = this->Reference;
+  ref.assign(n, 0);
   {
     vtkDataArray* a = refImage->GetPointData()->GetScalars();
     for (std::size_t k = 0; k < n; ++k)
@@ -302,14 +234,15 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   }
 
   // The area: everything, a raster on the grid, or polygons.
-  std::vector<std::uint8_t> area(n, 1);
+  std::vector<std::uint8_t>& area = this->Area;
+  area.assign(n, 1);
   if (!maskPath.empty())
   {
     const bool raster = HasExtension(maskPath, ".tif") || HasExtension(maskPath, ".tiff") ||
       HasExtension(maskPath, ".img") || HasExtension(maskPath, ".vti");
     vtkSmartPointer<vtkImageData> m = raster
-      ? ReadGridOperand(maskPath, terrain, c.AllowNetwork, "Area")
-      : RasterizePolygons(maskPath, "", terrain, c.AllowNetwork, true);
+      ? ReadGridOperand(maskPath, terrain, allowNetwork, "Area")
+      : RasterizePolygons(maskPath, "", terrain, allowNetwork, true);
     vtkDataArray* a = m->GetPointData()->GetScalars();
     std::size_t inside = 0;
     for (std::size_t k = 0; k < n; ++k)
@@ -344,7 +277,7 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   }
 
   // The grid as the scores see it.
-  GridView<std::uint8_t> refView;
+  GridView<std::uint8_t>& refView = this->View;
   refView.data = ref.data();
   int dims[3];
   terrain->GetDimensions(dims);
@@ -354,45 +287,245 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   refView.ny = dims[1];
   refView.dx = std::fabs(spacing[0]);
   refView.dy = std::fabs(spacing[1]);
-  std::vector<double> rowDx, rowDy;
   if (vtkDoubleArray* rows = vtkTerroirGeoreference::GetRowSpacing(terrain))
   {
     if (rows->GetNumberOfTuples() == dims[1] && rows->GetNumberOfComponents() == 2)
     {
       for (int j = 0; j < dims[1]; ++j)
       {
-        rowDx.push_back(std::fabs(rows->GetComponent(j, 0)));
-        rowDy.push_back(std::fabs(rows->GetComponent(j, 1)));
+        this->RowDx.push_back(std::fabs(rows->GetComponent(j, 0)));
+        this->RowDy.push_back(std::fabs(rows->GetComponent(j, 1)));
       }
-      refView.rowDx = rowDx.data();
-      refView.rowDy = rowDy.data();
+      refView.rowDx = this->RowDx.data();
+      refView.rowDy = this->RowDy.data();
     }
   }
 
-  // The simulation, the D8 baseline, the peers.
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    this->Cells += ref[k] && area[k] ? 1 : 0;
+  }
+}
+
+//------------------------------------------------------------------------------
+MethodScores ScoreRiverMeasure(const std::string& name,
+  const std::string& measure,
+  const std::vector<double>& values,
+  double userThreshold,
+  const RiverReference& reference,
+  std::vector<std::uint8_t>& simulated)
+{
+  return Score(name, measure, values, userThreshold, reference.View, reference.Area, simulated);
+}
+
+//------------------------------------------------------------------------------
+std::vector<double> PointArrayValues(vtkImageData* image, const char* name)
+{
+  vtkDataArray* a = image->GetPointData()->GetArray(name);
+  if (!a)
+  {
+    throw Failure(std::string("no point array ") + name);
+  }
+  return AsDoubles(a, false);
+}
+
+//------------------------------------------------------------------------------
+nlohmann::json MethodScoresJson(const MethodScores& m)
+{
+  return { { "name", m.name },
+    { "measure", m.measure },
+    { "threshold", m.threshold },
+    { "length_matched", m.lengthMatched },
+    { "scores", { ScoresJson(m.at30), ScoresJson(m.at60) } } };
+}
+
+//------------------------------------------------------------------------------
+int CommandWaterFlow(const CommandLine& c)
+{
+  const WaterFlowSettings& s = c.WaterFlow;
+  std::vector<std::string> outs = { c.Output };
+  for (const std::string* extra : { &s.DischargeOutput, &s.RiverOutput })
+  {
+    if (!extra->empty())
+    {
+      outs.push_back(*extra);
+    }
+  }
+  CheckWritable(outs, c.Overwrite);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
   double seconds = 0.0;
-  vtkSmartPointer<vtkImageData> flow = SimulateWaterFlow(c.WaterFlow, terrain, c.Backend, seconds);
-  PrintWaterFlow(flow, seconds);
+  vtkSmartPointer<vtkImageData> out = SimulateWaterFlow(s, terrain, c.Backend, seconds);
+  WriteStageResult(out, vtkTerroirWaterFlow::WaterHeightName(), c.Output, c.Overwrite);
+  if (!s.DischargeOutput.empty())
+  {
+    // Rivers mode: the steady discharge rate (m3/s); pulse mode: the water that left (m3).
+    const bool rivers = out->GetPointData()->GetArray(vtkTerroirWaterFlow::DischargeRateName());
+    WriteStageResult(out,
+      rivers ? vtkTerroirWaterFlow::DischargeRateName() : vtkTerroirWaterFlow::DischargeName(),
+      s.DischargeOutput,
+      c.Overwrite);
+  }
+  if (!s.RiverOutput.empty())
+  {
+    WriteStageResult(out, vtkTerroirWaterFlow::RiverName(), s.RiverOutput, c.Overwrite);
+  }
+  PrintWaterFlow(out, seconds);
+  return 0;
+}
+
+//------------------------------------------------------------------------------
+int CommandFlowAccumulation(const CommandLine& c)
+{
+  CheckWritable({ c.Output }, c.Overwrite);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
+  vtkNew<vtkTerroirFlowAccumulation> d8;
+  d8->SetRiverThreshold(c.FlowRiverThreshold);
+  d8->SetMethod(c.FlowMethod == "mfd"
+      ? vtkTerroirFlowAccumulation::MFD
+      : (c.FlowMethod == "dinf" ? vtkTerroirFlowAccumulation::DInfinity
+                                : vtkTerroirFlowAccumulation::D8));
+  d8->SetMFDExponent(c.FlowMFDExponent);
+  d8->SetInputData(terrain);
+  WatchProgress(d8, "flowacc");
+  const double t0 = Now();
+  UpdateOrThrow(d8, "flow accumulation");
+  const double seconds = Now() - t0;
+  vtkImageData* out = d8->GetOutput();
+  WriteStageResult(out, "ContributingArea", c.Output, c.Overwrite);
+  vtkDataArray* river = out->GetPointData()->GetArray("River");
+  long long rivers = 0;
+  for (vtkIdType k = 0; river && k < river->GetNumberOfTuples(); ++k)
+  {
+    rivers += river->GetComponent(k, 0) > 0.0 ? 1 : 0;
+  }
+  std::cout << "terroir flowacc " << vtkTerroirFlowAccumulation::MethodName(d8->GetMethod()) << " ("
+            << Fixed(seconds, 3) << " s): " << rivers
+            << " river cells (contributing area >= " << c.FlowRiverThreshold << " m2)\n";
+  return 0;
+}
+
+//------------------------------------------------------------------------------
+int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOverlay)
+{
+  const ValidateSettings& v = c.Validate;
+  const bool bundled = c.Input.empty();
+  const std::string dem = bundled ? DefaultDEM() : c.Input;
+  const std::string dataDir = dem.substr(0, dem.find_last_of('/') + 1);
+  const std::string reference = !v.Reference.empty()
+    ? v.Reference
+    : (bundled ? dataDir + "sagehen_nhd_flowlines_utm11n.geojson" : "");
+  const std::string maskPath =
+    !v.Mask.empty() ? v.Mask : (bundled ? dataDir + "sagehen_watershed_utm11n.geojson" : "");
+  if (reference.empty())
+  {
+    throw Failure("validate: --reference LINES is needed for a DEM other than the bundled one");
+  }
+  std::vector<std::string> outs;
+  for (const std::string* p : { &v.Json, &v.Png })
+  {
+    if (!p->empty())
+    {
+      outs.push_back(*p);
+    }
+  }
+  CheckWritable(outs, c.Overwrite);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(dem, c.AllowNetwork, c.ZUnit);
+  const std::size_t n = static_cast<std::size_t>(terrain->GetNumberOfPoints());
+  RiverReference rr(terrain, dem, reference, maskPath, c.AllowNetwork);
+  const std::vector<std::uint8_t>& ref = rr.Reference;
+  const std::vector<std::uint8_t>& area = rr.Area;
+  const GridView<std::uint8_t>& refView = rr.View;
+
+  // The simulation (one row per swept value), the classic baselines, the peers.
+  std::string sweepName;
+  std::vector<std::string> sweepValues;
+  if (!v.Sweep.empty())
+  {
+    ParseSweep(v.Sweep, sweepName, sweepValues);
+  }
+  else
+  {
+    sweepValues.push_back("");
+  }
   std::vector<MethodScores> methods;
   std::vector<std::uint8_t> simulated;
   std::vector<std::uint8_t> flowRivers;
-  methods.push_back(Score("terroir waterflow",
-    "Discharge (m3)",
-    AsDoubles(flow->GetPointData()->GetArray(vtkTerroirWaterFlow::DischargeName()), false),
-    c.WaterFlow.RiverThreshold,
-    refView,
-    area,
-    flowRivers));
-  vtkNew<vtkTerroirFlowAccumulation> d8;
-  d8->SetInputData(terrain);
-  UpdateOrThrow(d8, "flow accumulation");
-  methods.push_back(Score("D8 (priority-flood + D8)",
-    "FlowAccumulation (cells)",
-    AsDoubles(d8->GetOutput()->GetPointData()->GetArray("FlowAccumulation"), false),
-    std::nan(""),
-    refView,
-    area,
-    simulated));
+  nlohmann::json runs = nlohmann::json::array();
+  for (const std::string& value : sweepValues)
+  {
+    WaterFlowSettings settings = c.WaterFlow;
+    if (!sweepName.empty())
+    {
+      ApplySweepValue(settings, sweepName, value);
+    }
+    double seconds = 0.0;
+    vtkSmartPointer<vtkImageData> flow =
+      SimulateWaterFlow(settings, terrain, c.Backend, seconds, "rivers");
+    PrintWaterFlow(flow, seconds);
+    const bool rivers =
+      flow->GetPointData()->GetArray(vtkTerroirWaterFlow::DischargeRateName()) != nullptr;
+    std::string name = rivers ? "terroir waterflow rivers" : "terroir waterflow pulse";
+    if (!sweepName.empty())
+    {
+      name = sweepName + "=" + value;
+    }
+    // The overlay shows the first simulation row.
+    std::vector<std::uint8_t>& cells = flowRivers.empty() ? flowRivers : simulated;
+    methods.push_back(Score(name,
+      rivers ? "DischargeRate (m3/s)" : "Discharge (m3)",
+      AsDoubles(flow->GetPointData()->GetArray(rivers ? vtkTerroirWaterFlow::DischargeRateName()
+                                                      : vtkTerroirWaterFlow::DischargeName()),
+        false),
+      settings.RiverThreshold,
+      refView,
+      area,
+      cells));
+    runs.push_back({ { "method", name },
+      { "mode", rivers ? "rivers" : "pulse" },
+      { "iterations", FieldNumber(flow, vtkTerroirWaterFlow::IterationsName()) },
+      { "stop_reason", FieldText(flow, vtkTerroirWaterFlow::StopReasonName()) },
+      { "seconds", seconds } });
+  }
+  const std::size_t simulationRows = methods.size();
+
+  // The classic baselines: D8, MFD (Freeman 1991 and the adaptive MFD-md of Qin et al. 2007)
+  // and D-infinity by accumulation, and the slope-area score of each.
+  const struct
+  {
+    int method;
+    bool adaptive;
+    const char* name;
+  } baselines[] = { { vtkTerroirFlowAccumulation::D8, false, "D8" },
+    { vtkTerroirFlowAccumulation::MFD, false, "MFD" },
+    { vtkTerroirFlowAccumulation::MFD, true, "MFD-md" },
+    { vtkTerroirFlowAccumulation::DInfinity, false, "D-infinity" } };
+  for (const auto& b : baselines)
+  {
+    vtkNew<vtkTerroirFlowAccumulation> acc;
+    acc->SetMethod(b.method);
+    acc->SetMFDAdaptiveExponent(b.adaptive);
+    acc->SetInputData(terrain);
+    UpdateOrThrow(acc, "flow accumulation");
+    vtkPointData* pd = acc->GetOutput()->GetPointData();
+    methods.push_back(Score(b.name,
+      "FlowAccumulation (cells)",
+      AsDoubles(pd->GetArray(vtkTerroirFlowAccumulation::FlowAccumulationName()), false),
+      std::nan(""),
+      refView,
+      area,
+      simulated));
+    if (b.adaptive)
+    {
+      continue;
+    }
+    methods.push_back(Score(std::string(b.name) + " A*S",
+      "ChannelInitiation (m2)",
+      AsDoubles(pd->GetArray(vtkTerroirFlowAccumulation::ChannelInitiationName()), false),
+      std::nan(""),
+      refView,
+      area,
+      simulated));
+  }
   for (const std::string& peer : v.Peers)
   {
     const std::size_t eq = peer.find('=');
@@ -410,11 +543,7 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   }
 
   // Text.
-  std::size_t refCells = 0;
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    refCells += ref[k] && area[k] ? 1 : 0;
-  }
+  const std::size_t refCells = rr.Cells;
   std::cout << "terroir validate: " << dem << "\n  reference " << reference << ": " << refCells
             << " river cells inside the area" << (maskPath.empty() ? "" : " (" + maskPath + ")")
             << "\n";
@@ -431,7 +560,9 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
               << std::setw(6) << Fixed(m.at60.recall, 3) << " " << std::setw(6)
               << Fixed(m.at60.f1, 3) << "\n";
   }
-  std::cout << "  (* threshold chosen so that the river cells equal the reference's in number)\n";
+  std::cout << "  (* threshold chosen so that the river cells equal the reference's in number;\n"
+               "   A*S: contributing area times slope, Montgomery & Dietrich 1988; the first "
+            << simulationRows << " row(s): the water-flow simulation)\n";
 
   if (!v.Json.empty())
   {
@@ -440,16 +571,15 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
     j["reference"] = reference;
     j["mask"] = maskPath;
     j["reference_cells"] = refCells;
-    j["water_flow"] = { { "iterations", FieldNumber(flow, vtkTerroirWaterFlow::IterationsName()) },
-      { "stop_reason", FieldText(flow, vtkTerroirWaterFlow::StopReasonName()) },
-      { "seconds", seconds } };
+    j["water_flow"] = runs[0];
+    j["water_flow_runs"] = runs;
+    if (!sweepName.empty())
+    {
+      j["sweep"] = { { "option", sweepName }, { "values", sweepValues } };
+    }
     for (const MethodScores& m : methods)
     {
-      j["methods"].push_back({ { "name", m.name },
-        { "measure", m.measure },
-        { "threshold", m.threshold },
-        { "length_matched", m.lengthMatched },
-        { "scores", { ScoresJson(m.at30), ScoresJson(m.at60) } } });
+      j["methods"].push_back(MethodScoresJson(m));
     }
     WriteTextFile(v.Json, j.dump(2) + "\n", c.Overwrite);
   }
@@ -464,7 +594,7 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
     cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
     std::copy(category.begin(), category.end(), cat->GetPointer(0));
     picture->GetPointData()->AddArray(cat);
-    writeOverlay(picture, "RiverComparison", "RiverComparison", "Rivers within 60 m", v.Png);
+    writeOverlay(picture, "RiverComparison", "RiverComparison", "Rivers within 60 m", v.Png, true);
   }
   return 0;
 }

@@ -17,7 +17,8 @@ extern "C" TERROIR_OVERLAY_PLUGIN_EXPORT const char* terroir_write_overlay(vtkIm
   int component,
   const char* preset,
   const char* title,
-  const char* path)
+  const char* path,
+  int map)
 {
   static thread_local std::string error;
   vtkNew<vtkTerroirOverlayView> view;
@@ -26,7 +27,14 @@ extern "C" TERROIR_OVERLAY_PLUGIN_EXPORT const char* terroir_write_overlay(vtkIm
   view->SetArrayComponent(component);
   view->SetPreset(preset);
   view->SetTitle(title);
-  view->SetModeToRelief();
+  if (map)
+  {
+    view->SetModeToMap();
+  }
+  else
+  {
+    view->SetModeToRelief();
+  }
   view->SetShowLegend(true);
   if (view->WritePNG(path))
   {

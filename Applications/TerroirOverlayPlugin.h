@@ -9,15 +9,17 @@
 
 class vtkImageData;
 
-/// Renders `array` (component `component`) of `image` with `preset` as a relief overlay with a
-/// legend and writes it to the PNG `path` (temporary file, then rename). Returns nullptr on
-/// success, else a one-line error (valid until the next call on this thread).
+/// Renders `array` (component `component`) of `image` with `preset` as an overlay with a legend,
+/// in relief (`map` 0) or top-down (`map` 1: parallel projection from above, the terrain filling
+/// the frame), and writes it to the PNG `path` (temporary file, then rename). Returns nullptr
+/// on success, else a one-line error (valid until the next call on this thread).
 using TerroirWriteOverlayFunction = const char* (*)(vtkImageData* image,
   const char* array,
   int component,
   const char* preset,
   const char* title,
-  const char* path);
+  const char* path,
+  int map);
 
 /// The file name of the module, beside the program's libraries.
 #define TERROIR_OVERLAY_PLUGIN_NAME "terroir-overlay.so"

@@ -30,11 +30,13 @@
 #include "TerroirWaterCommands.h"
 
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationStringKey.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkStringArray.h"
 #include "vtkTable.h"
 
 #include "vtkTerroirComputeContext.h"
@@ -47,8 +49,11 @@
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
+#include "vtkTerroirWaterFlow.h"
+#include "vtkUnsignedCharArray.h"
 
 #include "ClimateTable.h"
+#include "RiverValidation.h"
 #include "SoilWater.h"
 
 #include <nlohmann/json.hpp>
@@ -272,11 +277,12 @@ void WriteOverlay(vtkImageData* image,
   const std::string& preset,
   const std::string& title,
   const std::string& path,
-  bool overwrite)
+  bool overwrite,
+  bool map = false)
 {
   terroir::app::CheckWritable({ path }, overwrite);
   if (const char* error = OverlayWriter()(
-        image, array.c_str(), component, preset.c_str(), title.c_str(), path.c_str()))
+        image, array.c_str(), component, preset.c_str(), title.c_str(), path.c_str(), map ? 1 : 0))
   {
     throw Failure(path + ": " + error);
   }
@@ -326,6 +332,16 @@ int CommandRun(const std::string& demArg,
   const std::string humidityJanPng = (out / "humidity_jan.png").string();
   const std::string humidityJulPng = (out / "humidity_jul.png").string();
   const std::string lakesPng = (out / "lakes.png").string();
+  const std::string riversTif = (out / "rivers.tif").string();
+  const std::string dischargeTif = (out / "discharge.tif").string();
+  const std::string riversPng = (out / "rivers.png").string();
+  const std::string riversReliefPng = (out / "rivers_relief.png").string();
+  const std::string validationPng = (out / "validation.png").string();
+  // The bundled DEM's mapped rivers and watershed: its rivers are scored against them.
+  const bool bundled = demArg.empty();
+  const std::string dataDir = dem.substr(0, dem.find_last_of('/') + 1);
+  const std::string referenceLines = dataDir + "sagehen_nhd_flowlines_utm11n.geojson";
+  const std::string referenceArea = dataDir + "sagehen_watershed_utm11n.geojson";
   const std::string clustersTif = (out / "clusters.tif").string();
   const std::string clustersCsv = (out / "clusters.csv").string();
   const std::string clustersJson = (out / "clusters.json").string();
@@ -343,6 +359,8 @@ int CommandRun(const std::string& demArg,
     weightedTif,
     standingTif,
     lakesTif,
+    riversTif,
+    dischargeTif,
     reportMd,
     reportJson };
   if (clusters > 0)
@@ -366,7 +384,13 @@ int CommandRun(const std::string& demArg,
         insolationJunPng,
         humidityJanPng,
         humidityJulPng,
-        lakesPng });
+        lakesPng,
+        riversPng,
+        riversReliefPng });
+    if (bundled)
+    {
+      outputs.push_back(validationPng);
+    }
     if (clusters > 0)
     {
       outputs.push_back(clustersPng);
@@ -460,6 +484,88 @@ int CommandRun(const std::string& demArg,
     result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyLevelName());
   stages["lakes"]["water_bodies"] = lakeLevels ? lakeLevels->GetNumberOfTuples() : 0;
 
+  // Rivers: the water flow's river-forming mode (steady rain until the outflow balances it),
+  // then the river network (rivers, and the lakes above) and, on the bundled DEM, its scores
+  // against the mapped rivers.
+  vtkNew<vtkTerroirWaterFlow> flow;
+  flow->SetBackend(backend);
+  flow->SetModeToRivers();
+  result = RunStage(flow.Get(), result, "rivers", stages);
+  {
+    vtkPointData* rpd = result->GetPointData();
+    vtkDataArray* river = rpd->GetArray(vtkTerroirWaterFlow::RiverName());
+    vtkDataArray* lake = rpd->GetArray(vtkTerroirFloodFill::WaterBodyName());
+    vtkNew<vtkUnsignedCharArray> network;
+    network->SetName("RiverNetwork");
+    network->SetNumberOfTuples(river->GetNumberOfTuples());
+    long long riverCells = 0;
+    for (vtkIdType k = 0; k < river->GetNumberOfTuples(); ++k)
+    {
+      const bool r = river->GetComponent(k, 0) != 0.0;
+      const bool l = lake && lake->GetComponent(k, 0) != 0.0;
+      network->SetValue(k, r ? 1 : (l ? 2 : 0));
+      riverCells += r ? 1 : 0;
+    }
+    rpd->AddArray(network);
+    const double cell = std::sqrt(std::fabs(spacing[0] * spacing[1]));
+    json& rs = stages["rivers"];
+    rs["iterations"] =
+      result->GetFieldData()->GetArray(vtkTerroirWaterFlow::IterationsName())->GetComponent(0, 0);
+    rs["stop_reason"] = vtkStringArray::SafeDownCast(
+      result->GetFieldData()->GetAbstractArray(vtkTerroirWaterFlow::StopReasonName()))
+                          ->GetValue(0);
+    rs["rain_mm_per_h"] = flow->GetRainRate();
+    rs["river_area_m2"] = flow->GetRiverArea();
+    rs["river_cells"] = riverCells;
+    rs["river_length_km"] = riverCells * cell / 1000.0; // cells x cell size: approximate
+    json lakeList = json::array();
+    vtkDataArray* areas =
+      result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyAreaName());
+    double lakeArea = 0.0;
+    for (vtkIdType k = 0; areas && k < areas->GetNumberOfTuples(); ++k)
+    {
+      lakeList.push_back(areas->GetComponent(k, 0));
+      lakeArea += areas->GetComponent(k, 0);
+    }
+    rs["lakes"] = lakeList.size();
+    rs["lake_area_m2"] = lakeArea;
+    rs["lake_areas_m2"] = lakeList;
+  }
+  vtkSmartPointer<vtkImageData> validationPicture;
+  if (bundled)
+  {
+    const double tv = terroir::app::Now();
+    terroir::app::RiverReference reference(
+      result, dem, referenceLines, referenceArea, allowNetwork);
+    std::vector<std::uint8_t> simulated;
+    const terroir::app::MethodScores scores = terroir::app::ScoreRiverMeasure("rivers",
+      "DischargeRate (m3/s)",
+      terroir::app::PointArrayValues(result, vtkTerroirWaterFlow::DischargeRateName()),
+      std::nan(""),
+      reference,
+      simulated);
+    json v = terroir::app::MethodScoresJson(scores);
+    v["reference"] = referenceLines;
+    v["area"] = referenceArea;
+    v["reference_cells"] = reference.Cells;
+    v["seconds"] = terroir::app::Now() - tv;
+    stages["rivers"]["validation"] = v;
+    if (png)
+    {
+      const std::size_t n = simulated.size();
+      std::vector<std::uint8_t> category(n, 0);
+      terroir::hydrology::RiverComparisonCategories(
+        reference.View, simulated.data(), reference.Area.data(), 60.0, category.data());
+      validationPicture = vtkSmartPointer<vtkImageData>::New();
+      validationPicture->ShallowCopy(result);
+      vtkNew<vtkUnsignedCharArray> cat;
+      cat->SetName("RiverComparison");
+      cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
+      std::copy(category.begin(), category.end(), cat->GetPointer(0));
+      validationPicture->GetPointData()->AddArray(cat);
+    }
+  }
+
   // Ecological zones: k-means of the resources with the seed's features and weights.
   vtkNew<vtkTable> clusterTable;
   nlohmann::ordered_json clusterSummary;
@@ -500,6 +606,9 @@ int CommandRun(const std::string& demArg,
   terroir::app::WriteGeoTIFF(
     result, vtkTerroirSoilHumidity::StandingWaterName(), standingTif, overwrite);
   terroir::app::WriteGeoTIFF(result, vtkTerroirFloodFill::WaterDepthName(), lakesTif, overwrite);
+  terroir::app::WriteGeoTIFF(result, vtkTerroirWaterFlow::RiverName(), riversTif, overwrite);
+  terroir::app::WriteGeoTIFF(
+    result, vtkTerroirWaterFlow::DischargeRateName(), dischargeTif, overwrite);
   if (clusters > 0)
   {
     terroir::app::WriteGeoTIFF(result, vtkTerroirKMeans::ClusterIdName(), clustersTif, overwrite);
@@ -530,6 +639,21 @@ int CommandRun(const std::string& demArg,
       "Lakes and closed depressions (depth, m)",
       lakesPng,
       overwrite);
+    WriteOverlay(
+      result, "RiverNetwork", 0, "Rivers", "Rivers and lakes (map)", riversPng, overwrite, true);
+    WriteOverlay(
+      result, "RiverNetwork", 0, "Rivers", "Rivers and lakes", riversReliefPng, overwrite);
+    if (validationPicture)
+    {
+      WriteOverlay(validationPicture,
+        "RiverComparison",
+        0,
+        "RiverComparison",
+        "Rivers against NHD within 60 m (map)",
+        validationPng,
+        overwrite,
+        true);
+    }
     if (clusters > 0)
     {
       WriteOverlay(result,
@@ -645,6 +769,7 @@ int CommandRun(const std::string& demArg,
          "infiltration",
          "humidity",
          "lakes",
+         "rivers",
          "clusters",
          "write" })
   {
@@ -691,6 +816,28 @@ int CommandRun(const std::string& demArg,
        << entry["units"].get<std::string>() << " | " << st["min"].get<double>() << " | "
        << st["mean"].get<double>() << " | " << st["max"].get<double>() << " |\n";
   }
+  {
+    const json& rs = stages["rivers"];
+    md << "\nRivers (water flow, river-forming mode: " << std::defaultfloat
+       << rs["rain_mm_per_h"].get<double>() << " mm/h until the outflow balances the rain; "
+       << rs["iterations"].get<double>() << " iterations, " << rs["stop_reason"].get<std::string>()
+       << "): " << rs["river_cells"].get<long long>()
+       << " river cells (upstream area >= " << rs["river_area_m2"].get<double>() << " m2), about "
+       << std::fixed << std::setprecision(1) << rs["river_length_km"].get<double>() << " km; "
+       << rs["lakes"].get<std::size_t>() << " lakes, " << std::setprecision(3)
+       << rs["lake_area_m2"].get<double>() / 1e6 << " km2.\n";
+    if (rs.contains("validation"))
+    {
+      const json& v = rs["validation"];
+      md << "\nAgainst the bundled NHD flowlines (" << v["reference_cells"].get<std::size_t>()
+         << " cells in the watershed, length-matched, channel cells): precision "
+         << v["scores"][1]["precision"].get<double>() << ", recall "
+         << v["scores"][1]["recall"].get<double>() << ", F1 " << v["scores"][1]["f1"].get<double>()
+         << " within 60 m (F1 " << v["scores"][0]["f1"].get<double>()
+         << " within 30 m); `terroir validate` compares the classic methods.\n";
+    }
+    md << std::setprecision(2);
+  }
   if (clusters > 0)
   {
     // The zones at a glance; clusters.csv has the mean of every feature and month.
@@ -729,8 +876,14 @@ int CommandRun(const std::string& demArg,
   terroir::app::WriteTextFile(reportMd, md.str(), overwrite);
 
   std::cout << "terroir run: " << dims[0] << "x" << dims[1] << " cells from " << dem << "\n";
-  for (const char* s :
-    { "slope", "temperature", "illumination", "infiltration", "humidity", "lakes", "clusters" })
+  for (const char* s : { "slope",
+         "temperature",
+         "illumination",
+         "infiltration",
+         "humidity",
+         "lakes",
+         "rivers",
+         "clusters" })
   {
     if (!stages[s].contains("seconds"))
     {
@@ -1017,13 +1170,14 @@ int main(int argc, char** argv)
                                  const std::string& array,
                                  const std::string& preset,
                                  const std::string& title,
-                                 const std::string& path)
+                                 const std::string& path,
+                                 bool map)
     {
       if (!HaveDisplay())
       {
         throw Failure(path + ": PNG overlays need an X display: run under 'xvfb-run -a'");
       }
-      WriteOverlay(image, array, 0, preset, title, path, c.Overwrite);
+      WriteOverlay(image, array, 0, preset, title, path, c.Overwrite, map);
     };
     if (c.Command == "validate")
     {

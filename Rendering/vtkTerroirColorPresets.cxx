@@ -44,6 +44,7 @@ const PresetInfo Presets[] = {
   { "Insolation", "Insolation", "Wh/m\xC2\xB2/day", "Insolation", false, { 0, 0 } },
   { "WaterBodies", "WaterDepth", "m", "Lake depth", false, { 0, 0 } },
   { "RiverComparison", "RiverComparison", "", "Rivers", true, { 0.0, 3.0 } },
+  { "Rivers", "RiverNetwork", "", "Rivers and lakes", true, { 0.0, 2.0 } },
 };
 constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
 
@@ -79,6 +80,12 @@ const RiverClass RiverClasses[3] = {
   { 1, "map only", { 0.000, 0.447, 0.698 } },   // Okabe-Ito blue (0, 114, 178)
   { 2, "model only", { 0.835, 0.369, 0.000 } }, // Okabe-Ito vermillion (213, 94, 0)
   { 3, "both", { 0.000, 0.000, 0.000 } },       // black
+};
+
+// RiverNetwork classes 1..2 (`terroir run`): Okabe-Ito blue rivers and sky-blue water bodies.
+const RiverClass NetworkClasses[2] = {
+  { 1, "river", { 0.000, 0.447, 0.698 } }, // Okabe-Ito blue (0, 114, 178)
+  { 2, "lake", { 0.337, 0.706, 0.914 } },  // Okabe-Ito sky blue (86, 180, 233)
 };
 
 const PresetInfo* Find(const char* name)
@@ -204,6 +211,10 @@ const char* vtkTerroirColorPresets::GetMaskArrayName(const char* preset)
   {
     return "RiverComparison";
   }
+  if (preset && std::strcmp(preset, "Rivers") == 0)
+  {
+    return "RiverNetwork";
+  }
   return nullptr;
 }
 
@@ -211,7 +222,7 @@ bool vtkTerroirColorPresets::IsCategorical(const char* preset)
 {
   return preset &&
     (std::strcmp(preset, "Clusters") == 0 || std::strcmp(preset, "Sunlit") == 0 ||
-      std::strcmp(preset, "RiverComparison") == 0);
+      std::strcmp(preset, "RiverComparison") == 0 || std::strcmp(preset, "Rivers") == 0);
 }
 
 void vtkTerroirColorPresets::GetNanColor(double rgba[4])
@@ -270,6 +281,21 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     for (int k = 0; k < 3; ++k)
     {
       const RiverClass& c = RiverClasses[k];
+      lut->SetTableValue(k, c.Color[0], c.Color[1], c.Color[2], 1.0);
+      lut->SetAnnotation(vtkVariant(c.Value), c.Name);
+    }
+    lut->SetIndexedLookup(1);
+    lut->BuildSpecialColors();
+    return true;
+  }
+  if (name == "Rivers")
+  {
+    // Two fixed classes; 0 (dry land) is left uncoloured through GetMaskArrayName.
+    lut->SetNumberOfTableValues(2);
+    lut->SetTableRange(1.0, 2.0);
+    for (int k = 0; k < 2; ++k)
+    {
+      const RiverClass& c = NetworkClasses[k];
       lut->SetTableValue(k, c.Color[0], c.Color[1], c.Color[2], 1.0);
       lut->SetAnnotation(vtkVariant(c.Value), c.Name);
     }

@@ -32,6 +32,9 @@
  *   river within the tolerance) vermillion (213, 94, 0), 3 "both" black; class 0 (no river,
  *   or outside the scored area) is left transparent by the overlay view (the mask array is
  *   `RiverComparison` itself); 0 – 3.
+ * - `Rivers`: `RiverNetwork` (unsigned char, `terroir run`): categorical, 1 "river" Okabe-Ito
+ *   blue (0, 114, 178), 2 "lake" sky blue (86, 180, 233); class 0 (dry land) is left
+ *   transparent by the overlay view (the mask array is `RiverNetwork` itself); 0 – 2.
  *
  * Continuous presets are 256-entry vtkLookupTable objects sampled from a
  * vtkColorTransferFunction (RGB interpolation, diverging space for Temperature); values
@@ -69,7 +72,7 @@ public:
 
   ///@{
   /// The presets, in a fixed order: Elevation, Slope, Illumination, Temperature, Humidity,
-  /// Water, Clusters, Sunlit, Incidence, Insolation, WaterBodies, RiverComparison.
+  /// Water, Clusters, Sunlit, Incidence, Insolation, WaterBodies, RiverComparison, Rivers.
   static int GetNumberOfPresets();
   static const char* GetPresetName(int index);
   static bool HasPreset(const char* preset);
@@ -100,7 +103,7 @@ public:
   /// RiverComparison (class 0: no river), none for the others.
   static const char* GetMaskArrayName(const char* preset);
 
-  /// True for categorical presets (Clusters, Sunlit, RiverComparison).
+  /// True for categorical presets (Clusters, Sunlit, RiverComparison, Rivers).
   static bool IsCategorical(const char* preset);
 
   /// Fills `lut` with the preset over [minValue, maxValue] (for Clusters: ids minValue..maxValue,

@@ -20,8 +20,8 @@ jobs=${TERROIR_JOBS:-2}
 mode=${1:-build}
 [ $# -gt 0 ] && shift
 
-# Debian 12 packages Terroir needs to build, test and run (grass-core: the peer tool the
-# illumination tests compare with, r.sunmask and r.horizon).
+# Debian 12 packages Terroir needs to build, test and run (grass-core and saga: peer tools the
+# tests compare with; GRASS r.sunmask, r.horizon and r.watershed, SAGA's flow accumulation).
 packages=(
   build-essential cmake pkg-config git
   libvtk9-dev python3-vtk9 python3-numpy python3-sklearn
@@ -31,7 +31,7 @@ packages=(
   libgtest-dev libcli11-dev nlohmann-json3-dev
   glslang-tools xvfb xauth time
   clang libclang-rt-14-dev llvm
-  grass-core
+  grass-core saga
 )
 
 install_packages() {

@@ -13,6 +13,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "FlowAccumulation.h"
+#include "MultipleFlow.h"
 #include "PriorityFlood.h"
 
 #include <cmath>
@@ -70,6 +71,28 @@ void vtkTerroirFlowAccumulation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "WeightArrayName: " << (this->WeightArrayName ? this->WeightArrayName : "(none)")
      << "\n";
   os << indent << "WeightComponent: " << this->WeightComponent << "\n";
+  os << indent << "Method: " << MethodName(this->Method) << "\n";
+  os << indent << "MFDExponent: " << this->MFDExponent << "\n";
+  os << indent << "MFDContourLength: " << this->MFDContourLength << "\n";
+  os << indent << "MFDAdaptiveExponent: " << this->MFDAdaptiveExponent << "\n";
+  os << indent << "SlopeExponent: " << this->SlopeExponent << "\n";
+  os << indent << "MinimumSlope: " << this->MinimumSlope << "\n";
+}
+
+//------------------------------------------------------------------------------
+const char* vtkTerroirFlowAccumulation::MethodName(int method)
+{
+  switch (method)
+  {
+    case D8:
+      return "D8";
+    case MFD:
+      return "MFD";
+    case DInfinity:
+      return "DInfinity";
+    default:
+      return "unknown";
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -82,7 +105,8 @@ double vtkTerroirFlowAccumulation::EstimateMemory(double nx, double ny)
   // growing) and the pit FIFO 4 B. The flats' breadth-first search (4 B distances + 4 B queue)
   // and the accumulation's in-degrees (1 B) need less.
   const bool weighted = this->WeightArrayName && *this->WeightArrayName;
-  const double perCell = 4.0 + 1.0 + 8.0 + 8.0 + 1.0 + (weighted ? 12.0 : 0.0) + 1.0 + 16.0 + 4.0;
+  const double perCell = 4.0 + 1.0 + 8.0 + 8.0 + 1.0 + 8.0 +
+    (this->Method == DInfinity ? 4.0 : 0.0) + (weighted ? 12.0 : 0.0) + 1.0 + 16.0 + 4.0;
   return nx * ny * perCell;
 }
 
@@ -92,6 +116,18 @@ std::string vtkTerroirFlowAccumulation::CheckParameters()
   if (!(this->RiverThreshold >= 0.0) || !std::isfinite(this->RiverThreshold))
   {
     return "RiverThreshold " + Num(this->RiverThreshold) + " m2 must be a finite number >= 0";
+  }
+  if (!(this->MFDExponent > 0.0) || !std::isfinite(this->MFDExponent))
+  {
+    return "MFDExponent " + Num(this->MFDExponent) + " must be a finite number > 0";
+  }
+  if (!(this->SlopeExponent >= 0.0) || !std::isfinite(this->SlopeExponent))
+  {
+    return "SlopeExponent " + Num(this->SlopeExponent) + " must be a finite number >= 0";
+  }
+  if (!(this->MinimumSlope >= 0.0) || !std::isfinite(this->MinimumSlope))
+  {
+    return "MinimumSlope " + Num(this->MinimumSlope) + " must be a finite number >= 0";
   }
   return std::string();
 }
@@ -162,16 +198,43 @@ int vtkTerroirFlowAccumulation::RequestTerrainData(vtkImageData* input,
                 << summary.sinks << " sinks");
   const std::int8_t* dir = direction->GetPointer(0);
 
-  // 3. Accumulations: cells, area, and the weighted volume.
+  // 3. Accumulations by the chosen method: cells, area, and the weighted volume.
+  auto angle = this->Method == DInfinity ? NewArray<vtkFloatArray>(FlowAngleName(), n, "rad")
+                                         : vtkSmartPointer<vtkFloatArray>();
+  hy::MFDOptions mfd;
+  mfd.exponent = this->MFDExponent;
+  mfd.contourLength = this->MFDContourLength != 0;
+  mfd.adaptive = this->MFDAdaptiveExponent != 0;
+  auto accumulate = [&](const float* weight, double* out, const hy::AccumulationOptions& o)
+  {
+    switch (this->Method)
+    {
+      case MFD:
+        hy::MultipleFlowAccumulation(v, filled->GetPointer(0), dir, mfd, weight, out, o);
+        break;
+      case DInfinity:
+        hy::DInfinityAccumulation(v,
+          filled->GetPointer(0),
+          dir,
+          weight,
+          out,
+          angle && weight == nullptr && !o.timesCellArea ? angle->GetPointer(0) : nullptr,
+          o);
+        break;
+      default:
+        hy::D8FlowAccumulation(v, dir, weight, out, o);
+    }
+  };
+  vtkDebugMacro(<< "accumulation: " << MethodName(this->Method));
   auto cells = NewArray<vtkDoubleArray>(FlowAccumulationName(), n, "cells");
   hy::AccumulationOptions options;
   options.progress = [this](double f) { this->UpdateProgress(0.7 + 0.08 * f); };
-  hy::D8FlowAccumulation(v, dir, nullptr, cells->GetPointer(0), options);
+  accumulate(nullptr, cells->GetPointer(0), options);
 
   auto area = NewArray<vtkDoubleArray>(ContributingAreaName(), n, "m2");
   options.timesCellArea = true;
   options.progress = [this](double f) { this->UpdateProgress(0.78 + 0.08 * f); };
-  hy::D8FlowAccumulation(v, dir, nullptr, area->GetPointer(0), options);
+  accumulate(nullptr, area->GetPointer(0), options);
 
   vtkSmartPointer<vtkDoubleArray> volume;
   if (weighted)
@@ -185,8 +248,13 @@ int vtkTerroirFlowAccumulation::RequestTerrainData(vtkImageData* input,
     volume = NewArray<vtkDoubleArray>(WeightedAccumulationName(), n, "m3");
     options.scale = 1e-3; // mm -> m
     options.progress = [this](double f) { this->UpdateProgress(0.86 + 0.08 * f); };
-    hy::D8FlowAccumulation(v, dir, weight.data(), volume->GetPointer(0), options);
+    accumulate(weight.data(), volume->GetPointer(0), options);
   }
+
+  // 4. The slope-area channel-initiation score of the contributing area.
+  auto score = NewArray<vtkDoubleArray>(ChannelInitiationName(), n, nullptr);
+  hy::ChannelInitiationScore(
+    v, area->GetPointer(0), this->SlopeExponent, this->MinimumSlope, score->GetPointer(0));
 
   auto river = NewArray<vtkUnsignedCharArray>(RiverName(), n, nullptr);
   const double* a = area->GetPointer(0);
@@ -202,6 +270,11 @@ int vtkTerroirFlowAccumulation::RequestTerrainData(vtkImageData* input,
   pd->AddArray(cells);
   pd->AddArray(area);
   pd->AddArray(river);
+  pd->AddArray(score);
+  if (angle)
+  {
+    pd->AddArray(angle);
+  }
   if (volume)
   {
     pd->AddArray(volume);

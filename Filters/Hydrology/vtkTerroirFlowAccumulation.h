@@ -1,7 +1,7 @@
 /**
  * @class   vtkTerroirFlowAccumulation
- * @brief   Extracts streams the classic way: fills depressions, routes every cell to its
- *          steepest D8 neighbour and accumulates the contributing area (the D8 baseline).
+ * @brief   Extracts streams the classic ways: fills depressions, routes flow downhill by D8,
+ *          MFD or D-infinity and accumulates the contributing area (the baselines).
  *
  * Input: a Terroir terrain (2-D vtkImageData, point array `Elevation` in metres, optional
  * `vtkValidPointMask`, spacing or per-row spacing `TerroirRowSpacing` in metres). Output: the
@@ -11,11 +11,16 @@
  *   (counter-clockwise from east, north = +j), -1 = drains off the terrain (an edge cell, or a
  *   cell next to no data, with no lower neighbour inside), -2 = no data;
  * - `FlowAccumulation` (double, UNITS_LABEL "cells"): number of cells whose flow passes
- *   through the cell, the cell included (>= 1; NaN on no data);
+ *   through the cell, the cell included (>= 1; NaN on no data); with MFD and D-infinity the
+ *   fractions of cells that reach it;
  * - `ContributingArea` (double, m^2): the same sum over the cells' areas DxAt(j) * DyAt(j)
  *   (per-row spacing honoured; NaN on no data);
  * - `River` (vtkUnsignedCharArray): 1 where ContributingArea >= RiverThreshold, else 0
  *   (0 on no data);
+ * - `ChannelInitiation` (double, m^2): the slope-area score A S^theta of Montgomery & Dietrich
+ *   (1988), A = ContributingArea, S = tangent of the steepest descent of the unfilled terrain,
+ *   floored at MinimumSlope (ChannelInitiationScore, MultipleFlow.h);
+ * - `FlowAngle` (float, rad, counter-clockwise from east), with Method DInfinity only.
  * - `WeightedAccumulation` (double, m^3), only when WeightArrayName is set: the sum over the
  *   cell and its upstream cells of weight / 1000 * cell area, the weight being a water depth
  *   in mm (e.g. one month of `StandingWater`); a NaN weight counts as 0.
@@ -29,12 +34,18 @@
  * nearest neighbour one step closer, by breadth-first distance through the flat, to the
  * flat's draining cells (the "towards lower terrain" gradient of Garbrecht & Martz 1997 in
  * the form of Barnes, Lehman & Mulla 2014; flow crosses flats in parallel lines). Accumulation
- * is one topological sweep (D8FlowAccumulation): O(n), no recursion.
+ * is one topological sweep (D8FlowAccumulation): O(n), no recursion. Method MFD splits a cell's
+ * flow among all its lower neighbours in proportion to slope^MFDExponent (Freeman 1991; with
+ * MFDContourLength, times the contour length: Quinn et al. 1991; with MFDAdaptiveExponent, an
+ * exponent per cell that grows with its slope: Qin et al. 2007), method DInfinity between the
+ * two neighbours of the steepest triangular facet (Tarboton 1997); cells on flats follow their
+ * D8 code in both (MultipleFlowAccumulation, DInfinityAccumulation in MultipleFlow.h).
  *
  * Whole extent (global filter). CPU only, sequential: flow accumulation is a topological
  * sweep along the flow paths; results cannot depend on the thread count. Backend Auto and CPU
  * run the CPU path; an explicit GPU request is an error (as for vtkTerroirFloodFill). Errors
- * (one line, empty output): RiverThreshold < 0 or not finite; WeightArrayName naming no point
+ * (one line, empty output): RiverThreshold < 0 or not finite; MFDExponent <= 0, SlopeExponent
+ * or MinimumSlope < 0, or one of them not finite; WeightArrayName naming no point
  * array of the input, or a non-numeric array, or WeightComponent out of its range.
  *
  * @par Correctness
@@ -59,6 +70,10 @@
  * Garbrecht, J., Martz, L.W. (1997). The assignment of drainage direction over flat surfaces
  * in raster digital elevation models. Journal of Hydrology 193:204-213.
  * doi:10.1016/S0022-1694(96)03138-1
+ * Freeman, T.G. (1991). Computers & Geosciences 17(3):413-422; Quinn, P. et al. (1991).
+ * Hydrological Processes 5(1):59-79; Tarboton, D.G. (1997). Water Resources Research
+ * 33(2):309-319; Montgomery, D.R., Dietrich, W.E. (1988). Nature 336:232-234 (full citations
+ * in MultipleFlow.h).
  *
  * @sa vtkTerroirFloodFill vtkTerroirImageAlgorithm
  */
@@ -83,6 +98,60 @@ public:
   static const char* ContributingAreaName() { return "ContributingArea"; }
   static const char* RiverName() { return "River"; }
   static const char* WeightedAccumulationName() { return "WeightedAccumulation"; }
+  static const char* ChannelInitiationName() { return "ChannelInitiation"; }
+  static const char* FlowAngleName() { return "FlowAngle"; }
+  ///@}
+
+  /// Accumulation methods.
+  enum MethodType
+  {
+    D8 = 0,       ///< steepest neighbour (O'Callaghan & Mark 1984)
+    MFD = 1,      ///< all lower neighbours by slope^p (Freeman 1991, Quinn et al. 1991)
+    DInfinity = 2 ///< steepest triangular facet, split by angle (Tarboton 1997)
+  };
+  /// "D8", "MFD", "DInfinity" ("unknown" otherwise).
+  static const char* MethodName(int method);
+
+  ///@{
+  /// Accumulation method; default D8. FilledElevation and FlowDirection are D8's in every case.
+  vtkSetClampMacro(Method, int, D8, DInfinity);
+  vtkGetMacro(Method, int);
+  void SetMethodToD8() { this->SetMethod(D8); }
+  void SetMethodToMFD() { this->SetMethod(MFD); }
+  void SetMethodToDInfinity() { this->SetMethod(DInfinity); }
+  ///@}
+
+  ///@{
+  /// MFD's slope exponent p (default 1.1, Freeman 1991); must be finite and > 0.
+  vtkSetMacro(MFDExponent, double);
+  vtkGetMacro(MFDExponent, double);
+  ///@}
+
+  ///@{
+  /// MFD shares times the contour length (Quinn et al. 1991); default off (Freeman 1991).
+  vtkSetMacro(MFDContourLength, vtkTypeBool);
+  vtkGetMacro(MFDContourLength, vtkTypeBool);
+  vtkBooleanMacro(MFDContourLength, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// MFD's exponent per cell from its steepest descent tan b: 1.1 + 8.9 min(tan b, 1) (MFD-md,
+  /// Qin et al. 2007; MFDExponent unused); default off.
+  vtkSetMacro(MFDAdaptiveExponent, vtkTypeBool);
+  vtkGetMacro(MFDAdaptiveExponent, vtkTypeBool);
+  vtkBooleanMacro(MFDAdaptiveExponent, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /// theta of the ChannelInitiation score A S^theta (default 1); finite, >= 0.
+  vtkSetMacro(SlopeExponent, double);
+  vtkGetMacro(SlopeExponent, double);
+  ///@}
+
+  ///@{
+  /// Floor of S in the ChannelInitiation score (default 0.001); finite, >= 0.
+  vtkSetMacro(MinimumSlope, double);
+  vtkGetMacro(MinimumSlope, double);
   ///@}
 
   ///@{
@@ -126,6 +195,12 @@ protected:
   double RiverThreshold = 1e5;
   char* WeightArrayName = nullptr;
   int WeightComponent = 0;
+  int Method = D8;
+  double MFDExponent = 1.1;
+  vtkTypeBool MFDContourLength = 0;
+  vtkTypeBool MFDAdaptiveExponent = 0;
+  double SlopeExponent = 1.0;
+  double MinimumSlope = 1e-3;
 
 private:
   vtkTerroirFlowAccumulation(const vtkTerroirFlowAccumulation&) = delete;

@@ -17,6 +17,8 @@
 #include "vtkTerroirTerrainInput.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "PriorityFlood.h"
+#include "RiverValidation.h"
 #include "WaterFlow.h"
 #include "vtkTerroirWaterFlowGPU.h"
 
@@ -44,8 +46,10 @@ struct vtkTerroirWaterFlow::Cache
   {
     std::vector<double> Water;
     std::vector<double> Discharge;
+    std::vector<double> Edges; ///< net flux sums (Rivers mode)
   };
   std::map<long long, Checkpoint> Checkpoints;
+  std::vector<double> Spill; ///< Rivers mode: still water of the depressions, m
 };
 
 namespace
@@ -97,6 +101,12 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CheckpointInterval: " << this->CheckpointInterval << "\n";
   os << indent << "CheckpointMemory: " << this->CheckpointMemory << " MiB\n";
   os << indent << "IterationEventInterval: " << this->IterationEventInterval << "\n";
+  os << indent << "Mode: " << (this->Mode == Rivers ? "Rivers" : "Pulse") << "\n";
+  os << indent << "RainRate: " << this->RainRate << " mm/h\n";
+  os << indent << "BalanceTolerance: " << this->BalanceTolerance << "\n";
+  os << indent << "RateIterations: " << this->RateIterations << "\n";
+  os << indent << "LakeDepth: " << this->LakeDepth << " m\n";
+  os << indent << "RiverArea: " << this->RiverArea << " m2\n";
 }
 
 //------------------------------------------------------------------------------
@@ -154,6 +164,26 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   if (!(this->RiverThreshold >= 0.0) || std::isnan(this->RiverThreshold))
   {
     return "RiverThreshold " + Num(this->RiverThreshold) + " m3 must be >= 0";
+  }
+  if (!(std::isfinite(this->RainRate) && this->RainRate > 0.0))
+  {
+    return "RainRate " + Num(this->RainRate) + " mm/h must be a finite number > 0";
+  }
+  if (!(this->BalanceTolerance > 0.0 && this->BalanceTolerance < 1.0))
+  {
+    return "BalanceTolerance " + Num(this->BalanceTolerance) + " must be in (0, 1)";
+  }
+  if (this->RateIterations < 1)
+  {
+    return "RateIterations " + std::to_string(this->RateIterations) + " must be >= 1";
+  }
+  if (!(std::isfinite(this->LakeDepth) && this->LakeDepth >= 0.0))
+  {
+    return "LakeDepth " + Num(this->LakeDepth) + " m must be a finite number >= 0";
+  }
+  if (!(std::isfinite(this->RiverArea) && this->RiverArea >= 0.0))
+  {
+    return "RiverArea " + Num(this->RiverArea) + " m2 must be a finite number >= 0";
   }
   if (this->TimeStepStride < 1 || this->CheckpointInterval < 1)
   {
@@ -225,11 +255,24 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
         return 0;
       }
     }
+    std::vector<float> spill;
+    if (this->Mode == Rivers)
+    {
+      // Still water first: every depression full to its spill level (Priority-Flood), the
+      // state rain alone reaches at steady state; the run then only has to form the flow.
+      spill.resize(n);
+      hy::PriorityFloodBarnes2014(v, spill.data());
+    }
     for (std::size_t c = 0; c < n; ++c)
     {
       const bool valid = (!v.valid || v.valid[c]) && std::isfinite(v.data[c]);
       if (!valid)
       {
+        continue;
+      }
+      if (this->Mode == Rivers)
+      {
+        water[c] = std::max(0.0, static_cast<double>(spill[c]) - static_cast<double>(v.data[c]));
         continue;
       }
       double mm = this->WaterDepth;
@@ -257,6 +300,12 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     try
     {
       cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
+      if (this->Mode == Rivers)
+      {
+        cache.Sim->SetRain(this->RainRate / 1000.0 / 3600.0 * this->IterationDuration);
+        cache.Sim->SetNetFlux(true);
+        cache.Spill.assign(water.begin(), water.end());
+      }
     }
     catch (const std::invalid_argument& e)
     {
@@ -277,6 +326,11 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   hy::WaterFlowStopRule rule;
   rule.autoStopRatio = this->AutoStopRatio;
   rule.maximumIterations = this->MaximumIterations;
+  if (this->Mode == Rivers)
+  {
+    rule.autoStopRatio = 0.0; // steady rain moves the same every iteration
+    rule.balanceTolerance = this->BalanceTolerance;
+  }
   bool bySimulatedTime = false;
   if (this->MaximumSimulatedTime > 0.0)
   {
@@ -323,6 +377,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       from = it->first;
       sim.PaddedWater() = it->second.Water;
       sim.PaddedDischarge() = it->second.Discharge;
+      sim.PaddedEdges() = it->second.Edges;
     }
     else
     {
@@ -334,13 +389,14 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   }
 
   // Advance, pausing at checkpoint iterations.
-  const double bytesPerCheckpoint = 16.0 * static_cast<double>(sim.PaddedWater().size());
+  const double bytesPerCheckpoint =
+    16.0 * static_cast<double>(sim.PaddedWater().size()) + 8.0 * sim.PaddedEdges().size();
   const std::size_t maxCheckpoints = static_cast<std::size_t>(
     std::floor(this->CheckpointMemory * 1048576.0 / std::max(bytesPerCheckpoint, 1.0)));
   const long long first = sim.Iterations();
   bool stopped = false;
   hy::WaterFlowStopReason stopReason = hy::WaterFlowStopReason::MaximumIterations;
-  bool gpu = backend == vtkTerroirComputeContext::GPU;
+  bool gpu = backend == vtkTerroirComputeContext::GPU && this->Mode == Pulse;
   while (!stopped && sim.Iterations() < target)
   {
     const long long interval = this->CheckpointInterval;
@@ -373,16 +429,15 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       {
         const double before = sim.TotalMoved();
         const hy::WaterFlowIteration it = sim.Step();
-        if (it.moved <= 0.0)
+        if (it.moved <= 0.0 && sim.GetRain() <= 0.0)
         {
           stopped = true;
           stopReason = hy::WaterFlowStopReason::NoMovement;
           break;
         }
-        if (applyRules && hy::WaterFlowAutoStop(it.moved, before, rule.autoStopRatio))
+        if (applyRules && sim.StopsAfter(it, before, rule, stopReason))
         {
           stopped = true;
-          stopReason = hy::WaterFlowStopReason::AutoStop;
           break;
         }
       }
@@ -392,7 +447,9 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     if (sim.Iterations() % interval == 0 && cache.Checkpoints.size() < maxCheckpoints &&
       !cache.Checkpoints.count(sim.Iterations()))
     {
-      cache.Checkpoints[sim.Iterations()] = { sim.PaddedWater(), sim.PaddedDischarge() };
+      cache.Checkpoints[sim.Iterations()] = {
+        sim.PaddedWater(), sim.PaddedDischarge(), sim.PaddedEdges()
+      };
     }
     if (watch > 0 && sim.Iterations() % watch == 0 && sim.Iterations() > first)
     {
@@ -421,6 +478,48 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     reasonName = "SimulatedTime";
   }
 
+  // Rivers mode: the discharge rate, averaged over RateIterations more iterations of the
+  // steady state (then the state goes back to where the run stopped).
+  vtkSmartPointer<vtkDoubleArray> rate;
+  vtkSmartPointer<vtkUnsignedCharArray> body;
+  if (this->Mode == Rivers)
+  {
+    const std::vector<double> water = sim.PaddedWater();
+    const std::vector<double> before = sim.PaddedDischarge();
+    const std::vector<double> edges = sim.PaddedEdges();
+    const long long stop = sim.Iterations();
+    std::fill(sim.PaddedEdges().begin(), sim.PaddedEdges().end(), 0.0);
+    for (vtkIdType k = 0; k < this->RateIterations; ++k)
+    {
+      sim.Step();
+    }
+    rate = vtkSmartPointer<vtkDoubleArray>::New();
+    rate->SetName(DischargeRateName());
+    rate->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    rate->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m3/s");
+    double* qr = rate->GetPointer(0);
+    sim.GetNetDischarge(qr);
+    const double seconds = static_cast<double>(this->RateIterations) * this->IterationDuration;
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      qr[c] /= seconds; // NaN on no data stays NaN
+    }
+    sim.PaddedWater() = water;
+    sim.PaddedDischarge() = before;
+    sim.PaddedEdges() = edges;
+    sim.TruncateHistory(stop);
+    body = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    body->SetName(LakeMaskName());
+    body->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    unsigned char* b = body->GetPointer(0);
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      b[c] = cache.Spill.size() == n && cache.Spill[c] >= this->LakeDepth && cache.Spill[c] > 0.0
+        ? 1
+        : 0;
+    }
+  }
+
   // Outputs.
   vtkSmartPointer<vtkFloatArray> height = vtkSmartPointer<vtkFloatArray>::Take(
     terroir::NewOutputArray(WaterHeightName(), 1, static_cast<long long>(n), "m"));
@@ -429,19 +528,50 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   discharge->SetName(DischargeName());
   discharge->SetNumberOfTuples(static_cast<vtkIdType>(n));
   discharge->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m3");
-  sim.GetDischarge(discharge->GetPointer(0));
+  if (sim.GetNetFlux())
+  {
+    sim.GetNetDischarge(discharge->GetPointer(0)); // Rivers mode: net flux only
+  }
+  else
+  {
+    sim.GetDischarge(discharge->GetPointer(0));
+  }
   auto river = vtkSmartPointer<vtkUnsignedCharArray>::New();
   river->SetName(RiverName());
   river->SetNumberOfTuples(static_cast<vtkIdType>(n));
   const double* q = discharge->GetPointer(0);
   unsigned char* rv = river->GetPointer(0);
-  for (std::size_t c = 0; c < n; ++c)
+  if (rate)
   {
-    rv[c] = q[c] >= this->RiverThreshold ? 1 : 0; // NaN (no data) is never a river
+    // Rivers: crest cells of the steady discharge that carry the rain of RiverArea or more.
+    std::vector<std::uint8_t> channel(n);
+    terroir::GridView<double> qv;
+    qv.data = rate->GetPointer(0);
+    qv.nx = v.nx;
+    qv.ny = v.ny;
+    hy::ChannelCells(qv, channel.data());
+    const double least = this->RiverArea * this->RainRate / 1000.0 / 3600.0; // m3/s
+    const double* qr = rate->GetPointer(0);
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      rv[c] = channel[c] && qr[c] >= least && qr[c] > 0.0 ? 1 : 0;
+    }
+  }
+  else
+  {
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      rv[c] = q[c] >= this->RiverThreshold ? 1 : 0; // NaN (no data) is never a river
+    }
   }
   output->GetPointData()->AddArray(height);
   output->GetPointData()->AddArray(discharge);
   output->GetPointData()->AddArray(river);
+  if (rate)
+  {
+    output->GetPointData()->AddArray(rate);
+    output->GetPointData()->AddArray(body);
+  }
   vtkFieldData* fd = output->GetFieldData();
   auto iterations = vtkSmartPointer<vtkIdTypeArray>::New();
   iterations->SetName(IterationsName());
@@ -455,6 +585,11 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     static_cast<double>(sim.Iterations()) * this->IterationDuration,
     "s"));
   fd->AddArray(Scalar("WaterFlowInitialVolume", sim.InitialVolume(), "m3"));
+  if (this->Mode == Rivers)
+  {
+    fd->AddArray(Scalar(
+      "WaterFlowRainVolume", sim.RainVolume() * static_cast<double>(sim.Iterations()), "m3"));
+  }
   fd->AddArray(Scalar("WaterFlowStoredVolume", sim.StoredVolume(), "m3"));
   fd->AddArray(Scalar("WaterFlowOutflowVolume", sim.TotalOutflow(), "m3"));
   fd->AddArray(Scalar("WaterFlowMovedVolume", sim.TotalMoved(), "m3"));

@@ -10,12 +10,18 @@
  * - `WaterHeight` (float32, m): water depth on each cell when the run stopped (NaN on no data);
  * - `Discharge` (float64, m^3): all the water that left each cell during the run (NaN on no
  *   data): large along the paths water takes, so rivers stand out;
- * - `River` (unsigned char): 1 where Discharge >= RiverThreshold;
+ * - `River` (unsigned char): Pulse mode: 1 where Discharge >= RiverThreshold; Rivers mode: 1 on
+ *   the channel cells (crests, ChannelCells in RiverValidation.h) of DischargeRate that carry
+ *   the rain of at least RiverArea m^2 (DischargeRate >= RiverArea x RainRate);
+ * - Rivers mode only: `DischargeRate` (float64, m^3/s): the water leaving each cell per second
+ *   at steady state, averaged over RateIterations iterations after the stop (at steady state,
+ *   the rain on the cell's upstream area); `LakeMask` (unsigned char): 1 on the still water of
+ *   the terrain's depressions at least LakeDepth deep (lakes, kept apart from rivers);
  * and as field data `WaterFlowIterations` (iterations run), `WaterFlowStopReason` ("AutoStop",
- * "NoMovement", "MaximumIterations", "SimulatedTime" or "RequestedTime"), `WaterFlowSimulatedTime`
- * (s), and the volumes (m^3) `WaterFlowInitialVolume`, `WaterFlowStoredVolume`,
- * `WaterFlowOutflowVolume` (left through the border or into no-data cells) and
- * `WaterFlowMovedVolume` (sum over iterations of the water that moved).
+ * "NoMovement", "MaximumIterations", "Balanced", "SimulatedTime" or "RequestedTime"),
+ * `WaterFlowSimulatedTime` (s), and the volumes (m^3) `WaterFlowInitialVolume`,
+ * `WaterFlowStoredVolume`, `WaterFlowOutflowVolume` (left through the border or into no-data cells)
+ * and `WaterFlowMovedVolume` (sum over iterations of the water that moved).
  *
  * The model (terroir::hydrology::WaterFlowSimulation, WaterFlow.h): each iteration every cell
  * hands water to its 8 neighbours according to its evacuation capacity (the seed's cases all /
@@ -24,6 +30,15 @@
  * closeness (diagonals by distance); every iteration reads only the previous state; volume is
  * conserved apart from what leaves through the seed's one-cell border (heights continue the
  * slope) or into no-data cells, which count as outflow.
+ *
+ * Modes (Mode, default Pulse):
+ * - Pulse: the seed's run: the source's water once, then the stop rules below.
+ * - Rivers (river-forming): every depression first holds still water up to its spill level
+ *   (Priority-Flood, Barnes et al. 2014: the state steady rain reaches), then RainRate mm/h
+ *   (default 0.3) falls on every cell each iteration (RainRate x IterationDuration) until the
+ *   outflow through the border reaches 1 - BalanceTolerance (default 0.02) of the rain (stop
+ *   reason "Balanced"; the seed's auto-stop is off). The WaterSource is not used. CPU only: a
+ *   GPU request is an error.
  *
  * Parameters (defaults):
  * - WaterSource: Constant (0, default; WaterDepth mm on every cell, default 100),
@@ -87,6 +102,45 @@ public:
   static const char* RiverName() { return "River"; }
   static const char* IterationsName() { return "WaterFlowIterations"; }
   static const char* StopReasonName() { return "WaterFlowStopReason"; }
+  static const char* DischargeRateName() { return "DischargeRate"; }
+  static const char* LakeMaskName() { return "LakeMask"; }
+
+  enum ModeType
+  {
+    Pulse = 0, ///< the seed: the source's water once, the seed's stop rule
+    Rivers = 1 ///< river-forming: rain every iteration until the outflow balances it
+  };
+
+  ///@{
+  /// Pulse (default) or Rivers (see the class comment).
+  vtkSetClampMacro(Mode, int, Pulse, Rivers);
+  vtkGetMacro(Mode, int);
+  void SetModeToPulse() { this->SetMode(Pulse); }
+  void SetModeToRivers() { this->SetMode(Rivers); }
+  ///@}
+
+  /// Rivers mode: rain on every cell, mm per hour of simulated time (finite, > 0). Default 0.3.
+  vtkSetMacro(RainRate, double);
+  vtkGetMacro(RainRate, double);
+
+  /// Rivers mode: stop when the outflow reaches (1 - BalanceTolerance) of the rain, in (0, 1).
+  /// Default 0.02.
+  vtkSetMacro(BalanceTolerance, double);
+  vtkGetMacro(BalanceTolerance, double);
+
+  /// Rivers mode: iterations after the stop over which DischargeRate is averaged (>= 1).
+  /// Default 10.
+  vtkSetMacro(RateIterations, vtkIdType);
+  vtkGetMacro(RateIterations, vtkIdType);
+
+  /// Rivers mode: upstream area of the smallest river, m^2 (>= 0). Default 1e5 (0.1 km^2).
+  vtkSetMacro(RiverArea, double);
+  vtkGetMacro(RiverArea, double);
+
+  /// Rivers mode: a cell is part of a lake (LakeMask = 1) when it lies in a depression
+  /// of the terrain whose still water is at least this deep, metres (>= 0). Default 0.05.
+  vtkSetMacro(LakeDepth, double);
+  vtkGetMacro(LakeDepth, double);
 
   enum WaterSourceType
   {
@@ -172,7 +226,8 @@ protected:
   ~vtkTerroirWaterFlow() override;
 
   int GetHaloWidth() override { return -1; }
-  bool HasGPUPath() override { return true; }
+  /// The Rivers mode runs on the CPU only (so far).
+  bool HasGPUPath() override { return this->Mode == Pulse; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -182,6 +237,12 @@ protected:
     vtkImageData* output) override;
 #endif
 
+  int Mode = Pulse;
+  double RainRate = 0.3;
+  double BalanceTolerance = 0.02;
+  vtkIdType RateIterations = 10;
+  double LakeDepth = 0.05;
+  double RiverArea = 1e5;
   int WaterSource = Constant;
   double WaterDepth = 100.0;
   int Month = 1;

@@ -125,6 +125,71 @@ TEST(TerroirWaterFlow, ArraysUnitsDefaults)
   EXPECT_GT(q->GetValue(10 * 31 + 15), q->GetValue(10 * 31 + 10));
 }
 
+// The river-forming mode: the dimple (3 m deep, one cell) holds still water from the start; rain
+// of 36 mm/h (1e-4 m per 10 s iteration) runs until the outflow balances it; every array is
+// there with its units; the valley floor carries the rain of the cells above it.
+TEST(TerroirWaterFlow, RiversModeBalancesTheRain)
+{
+  vtkNew<vtkTerroirWaterFlow> f;
+  EXPECT_EQ(f->GetMode(), vtkTerroirWaterFlow::Pulse);
+  EXPECT_EQ(f->GetRainRate(), 0.3);
+  EXPECT_EQ(f->GetBalanceTolerance(), 0.02);
+  f->SetModeToRivers();
+  f->SetRainRate(36.0);
+  f->SetBalanceTolerance(1e-6);
+  f->SetRiverArea(5000.0);
+  f->SetBackendToCPU();
+  auto out = RunFlow(f, Valley());
+  EXPECT_EQ(Reason(out), "Balanced");
+  vtkDoubleArray* rate = vtkDoubleArray::SafeDownCast(
+    out->GetPointData()->GetArray(vtkTerroirWaterFlow::DischargeRateName()));
+  vtkDataArray* lake = out->GetPointData()->GetArray(vtkTerroirWaterFlow::LakeMaskName());
+  vtkDataArray* river = out->GetPointData()->GetArray(vtkTerroirWaterFlow::RiverName());
+  ASSERT_TRUE(rate && lake && river);
+  EXPECT_STREQ(rate->GetInformation()->Get(vtkDataArray::UNITS_LABEL()), "m3/s");
+  // The dimple (15, 10) is the one lake cell: 3 m of still water, deeper than 0.05 m.
+  for (vtkIdType k = 0; k < lake->GetNumberOfTuples(); ++k)
+  {
+    EXPECT_EQ(lake->GetComponent(k, 0), k == 10 * 31 + 15 ? 1.0 : 0.0) << k;
+  }
+  // The floor carries the most water of its row, more and more downstream, and never more
+  // than the rain of the rows above (16 x 31 cells of 100 m^2 at 1e-5 m/s for row 5); the
+  // side slopes (0.2) are not much steeper than the floor (0.1), so part of the water runs
+  // beside the floor for a while (the multiple-direction split of the seed's rule).
+  const double perCell = 100.0 * 36.0e-3 / 3600.0;
+  for (int j = 1; j < 20; ++j)
+  {
+    const double floor = rate->GetValue(j * 31 + 15);
+    EXPECT_LT(floor, rate->GetValue((j - 1) * 31 + 15)) << "row " << j;
+    EXPECT_LE(floor, (21 - j) * 31 * perCell * (1.0 + 1e-9)) << "row " << j;
+    for (int i = 0; i < 31; ++i)
+    {
+      EXPECT_LE(rate->GetValue(j * 31 + i), floor) << i << ", " << j;
+    }
+  }
+  EXPECT_GT(rate->GetValue(5 * 31 + 15), 0.5 * 15 * 31 * perCell);
+  // Balanced: the last iteration's outflow is the rain on the 651 cells, within 1e-6.
+  const double rained = 651 * 100.0 * 1e-4 * Field(out, vtkTerroirWaterFlow::IterationsName());
+  EXPECT_NEAR(Field(out, "WaterFlowStoredVolume") + Field(out, "WaterFlowOutflowVolume"),
+    Field(out, "WaterFlowInitialVolume") + rained,
+    1e-9 * rained);
+  // River: the floor (a crest of the discharge) from where it carries 5000 m^2 of rain.
+  EXPECT_EQ(river->GetComponent(5 * 31 + 15, 0), 1.0);
+  EXPECT_EQ(river->GetComponent(5 * 31 + 10, 0), 0.0);
+  // A GPU request is refused in this mode (CPU only so far).
+  vtkNew<vtkTerroirWaterFlow> g;
+  g->SetModeToRivers();
+  g->SetBackendToGPU();
+  vtkNew<terroir_test::ErrorObserver> errors;
+  g->AddObserver(vtkCommand::ErrorEvent, errors);
+  vtkNew<terroir_test::ErrorObserver> pipeline;
+  g->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline);
+  auto refused = RunFlow(g, Valley());
+  EXPECT_EQ(errors->ErrorCount, 1) << errors->Errors;
+  EXPECT_NE(errors->Errors.find("GPU"), std::string::npos) << errors->Errors;
+  EXPECT_EQ(refused->GetNumberOfPoints(), 0);
+}
+
 // The filter is the core: same water and discharge as WaterFlowSimulation run by hand.
 TEST(TerroirWaterFlow, EqualsCore)
 {

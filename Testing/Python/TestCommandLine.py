@@ -58,13 +58,14 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         expected = ["terrain.vti", "slope.tif", "aspect.tif", "temperature.tif", "illumination.tif",
                     "insolation.tif", "infiltration.tif", "humidity.tif", "weighted_humidity.tif",
-                    "standing_water.tif", "lakes.tif", "clusters.tif", "clusters.csv",
+                    "standing_water.tif", "lakes.tif", "rivers.tif", "discharge.tif",
+                    "clusters.tif", "clusters.csv",
                     "clusters.json", "report.md", "report.json"]
         if os.environ.get("DISPLAY"):
             expected += ["slope.png", "temperature_jan.png", "temperature_jul.png",
                          "illumination_dec.png", "illumination_jun.png", "insolation_dec.png",
                          "insolation_jun.png", "humidity_jan.png", "humidity_jul.png", "lakes.png",
-                         "clusters.png"]
+                         "rivers.png", "rivers_relief.png", "validation.png", "clusters.png"]
         for name in expected:
             path = os.path.join(out, name)
             self.assertTrue(os.path.getsize(path) > 0, name)
@@ -123,6 +124,23 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertGreaterEqual(report["stages"]["lakes"]["water_bodies"], 1)
         depth = gdal.Open(os.path.join(out, "lakes.tif")).ReadAsArray()
         self.assertTrue(np.all(depth >= 0.0))
+        # Rivers (river-forming water flow): the river mask holds the report's river cells, each
+        # carrying the rain (0.3 mm/h) of at least 0.1 km2; the outflow balanced the rain; the
+        # rivers score against the bundled NHD lines (validation.md: F1 0.786 within 60 m).
+        rs = report["stages"]["rivers"]
+        self.assertEqual(rs["stop_reason"], "Balanced")
+        rivers = gdal.Open(os.path.join(out, "rivers.tif")).ReadAsArray()
+        rate = gdal.Open(os.path.join(out, "discharge.tif")).ReadAsArray().astype(np.float64)
+        self.assertEqual(int((rivers == 1).sum()), rs["river_cells"])
+        self.assertEqual(set(np.unique(rivers)), {0, 1})
+        least = 1e5 * 0.3e-3 / 3600.0
+        self.assertTrue(np.all(rate[rivers == 1] >= least * (1 - 1e-6)))
+        # No cell carries more than the rain on the whole grid.
+        self.assertLessEqual(np.nanmax(rate), 786 * 720 * 100.0 * 0.3e-3 / 3600.0)
+        self.assertGreaterEqual(rs["lakes"], 1)
+        v = rs["validation"]["scores"][1]
+        self.assertEqual(v["tolerance_m"], 60.0)
+        self.assertGreaterEqual(v["f1"], 0.77)
         # Ecological zones, K = 5 on the four resources: the zone raster, the table's counts
         # and its mean slopes agree with what GDAL reads from clusters.tif and slope.tif.
         ids = gdal.Open(os.path.join(out, "clusters.tif")).ReadAsArray()

@@ -5,8 +5,9 @@ The reference river cells are counted independently with GDAL (gdal.Rasterize of
 and of the watershed polygon onto the DEM's grid); every score is re-derived from the counts in
 the JSON (precision = simulated hits / simulated cells, recall = reference hits / reference
 cells, F1 their harmonic mean); the length-matching rule gives as many simulated cells as
-reference cells (up to ties of the measure); a user threshold is reported as such. The D8
-score at 60 m is the one Documentation/validation.md reports (0.78), kept as a regression guard.
+reference cells (up to ties of the measure); a user threshold is reported as such; the rows of
+`--sweep` equal separate runs. The D8 score at 60 m is the one Documentation/validation.md
+reports (0.78), kept as a regression guard.
 """
 import json
 import os
@@ -86,7 +87,7 @@ class TerroirValidateJson(unittest.TestCase):
         self.assertEqual(scores["dem"], DEM)
         self.assertEqual(scores["mask"], AREA)
         names = [m["name"] for m in scores["methods"]]
-        self.assertEqual(names[:2], ["terroir waterflow", "D8 (priority-flood + D8)"])
+        self.assertEqual(names[:2], ["terroir waterflow rivers", "D8"])
         for m in scores["methods"]:
             self.assertTrue(m["length_matched"])
             self.check_scores(m, scores["reference_cells"])
@@ -101,13 +102,32 @@ class TerroirValidateJson(unittest.TestCase):
         self.assertIn("F1@60", stdout)
 
     def test_a_user_threshold_is_reported_as_such(self):
-        scores, _ = self.run_validate("--river-threshold", "500", "--max-iterations", "40")
+        scores, _ = self.run_validate("--mode", "pulse", "--river-threshold", "500",
+                                      "--max-iterations", "40")
         flow = scores["methods"][0]
+        self.assertEqual(flow["name"], "terroir waterflow pulse")
         self.assertFalse(flow["length_matched"])
         self.assertEqual(flow["threshold"], 500.0)
         self.assertGreater(flow["scores"][0]["simulated_cells"], 0)
         self.check_scores(flow, scores["reference_cells"])
         self.assertEqual(scores["water_flow"]["iterations"], 40)
+
+    def test_sweep_rows_equal_separate_runs(self):
+        # One row per value, the same scores and thresholds as a run with that value alone;
+        # the baselines are scored once.
+        sweep, stdout = self.run_validate("--sweep", "rain=0.3,3", "--max-iterations", "150")
+        names = [m["name"] for m in sweep["methods"]]
+        self.assertEqual(names[:3], ["rain=0.3", "rain=3", "D8"])
+        self.assertEqual(names.count("D8"), 1)
+        self.assertEqual(sweep["sweep"], {"option": "rain", "values": ["0.3", "3"]})
+        self.assertEqual(len(sweep["water_flow_runs"]), 2)
+        self.assertIn("rain=3", stdout)
+        for row, rain in ((0, "0.3"), (1, "3")):
+            alone, _ = self.run_validate("--rain", rain, "--max-iterations", "150")
+            self.assertEqual(alone["methods"][0]["threshold"], sweep["methods"][row]["threshold"])
+            self.assertEqual(alone["methods"][0]["scores"], sweep["methods"][row]["scores"])
+        # A different rain changes the rivers (the rows are not copies of one run).
+        self.assertNotEqual(sweep["methods"][0]["threshold"], sweep["methods"][1]["threshold"])
 
 
 if __name__ == "__main__":

@@ -257,14 +257,26 @@ TEST(TerroirColorPresets, NaNMapsToTheNanColor)
 
 TEST(TerroirColorPresets, MetadataAndBadInput)
 {
-  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 12);
+  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 13);
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(0), "Elevation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(6), "Clusters");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(7), "Sunlit");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(9), "Insolation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(10), "WaterBodies");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(11), "RiverComparison");
-  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(12), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(12), "Rivers");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(13), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetMaskArrayName("Rivers"), "RiverNetwork");
+  EXPECT_TRUE(vtkTerroirColorPresets::IsCategorical("Rivers"));
+  // Rivers: 1 Okabe-Ito blue (0, 114, 178), 2 sky blue (86, 180, 233), annotated.
+  auto rivers = Make("Rivers", 0.0, 2.0);
+  ExpectRGBA(rivers, 1.0, 0, 114, 178, 255, 1);
+  ExpectRGBA(rivers, 2.0, 86, 180, 233, 255, 1);
+  ASSERT_EQ(rivers->GetNumberOfAnnotatedValues(), 2);
+  EXPECT_EQ(rivers->GetAnnotatedValue(0).ToInt(), 1);
+  EXPECT_EQ(std::string(rivers->GetAnnotation(0)), "river");
+  EXPECT_EQ(std::string(rivers->GetAnnotation(1)), "lake");
+  ExpectRGBA(rivers, 0.0, 128, 128, 128, 255, 1); // dry land: no class (masked by the view)
   EXPECT_STREQ(vtkTerroirColorPresets::GetDefaultArrayName("WaterBodies"), "WaterDepth");
   EXPECT_STREQ(vtkTerroirColorPresets::GetMaskArrayName("WaterBodies"), "WaterBody");
   EXPECT_EQ(vtkTerroirColorPresets::GetMaskArrayName("Water"), nullptr);

@@ -652,6 +652,36 @@ TEST(TerroirCommandLineParse, WaterFlowFlowAccAndValidate)
     ErrorOf({ "validate", "d.tif", "--peer", "grass" }), "--peer: 'grass' is not NAME=RASTER");
   EXPECT_EQ(
     ErrorOf({ "validate", "d.tif", "--peer", "=g.tif" }), "--peer: '=g.tif' is not NAME=RASTER");
+
+  // flowacc methods; the water flow's mode, rain and balance; validate's sweep.
+  outcome = Parse({ "flowacc", "d.tif", "a.tif", "--method", "dinf", "--mfd-exponent", "4" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.FlowMethod, "dinf");
+  EXPECT_EQ(line.FlowMFDExponent, 4.0);
+  EXPECT_NE(ErrorOf({ "flowacc", "d.tif", "a.tif", "--method", "d16" }).find("--method"),
+    std::string::npos);
+  outcome = Parse(
+    { "validate", "--mode", "pulse", "--rain", "2", "--balance", "0.05", "--sweep", "water=1,10" },
+    line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_EQ(line.WaterFlow.Mode, "pulse");
+  EXPECT_EQ(line.WaterFlow.RainRate, 2.0);
+  EXPECT_EQ(line.WaterFlow.BalanceTolerance, 0.05);
+  EXPECT_EQ(line.Validate.Sweep, "water=1,10");
+  EXPECT_EQ(ErrorOf({ "validate", "--sweep", "colour=1,2" }),
+    "--sweep: unknown option 'colour' (water, rain, balance, max-iterations, auto-stop, time, "
+    "iteration-duration, river-threshold, mode)");
+  EXPECT_EQ(ErrorOf({ "validate", "--sweep", "rain" }),
+    "--sweep needs NAME=V1,V2,... (e.g. rain=0.1,0.3,1), not 'rain'");
+  EXPECT_EQ(ErrorOf({ "validate", "--sweep", "rain=1,-2" }),
+    "--sweep: rain = -2 is out of range (1e-9 to 1e6 mm/h)");
+  EXPECT_EQ(ErrorOf({ "validate", "--sweep", "mode=pulse,fast" }),
+    "--sweep: mode must be pulse or rivers, not 'fast'");
+  terroir::app::WaterFlowSettings swept;
+  terroir::app::ApplySweepValue(swept, "max-iterations", "250");
+  EXPECT_EQ(swept.MaximumIterations, 250);
+  EXPECT_THROW(
+    terroir::app::ApplySweepValue(swept, "max-iterations", "2.5"), std::invalid_argument);
 }
 
 TEST(TerroirCommandLineParse, KMeansFeaturesAndOutputs)

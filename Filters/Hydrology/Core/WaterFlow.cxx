@@ -308,6 +308,7 @@ inline __attribute__((always_inline)) void HeightsRowBody(TERROIR_HEIGHTS_ROW_PA
 struct GatherRowConstants
 {
   double fromNorth, fromSouth;
+  double rain; ///< depth added to every cell after the flows, metres
 };
 // clang-format off
 #define TERROIR_GATHER_ROW_PARAMETERS                                                              \
@@ -316,15 +317,19 @@ struct GatherRowConstants
     const double* __restrict mE, const double* __restrict mW, const double* __restrict nSE,        \
     const double* __restrict nS, const double* __restrict nSW, const double* __restrict sNE,       \
     const double* __restrict sN, const double* __restrict sNW, double* __restrict next,            \
-    double* __restrict discharge, double* __restrict cellOut, double* __restrict outletIn
+    double* __restrict discharge, double* __restrict cellOut, double* __restrict outletIn,         \
+    const double* __restrict m1, const double* __restrict m2, const double* __restrict m3,         \
+    double* __restrict edgeE, double* __restrict edgeNE, double* __restrict edgeN,                 \
+    double* __restrict edgeNW
 #define TERROIR_GATHER_ROW_ARGUMENTS                                                               \
   columns, interior, k, W, isCell, mo, mE, mW, nSE, nS, nSW, sNE, sN, sNW, next, discharge,        \
-    cellOut, outletIn
+    cellOut, outletIn, m1, m2, m3, edgeE, edgeNE, edgeN, edgeNW
 // clang-format on
 
+template<bool Edges>
 inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARAMETERS)
 {
-  const double fromNorth = k.fromNorth, fromSouth = k.fromSouth;
+  const double fromNorth = k.fromNorth, fromSouth = k.fromSouth, rain = k.rain;
   for (int pi = 0; pi < columns; ++pi)
   {
     const int s = pi + 1; // slot of this column
@@ -334,11 +339,20 @@ inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARA
     const double in = inRow + fromNorth * inNorth + fromSouth * inSouth;
     const bool cell = interior & (isCell[pi] != 0);
     const double o = mo[s];
-    const double kept = std::max(0.0, W[pi] - o + in);
+    const double kept = std::max(0.0, W[pi] - o + in) + rain;
     next[pi] = cell ? kept : 0.0;
     discharge[pi] += cell ? o : 0.0;
     cellOut[pi] = cell ? o : 0.0;
     outletIn[pi] = cell ? 0.0 : in;
+    if (Edges)
+    {
+      // Net flux through the cell's E, NE, N and NW edges (depth of this cell, positive out):
+      // what it sent less what that neighbour sent back.
+      edgeE[pi] += mE[s] - mW[s + 1];
+      edgeNE[pi] += m1[s] - fromNorth * nSW[s + 1];
+      edgeN[pi] += m2[s] - fromNorth * nS[s];
+      edgeNW[pi] += m3[s] - fromNorth * nSE[s - 1];
+    }
   }
 }
 
@@ -351,7 +365,11 @@ void GiverRowBase(TERROIR_GIVER_ROW_PARAMETERS)
 }
 void GatherRowBase(TERROIR_GATHER_ROW_PARAMETERS)
 {
-  GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
+  GatherRowBody<false>(TERROIR_GATHER_ROW_ARGUMENTS);
+}
+void GatherEdgesRowBase(TERROIR_GATHER_ROW_PARAMETERS)
+{
+  GatherRowBody<true>(TERROIR_GATHER_ROW_ARGUMENTS);
 }
 void PartCellsBase(TERROIR_PART_CELLS_PARAMETERS)
 {
@@ -368,7 +386,11 @@ __attribute__((target("avx2"))) void GiverRowAVX2(TERROIR_GIVER_ROW_PARAMETERS)
 }
 __attribute__((target("avx2"))) void GatherRowAVX2(TERROIR_GATHER_ROW_PARAMETERS)
 {
-  GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
+  GatherRowBody<false>(TERROIR_GATHER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx2"))) void GatherEdgesRowAVX2(TERROIR_GATHER_ROW_PARAMETERS)
+{
+  GatherRowBody<true>(TERROIR_GATHER_ROW_ARGUMENTS);
 }
 __attribute__((target("avx2"))) void PartCellsAVX2(TERROIR_PART_CELLS_PARAMETERS)
 {
@@ -386,7 +408,12 @@ __attribute__((target("avx512f,avx512vl,avx512bw"))) void GiverRowAVX512(
 __attribute__((target("avx512f,avx512vl,avx512bw"))) void GatherRowAVX512(
   TERROIR_GATHER_ROW_PARAMETERS)
 {
-  GatherRowBody(TERROIR_GATHER_ROW_ARGUMENTS);
+  GatherRowBody<false>(TERROIR_GATHER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx512f,avx512vl,avx512bw"))) void GatherEdgesRowAVX512(
+  TERROIR_GATHER_ROW_PARAMETERS)
+{
+  GatherRowBody<true>(TERROIR_GATHER_ROW_ARGUMENTS);
 }
 __attribute__((target("avx512f,avx512vl,avx512bw"))) void PartCellsAVX512(
   TERROIR_PART_CELLS_PARAMETERS)
@@ -488,6 +515,7 @@ struct RowKernels
 {
   void (*giver)(TERROIR_GIVER_ROW_PARAMETERS) = GiverRowBase;
   void (*gather)(TERROIR_GATHER_ROW_PARAMETERS) = GatherRowBase;
+  void (*gatherEdges)(TERROIR_GATHER_ROW_PARAMETERS) = GatherEdgesRowBase;
   void (*part)(TERROIR_PART_CELLS_PARAMETERS) = PartCellsBase;
   void (*heights)(TERROIR_HEIGHTS_ROW_PARAMETERS) = HeightsRowBase;
   int (*compact)(TERROIR_COMPACT_PARAMETERS) = CompactPartsBase;
@@ -510,6 +538,7 @@ RowKernels ChooseRowKernels()
   {
     k.giver = GiverRowAVX512;
     k.gather = GatherRowAVX512;
+    k.gatherEdges = GatherEdgesRowAVX512;
     k.part = PartCellsAVX512;
     k.heights = HeightsRowAVX512;
     k.compact = CompactPartsAVX512;
@@ -518,6 +547,7 @@ RowKernels ChooseRowKernels()
   {
     k.giver = GiverRowAVX2;
     k.gather = GatherRowAVX2;
+    k.gatherEdges = GatherEdgesRowAVX2;
     k.part = PartCellsAVX2;
     k.heights = HeightsRowAVX2;
   }
@@ -537,6 +567,8 @@ const char* WaterFlowStopReasonName(WaterFlowStopReason reason)
       return "NoMovement";
     case WaterFlowStopReason::MaximumIterations:
       return "MaximumIterations";
+    case WaterFlowStopReason::Balanced:
+      return "Balanced";
   }
   return "Unknown";
 }
@@ -688,6 +720,7 @@ WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const d
       this->IsCell[c] = 1;
       this->Water[c] = w;
       this->Initial += w * this->Area[j + 1];
+      this->CellAreaTotal += this->Area[j + 1];
     }
   }
   // Outlets: no-data cells take the lowest valid neighbour; border cells continue the slope.
@@ -897,10 +930,13 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     // Volume sent from a neighbouring row becomes depth here through the area ratio.
     k.fromNorth = r + 1 < NY + 2 ? Area[r + 1] / Area[r] : 0.0;
     k.fromSouth = r > 0 ? Area[r - 1] / Area[r] : 0.0;
+    k.rain = this->Rain;
     // Neighbour order E, NE, N, NW, W, SW, S, SE: a cell receives what its row's givers send
     // east (0) and west (4), what the northern row sends south-east (7), south (6) and
     // south-west (5), and what the southern row sends north-east (1), north (2), north-west (3).
-    kernels.gather(stride,
+    const bool edges = !this->Edges.empty();
+    const std::size_t plane = edges ? this->Edges.size() / 4 : 0;
+    (edges ? kernels.gatherEdges : kernels.gather)(stride,
       r >= 1 && r <= NY,
       k,
       W + row0,
@@ -917,7 +953,14 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       next + row0,
       discharge + row0,
       cellOut.data(),
-      outletIn.data());
+      outletIn.data(),
+      mid.Flow(1),
+      mid.Flow(2),
+      mid.Flow(3),
+      edges ? this->Edges.data() + row0 : nullptr,
+      edges ? this->Edges.data() + plane + row0 : nullptr,
+      edges ? this->Edges.data() + 2 * plane + row0 : nullptr,
+      edges ? this->Edges.data() + 3 * plane + row0 : nullptr);
     moved += RowSum(cellOut.data(), stride) * Area[r];
     outflow += RowSum(outletIn.data(), stride) * Area[r];
   };
@@ -986,23 +1029,103 @@ void WaterFlowSimulation::RecordIteration(const WaterFlowIteration& it)
 }
 
 //------------------------------------------------------------------------------
+void WaterFlowSimulation::SetRain(double metres)
+{
+  if (!(std::isfinite(metres) && metres >= 0.0))
+  {
+    throw std::invalid_argument("water flow: rain per iteration must be a finite depth >= 0");
+  }
+  this->Rain = metres;
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::SetNetFlux(bool on)
+{
+  if (on)
+  {
+    this->Edges.assign(4 * this->Water.size(), 0.0);
+  }
+  else
+  {
+    std::vector<double>().swap(this->Edges);
+  }
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::GetNetDischarge(double* discharge) const
+{
+  if (this->Edges.empty())
+  {
+    throw std::logic_error("water flow: net flux is off");
+  }
+  const std::size_t stride = static_cast<std::size_t>(NX + 2);
+  const std::size_t plane = this->Water.size();
+  const double* e = this->Edges.data();
+  const double* ne = e + plane;
+  const double* n = e + 2 * plane;
+  const double* nw = e + 3 * plane;
+  for (int j = 0; j < NY; ++j)
+  {
+    const std::size_t r = static_cast<std::size_t>(j + 1);
+    const double a = this->Area[r];
+    const double below = this->Area[r - 1];
+    for (int i = 0; i < NX; ++i)
+    {
+      const std::size_t c = r * stride + static_cast<std::size_t>(i + 1);
+      double q = std::numeric_limits<double>::quiet_NaN();
+      if (this->IsCell[c])
+      {
+        q = std::max(0.0, e[c] * a) + std::max(0.0, ne[c] * a) + std::max(0.0, n[c] * a) +
+          std::max(0.0, nw[c] * a) + std::max(0.0, -e[c - 1] * a) +
+          std::max(0.0, -ne[c - stride - 1] * below) + std::max(0.0, -n[c - stride] * below) +
+          std::max(0.0, -nw[c - stride + 1] * below);
+      }
+      discharge[static_cast<std::size_t>(j) * NX + i] = q;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+bool WaterFlowSimulation::StopsAfter(const WaterFlowIteration& it,
+  double movedBefore,
+  const WaterFlowStopRule& rule,
+  WaterFlowStopReason& reason) const
+{
+  if (it.moved <= 0.0 && this->Rain <= 0.0)
+  {
+    reason = WaterFlowStopReason::NoMovement;
+    return true;
+  }
+  if (WaterFlowAutoStop(it.moved, movedBefore, rule.autoStopRatio))
+  {
+    reason = WaterFlowStopReason::AutoStop;
+    return true;
+  }
+  if (WaterFlowBalanced(it.outflow, this->RainVolume(), rule.balanceTolerance))
+  {
+    reason = WaterFlowStopReason::Balanced;
+    return true;
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
 WaterFlowStopReason WaterFlowSimulation::Run(const WaterFlowStopRule& rule)
 {
-  if (rule.maximumIterations < 0 || !(rule.autoStopRatio >= 0.0))
+  if (rule.maximumIterations < 0 || !(rule.autoStopRatio >= 0.0) ||
+    !(rule.balanceTolerance >= 0.0 && rule.balanceTolerance < 1.0))
   {
-    throw std::invalid_argument("water flow: negative iteration limit or stop ratio");
+    throw std::invalid_argument(
+      "water flow: negative iteration limit or stop ratio, or balance tolerance not in [0, 1)");
   }
   while (this->IterationCount < rule.maximumIterations)
   {
     const double before = this->MovedTotal;
     const WaterFlowIteration it = this->Step();
-    if (it.moved <= 0.0)
+    WaterFlowStopReason reason;
+    if (this->StopsAfter(it, before, rule, reason))
     {
-      return WaterFlowStopReason::NoMovement;
-    }
-    if (WaterFlowAutoStop(it.moved, before, rule.autoStopRatio))
-    {
-      return WaterFlowStopReason::AutoStop;
+      return reason;
     }
   }
   return WaterFlowStopReason::MaximumIterations;
@@ -1089,14 +1212,15 @@ bool WaterFlowSimulation::FindStop(const WaterFlowStopRule& rule,
     {
       break;
     }
-    const double moved = this->Moved[k];
-    if (moved <= 0.0 || WaterFlowAutoStop(moved, before, rule.autoStopRatio))
+    WaterFlowIteration it;
+    it.moved = this->Moved[k];
+    it.outflow = this->Outflow[k];
+    if (this->StopsAfter(it, before, rule, reason))
     {
       iteration = static_cast<long long>(k) + 1;
-      reason = moved <= 0.0 ? WaterFlowStopReason::NoMovement : WaterFlowStopReason::AutoStop;
       return true;
     }
-    before += moved;
+    before += it.moved;
   }
   if (static_cast<long long>(this->Moved.size()) >= rule.maximumIterations)
   {

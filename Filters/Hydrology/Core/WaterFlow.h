@@ -197,6 +197,10 @@ struct WaterFlowStopRule
   double autoStopRatio = 1e-3;
   /// Stop after this many iterations in all (counting earlier runs); must be >= 0.
   long long maximumIterations = 10000;
+  /// With rain (WaterFlowSimulation::SetRain): stop after the first iteration whose outflow
+  /// reached (1 - balanceTolerance) of the rain of one iteration (the river-forming mode's
+  /// steady state); 0 disables the rule. Must be in [0, 1).
+  double balanceTolerance = 0.0;
 };
 
 /// Why a run stopped.
@@ -205,9 +209,10 @@ enum class WaterFlowStopReason
   AutoStop,          ///< the moved volume fell below autoStopRatio of the total moved
   NoMovement,        ///< an iteration moved nothing
   MaximumIterations, ///< the iteration limit was reached
+  Balanced,          ///< the outflow balanced the rain (balanceTolerance)
 };
 
-/// Name of a stop reason ("AutoStop", "NoMovement", "MaximumIterations").
+/// Name of a stop reason ("AutoStop", "NoMovement", "MaximumIterations", "Balanced").
 const char* WaterFlowStopReasonName(WaterFlowStopReason reason);
 
 /// True when an iteration that moved `moved` after `movedBefore` in all earlier iterations ends
@@ -215,6 +220,13 @@ const char* WaterFlowStopReasonName(WaterFlowStopReason reason);
 inline bool WaterFlowAutoStop(double moved, double movedBefore, double ratio)
 {
   return ratio > 0.0 && moved < ratio * (movedBefore + moved);
+}
+
+/// True when an iteration whose outflow was `outflow` ends a run with rain `rainVolume` per
+/// iteration under the balance rule (tolerance > 0, rain > 0).
+inline bool WaterFlowBalanced(double outflow, double rainVolume, double tolerance)
+{
+  return tolerance > 0.0 && rainVolume > 0.0 && outflow >= (1.0 - tolerance) * rainVolume;
 }
 
 /// Volumes of one iteration (m^3).
@@ -250,6 +262,36 @@ public:
   WaterFlowSimulation& operator=(WaterFlowSimulation&&) noexcept;
 
   void SetParallelFor(ParallelFor parallelFor) { this->Parallel = std::move(parallelFor); }
+
+  /**
+   * The river-forming source: `metres` of water added to every cell after the flows of each
+   * iteration (W' = max(0, W - out + in) + rain), so that channels keep carrying water. Must be
+   * finite and >= 0 (else std::invalid_argument); default 0 (the seed's single pulse).
+   */
+  void SetRain(double metres);
+  double GetRain() const { return this->Rain; }
+  /// Rain volume of one iteration, m^3 (rain times the area of the cells).
+  double RainVolume() const { return this->Rain * this->CellAreaTotal; }
+
+  /**
+   * Also accumulate the net flux through every edge between two cells over the iterations
+   * (what went one way less what came back, per neighbour pair; 4 doubles per padded cell).
+   * In one iteration water never goes both ways across an edge (a giver sends only to lower
+   * neighbours), but over iterations a lake's water goes back and forth; the net flux counts
+   * only what passed. Turning it on starts the sums at zero; off frees them.
+   */
+  void SetNetFlux(bool on);
+  bool GetNetFlux() const { return !this->Edges.empty(); }
+  /**
+   * Net discharge (m^3, nx*ny; NaN on no-data cells): per cell, the sum over its 8 edges of the
+   * net volume that left through the edge (0 for an edge water entered by). At steady state
+   * this is what flows through the cell, and water exchanged within a lake does not count.
+   * @pre GetNetFlux()
+   */
+  void GetNetDischarge(double* discharge) const;
+  /// The edge sums, 4 planes of the padded grid (E, NE, N, NW of each cell; depth of the cell,
+  /// positive out of it); empty when net flux is off. For the GPU path and checkpoints.
+  std::vector<double>& PaddedEdges() { return this->Edges; }
 
   /// Rows per parallel block for `threads` threads over `rows` rows: at least 16, about four
   /// blocks per thread (each block recomputes the giver rows on its edges, and at 16 rows that
@@ -324,6 +366,17 @@ public:
     long long& iteration,
     WaterFlowStopReason& reason) const;
 
+  /**
+   * The stop rules after one iteration `it` (movedBefore: the volume moved by the iterations
+   * before it): no movement, the seed's auto-stop, the balance of outflow and rain, in that
+   * order; true with the reason when one fires. Every path (Run, FindStop, the filter's loop,
+   * the GPU path) asks this one function.
+   */
+  bool StopsAfter(const WaterFlowIteration& it,
+    double movedBefore,
+    const WaterFlowStopRule& rule,
+    WaterFlowStopReason& reason) const;
+
 private:
   struct ScratchPool;
   void RowBlock(int begin, int end);
@@ -351,6 +404,9 @@ private:
   double MovedTotal = 0.0;
   double OutflowTotal = 0.0;
   double Initial = 0.0;
+  double Rain = 0.0;
+  double CellAreaTotal = 0.0;
+  std::vector<double> Edges;
 };
 
 } // namespace hydrology
