@@ -432,7 +432,6 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
   vtkSmartPointer<vtkImageData> terrain = ReadTerrain(dem, c.AllowNetwork, c.ZUnit);
   const std::size_t n = static_cast<std::size_t>(terrain->GetNumberOfPoints());
   RiverReference rr(terrain, dem, reference, maskPath, c.AllowNetwork);
-  const std::vector<std::uint8_t>& ref = rr.Reference;
   const std::vector<std::uint8_t>& area = rr.Area;
   const GridView<std::uint8_t>& refView = rr.View;
 
