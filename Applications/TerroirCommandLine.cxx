@@ -702,6 +702,12 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
       "Rivers mode: stop when the outflow reaches 1 - TOLERANCE of the rain")
     ->check(FiniteIn(1e-9, 0.999))
     ->capture_default_str();
+  app
+    ->add_option("--thinning",
+      s.Thinning,
+      "Rivers mode: RiverStrength factor beside the crest of a band of flow (0 removes, 1 keeps)")
+    ->check(FiniteIn(0.0, 1.0))
+    ->capture_default_str();
 }
 
 void CheckWaterFlow(const WaterFlowSettings& s, const CLI::App& app)
@@ -853,6 +859,11 @@ void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::s
     need(x >= 1e-9 && x <= 0.999, "1e-9 to 0.999");
     s.BalanceTolerance = x;
   }
+  else if (name == "thinning")
+  {
+    need(x >= 0.0 && x <= 1.0, "0 to 1");
+    s.Thinning = x;
+  }
   else if (name == "max-iterations")
   {
     need(x >= 0.0 && x <= 1e8 && x == std::floor(x), "a whole number, 0 to 1e8");
@@ -881,8 +892,8 @@ void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::s
   else
   {
     throw std::invalid_argument("--sweep: unknown option '" + name +
-      "' (water, rain, balance, max-iterations, auto-stop, time, iteration-duration, "
-      "river-threshold, mode)");
+      "' (water, rain, balance, thinning, max-iterations, auto-stop, time, "
+      "iteration-duration, river-threshold, mode)");
   }
 }
 

@@ -119,6 +119,7 @@ struct WaterFlowSettings
   std::string Mode;               ///< --mode pulse|rivers; empty: the command's default
   double RainRate = 0.3;          ///< --rain MM_PER_HOUR (rivers mode)
   double BalanceTolerance = 0.02; ///< --balance TOLERANCE (rivers mode)
+  double Thinning = 0.1;          ///< --thinning FACTOR (rivers mode: RiverStrength)
   std::string DischargeOutput;    ///< --discharge FILE (waterflow)
   std::string RiverOutput;        ///< --river FILE (waterflow)
 };
@@ -136,7 +137,7 @@ struct ValidateSettings
 
 /**
  * Applies one value of a validate sweep to the simulation's settings: NAME is a water-flow
- * option without its dashes (water, rain, balance, max-iterations, auto-stop, time,
+ * option without its dashes (water, rain, balance, thinning, max-iterations, auto-stop, time,
  * iteration-duration, river-threshold, mode). Throws std::invalid_argument naming --sweep and
  * the bad name or value.
  */

@@ -81,6 +81,7 @@ vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
   flow->SetMode(rivers ? vtkTerroirWaterFlow::Rivers : vtkTerroirWaterFlow::Pulse);
   flow->SetRainRate(s.RainRate);
   flow->SetBalanceTolerance(s.BalanceTolerance);
+  flow->SetThinningFactor(s.Thinning);
   if (std::isfinite(s.RiverThreshold))
   {
     flow->SetRiverThreshold(s.RiverThreshold);
@@ -471,8 +472,8 @@ int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOver
     // The overlay shows the first simulation row.
     std::vector<std::uint8_t>& cells = flowRivers.empty() ? flowRivers : simulated;
     methods.push_back(Score(name,
-      rivers ? "DischargeRate (m3/s)" : "Discharge (m3)",
-      AsDoubles(flow->GetPointData()->GetArray(rivers ? vtkTerroirWaterFlow::DischargeRateName()
+      rivers ? "RiverStrength (m3/s)" : "Discharge (m3)",
+      AsDoubles(flow->GetPointData()->GetArray(rivers ? vtkTerroirWaterFlow::RiverStrengthName()
                                                       : vtkTerroirWaterFlow::DischargeName()),
         false),
       settings.RiverThreshold,

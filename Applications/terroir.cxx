@@ -539,8 +539,8 @@ int CommandRun(const std::string& demArg,
       result, dem, referenceLines, referenceArea, allowNetwork);
     std::vector<std::uint8_t> simulated;
     const terroir::app::MethodScores scores = terroir::app::ScoreRiverMeasure("rivers",
-      "DischargeRate (m3/s)",
-      terroir::app::PointArrayValues(result, vtkTerroirWaterFlow::DischargeRateName()),
+      "RiverStrength (m3/s)",
+      terroir::app::PointArrayValues(result, vtkTerroirWaterFlow::RiverStrengthName()),
       std::nan(""),
       reference,
       simulated);

@@ -107,6 +107,7 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RateIterations: " << this->RateIterations << "\n";
   os << indent << "LakeDepth: " << this->LakeDepth << " m\n";
   os << indent << "RiverArea: " << this->RiverArea << " m2\n";
+  os << indent << "ThinningFactor: " << this->ThinningFactor << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -180,6 +181,10 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   if (!(std::isfinite(this->LakeDepth) && this->LakeDepth >= 0.0))
   {
     return "LakeDepth " + Num(this->LakeDepth) + " m must be a finite number >= 0";
+  }
+  if (!(this->ThinningFactor >= 0.0 && this->ThinningFactor <= 1.0))
+  {
+    return "ThinningFactor " + Num(this->ThinningFactor) + " must be in [0, 1]";
   }
   if (!(std::isfinite(this->RiverArea) && this->RiverArea >= 0.0))
   {
@@ -481,6 +486,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   // Rivers mode: the discharge rate, averaged over RateIterations more iterations of the
   // steady state (then the state goes back to where the run stopped).
   vtkSmartPointer<vtkDoubleArray> rate;
+  vtkSmartPointer<vtkDoubleArray> strength;
   vtkSmartPointer<vtkUnsignedCharArray> body;
   if (this->Mode == Rivers)
   {
@@ -498,12 +504,22 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     rate->SetNumberOfTuples(static_cast<vtkIdType>(n));
     rate->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m3/s");
     double* qr = rate->GetPointer(0);
-    sim.GetNetDischarge(qr);
+    std::vector<std::int8_t> dominant(n);
+    sim.GetNetDischarge(qr, dominant.data());
     const double seconds = static_cast<double>(this->RateIterations) * this->IterationDuration;
     for (std::size_t c = 0; c < n; ++c)
     {
       qr[c] /= seconds; // NaN on no data stays NaN
     }
+    strength = vtkSmartPointer<vtkDoubleArray>::New();
+    strength->SetName(RiverStrengthName());
+    strength->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    strength->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m3/s");
+    terroir::GridView<double> qv;
+    qv.data = qr;
+    qv.nx = v.nx;
+    qv.ny = v.ny;
+    hy::ThinAcrossFlow(qv, dominant.data(), this->ThinningFactor, strength->GetPointer(0));
     sim.PaddedWater() = water;
     sim.PaddedDischarge() = before;
     sim.PaddedEdges() = edges;
@@ -543,10 +559,10 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   unsigned char* rv = river->GetPointer(0);
   if (rate)
   {
-    // Rivers: crest cells of the steady discharge that carry the rain of RiverArea or more.
+    // Rivers: crest cells of RiverStrength that carry the rain of RiverArea or more.
     std::vector<std::uint8_t> channel(n);
     terroir::GridView<double> qv;
-    qv.data = rate->GetPointer(0);
+    qv.data = strength->GetPointer(0);
     qv.nx = v.nx;
     qv.ny = v.ny;
     hy::ChannelCells(qv, channel.data());
@@ -570,6 +586,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   if (rate)
   {
     output->GetPointData()->AddArray(rate);
+    output->GetPointData()->AddArray(strength);
     output->GetPointData()->AddArray(body);
   }
   vtkFieldData* fd = output->GetFieldData();

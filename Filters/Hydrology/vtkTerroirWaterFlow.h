@@ -104,6 +104,7 @@ public:
   static const char* StopReasonName() { return "WaterFlowStopReason"; }
   static const char* DischargeRateName() { return "DischargeRate"; }
   static const char* LakeMaskName() { return "LakeMask"; }
+  static const char* RiverStrengthName() { return "RiverStrength"; }
 
   enum ModeType
   {
@@ -136,6 +137,11 @@ public:
   /// Rivers mode: upstream area of the smallest river, m^2 (>= 0). Default 1e5 (0.1 km^2).
   vtkSetMacro(RiverArea, double);
   vtkGetMacro(RiverArea, double);
+
+  /// Rivers mode: RiverStrength is DischargeRate times this factor beside the crest of a band of
+  /// flow (a neighbour across the flow carries more), in [0, 1]. Default 0.1.
+  vtkSetMacro(ThinningFactor, double);
+  vtkGetMacro(ThinningFactor, double);
 
   /// Rivers mode: a cell is part of a lake (LakeMask = 1) when it lies in a depression
   /// of the terrain whose still water is at least this deep, metres (>= 0). Default 0.05.
@@ -243,6 +249,7 @@ protected:
   vtkIdType RateIterations = 10;
   double LakeDepth = 0.05;
   double RiverArea = 1e5;
+  double ThinningFactor = 0.1;
   int WaterSource = Constant;
   double WaterDepth = 100.0;
   int Month = 1;

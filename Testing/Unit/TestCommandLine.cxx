@@ -669,8 +669,8 @@ TEST(TerroirCommandLineParse, WaterFlowFlowAccAndValidate)
   EXPECT_EQ(line.WaterFlow.BalanceTolerance, 0.05);
   EXPECT_EQ(line.Validate.Sweep, "water=1,10");
   EXPECT_EQ(ErrorOf({ "validate", "--sweep", "colour=1,2" }),
-    "--sweep: unknown option 'colour' (water, rain, balance, max-iterations, auto-stop, time, "
-    "iteration-duration, river-threshold, mode)");
+    "--sweep: unknown option 'colour' (water, rain, balance, thinning, max-iterations, "
+    "auto-stop, time, iteration-duration, river-threshold, mode)");
   EXPECT_EQ(ErrorOf({ "validate", "--sweep", "rain" }),
     "--sweep needs NAME=V1,V2,... (e.g. rain=0.1,0.3,1), not 'rain'");
   EXPECT_EQ(ErrorOf({ "validate", "--sweep", "rain=1,-2" }),

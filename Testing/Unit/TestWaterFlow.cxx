@@ -639,6 +639,64 @@ TEST(WaterFlow, NetFluxCountsOnlyWhatCrossed)
   EXPECT_THROW(plain.GetNetDischarge(net.data()), std::logic_error);
 }
 
+TEST(WaterFlow, ThinAcrossFlowKeepsTheCrestOfABand)
+{
+  // A band of flow running east over three rows: 4 (south), 10 (middle), 6 (north). Across the
+  // flow (north and south of each cell) only the middle row is the largest, so the others are
+  // multiplied by the factor; a cell without a direction, and a NaN, are kept as they are.
+  const int nx = 4, ny = 3;
+  std::vector<double> q = { 4, 4, 4, 4, 10, 10, 10, 10, 6, 6, 6, 6 };
+  q[1] = std::nan("");
+  std::vector<std::int8_t> dir(q.size(), 0); // all east
+  dir[8] = -1;
+  GridView<double> v;
+  v.data = q.data();
+  v.nx = nx;
+  v.ny = ny;
+  std::vector<double> t(q.size());
+  hy::ThinAcrossFlow(v, dir.data(), 0.1, t.data());
+  EXPECT_DOUBLE_EQ(t[0], 0.4);
+  EXPECT_TRUE(std::isnan(t[1]));
+  EXPECT_DOUBLE_EQ(t[5], 10.0);
+  EXPECT_DOUBLE_EQ(t[8], 6.0); // no direction
+  EXPECT_NEAR(t[9], 0.6, 1e-15);
+  // Flow to the north-east: the cells across are north-west and south-east.
+  std::fill(dir.begin(), dir.end(), 1);
+  hy::ThinAcrossFlow(v, dir.data(), 0.0, t.data());
+  EXPECT_DOUBLE_EQ(t[5], 10.0); // (1, 1): NW (0, 2) = 6 and SE (2, 0) = 4 carry less
+  EXPECT_DOUBLE_EQ(t[2], 0.0);  // (2, 0): NW (1, 1) = 10 carries more
+  EXPECT_THROW(hy::ThinAcrossFlow(v, dir.data(), 1.5, t.data()), std::invalid_argument);
+}
+
+TEST(WaterFlow, DominantDirectionIsTheEdgeMostWaterLeftBy)
+{
+  // On a plane falling east, each cell sends c (T - H) to E (1 x 1) and NE, SE (0.71 x 1): east
+  // dominates; the eastern column sends into the border, still east.
+  Scene s(6, 5);
+  for (int j = 0; j < 5; ++j)
+  {
+    for (int i = 0; i < 6; ++i)
+    {
+      s.Z(i, j) = static_cast<float>(50 - i);
+    }
+  }
+  hy::WaterFlowSimulation sim(s.view, s.water.data());
+  sim.SetRain(1e-4);
+  sim.SetNetFlux(true);
+  for (int k = 0; k < 30; ++k)
+  {
+    sim.Step();
+  }
+  std::vector<double> q(s.z.size());
+  std::vector<std::int8_t> dir(s.z.size(), 99);
+  sim.GetNetDischarge(q.data(), dir.data());
+  for (std::size_t k = 0; k < q.size(); ++k)
+  {
+    EXPECT_EQ(dir[k], 0) << k;
+    EXPECT_GT(q[k], 0.0);
+  }
+}
+
 // Threads run blocks of rows, each with its own halo rows: any blocking gives the same bits.
 // Moving a simulation keeps its state.
 TEST(WaterFlow, RowBlockingDoesNotChangeResult)

@@ -1052,7 +1052,7 @@ void WaterFlowSimulation::SetNetFlux(bool on)
 }
 
 //------------------------------------------------------------------------------
-void WaterFlowSimulation::GetNetDischarge(double* discharge) const
+void WaterFlowSimulation::GetNetDischarge(double* discharge, std::int8_t* dominant) const
 {
   if (this->Edges.empty())
   {
@@ -1072,15 +1072,80 @@ void WaterFlowSimulation::GetNetDischarge(double* discharge) const
     for (int i = 0; i < NX; ++i)
     {
       const std::size_t c = r * stride + static_cast<std::size_t>(i + 1);
-      double q = std::numeric_limits<double>::quiet_NaN();
-      if (this->IsCell[c])
+      const std::size_t out = static_cast<std::size_t>(j) * NX + i;
+      if (!this->IsCell[c])
       {
-        q = std::max(0.0, e[c] * a) + std::max(0.0, ne[c] * a) + std::max(0.0, n[c] * a) +
-          std::max(0.0, nw[c] * a) + std::max(0.0, -e[c - 1] * a) +
-          std::max(0.0, -ne[c - stride - 1] * below) + std::max(0.0, -n[c - stride] * below) +
-          std::max(0.0, -nw[c - stride + 1] * below);
+        discharge[out] = std::numeric_limits<double>::quiet_NaN();
+        if (dominant)
+        {
+          dominant[out] = -1;
+        }
+        continue;
       }
-      discharge[static_cast<std::size_t>(j) * NX + i] = q;
+      // Volume out through each edge, neighbour order E, NE, N, NW, W, SW, S, SE.
+      const double v[8] = { e[c] * a,
+        ne[c] * a,
+        n[c] * a,
+        nw[c] * a,
+        -e[c - 1] * a,
+        -ne[c - stride - 1] * below,
+        -n[c - stride] * below,
+        -nw[c - stride + 1] * below };
+      double q = 0.0;
+      double most = 0.0;
+      int d = -1;
+      for (int k = 0; k < 8; ++k)
+      {
+        q += std::max(0.0, v[k]);
+        if (v[k] > most)
+        {
+          most = v[k];
+          d = k;
+        }
+      }
+      discharge[out] = q;
+      if (dominant)
+      {
+        dominant[out] = static_cast<std::int8_t>(d);
+      }
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void ThinAcrossFlow(const GridView<double>& discharge,
+  const std::int8_t* dominant,
+  double factor,
+  double* thinned)
+{
+  if (!(factor >= 0.0 && factor <= 1.0))
+  {
+    throw std::invalid_argument("ThinAcrossFlow: the factor must be in [0, 1]");
+  }
+  static const int di[8] = { 1, 1, 0, -1, -1, -1, 0, 1 };
+  static const int dj[8] = { 0, 1, 1, 1, 0, -1, -1, -1 };
+  for (int j = 0; j < discharge.ny; ++j)
+  {
+    for (int i = 0; i < discharge.nx; ++i)
+    {
+      const std::size_t k = discharge.Index(i, j);
+      const double q = discharge.data[k];
+      const int d = dominant[k];
+      thinned[k] = q;
+      if (d < 0 || d > 7 || std::isnan(q))
+      {
+        continue;
+      }
+      for (const int across : { (d + 2) % 8, (d + 6) % 8 })
+      {
+        const int ii = i + di[across];
+        const int jj = j + dj[across];
+        if (ii >= 0 && jj >= 0 && ii < discharge.nx && jj < discharge.ny &&
+          discharge.At(ii, jj) > q)
+        {
+          thinned[k] = factor * q;
+        }
+      }
     }
   }
 }

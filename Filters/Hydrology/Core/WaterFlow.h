@@ -229,6 +229,26 @@ inline bool WaterFlowBalanced(double outflow, double rainVolume, double toleranc
   return tolerance > 0.0 && rainVolume > 0.0 && outflow >= (1.0 - tolerance) * rainVolume;
 }
 
+/**
+ * @brief River centre lines of a discharge field: where water runs in a band several cells wide,
+ *        the cells beside the band's crest are damped.
+ *
+ * For every cell with a dominant outflow direction d (0..7, neighbour order), the two neighbours
+ * across the flow (directions d + 2 and d + 6, modulo 8) are compared with it: when either
+ * carries more, the cell's value is multiplied by `factor`; else it is kept. This is the
+ * non-maximum suppression of Canny (1986) across the flow direction, softened by the factor
+ * (0: removed, 1: nothing changes). Cells without a direction (d = -1) and NaN keep their value.
+ *
+ * @param discharge nx*ny values (view's grid; data and validity), e.g. DischargeRate
+ * @param dominant  nx*ny directions from WaterFlowSimulation::GetNetDischarge
+ * @param factor    in [0, 1] (else std::invalid_argument)
+ * @param thinned   nx*ny output; may not alias discharge
+ */
+void ThinAcrossFlow(const GridView<double>& discharge,
+  const std::int8_t* dominant,
+  double factor,
+  double* thinned);
+
 /// Volumes of one iteration (m^3).
 struct WaterFlowIteration
 {
@@ -286,9 +306,11 @@ public:
    * Net discharge (m^3, nx*ny; NaN on no-data cells): per cell, the sum over its 8 edges of the
    * net volume that left through the edge (0 for an edge water entered by). At steady state
    * this is what flows through the cell, and water exchanged within a lake does not count.
+   * `dominant` (optional, nx*ny): the edge most water left by, in neighbour order (0 E, 1 NE,
+   * 2 N, 3 NW, 4 W, 5 SW, 6 S, 7 SE; ties to the first), -1 where none did or on no data.
    * @pre GetNetFlux()
    */
-  void GetNetDischarge(double* discharge) const;
+  void GetNetDischarge(double* discharge, std::int8_t* dominant = nullptr) const;
   /// The edge sums, 4 planes of the padded grid (E, NE, N, NW of each cell; depth of the cell,
   /// positive out of it); empty when net flux is off. For the GPU path and checkpoints.
   std::vector<double>& PaddedEdges() { return this->Edges; }
