@@ -15,7 +15,9 @@
 // (default) gather: for every padded cell, in = sum over the 8 neighbours of
 //          scale * c * max(0, level - H) (neighbours outside the padded array give nothing;
 //          volume from rows r +- 1 becomes depth through the area ratio); on cells (interior row,
-//          isCell) waterOut = max(0, W - out + in) and discharge += out; on outlets waterOut = 0.
+//          isCell) waterOut = max(0, W - out + in) + rain and discharge += out; on outlets
+//          waterOut = 0; with uEdges, the net flux through each cell's E, NE, N and NW edges is
+//          added to edges[] (the river-forming mode's net discharge).
 //          Each work group reduces out * area (moved) and in * area of its outlets (outflow), in
 //          a fixed tree order, into partials[2 * (uSlot * uGroups + group) + {0, 1}] (m^3).
 // (The host snapshots and restores water and discharge with buffer copies.)
@@ -36,8 +38,11 @@
 //   7            double giverOut[N]         water the cell gives, metres (givers -> gather)
 //   8            double discharge[N]        accumulated out, metres of depth (gather)
 //   9  writeonly double partials[]          2 per work group and iteration slot (gather)
+//  10  readonly  double params[1]           rain added to every cell per iteration, metres
+//  11            double edges[4*N]          net flux sums, planes E, NE, N, NW (uEdges != 0)
 // Uniforms: uint uStride (nx + 2), uint uRows (ny + 2), uint uCount (N), uint uGroups (work
-// groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration).
+// groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration), uint uEdges (1:
+// accumulate edges[]).
 // Work group LOCAL_X (define, a power of two, 256 by default); dispatch ceil(N / LOCAL_X)
 // groups, as gx x gy when that exceeds GL_MAX_COMPUTE_WORK_GROUP_COUNT[0] (group index
 // TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + TERROIR_WORKGROUP_ID.x).
@@ -58,12 +63,15 @@ layout(std430, binding = 6) buffer ScaleBuffer { double giverScale[]; };
 layout(std430, binding = 7) buffer OutBuffer { double giverOut[]; };
 layout(std430, binding = 8) buffer DischargeBuffer { double discharge[]; };
 layout(std430, binding = 9) writeonly buffer PartialsBuffer { double partials[]; };
+layout(std430, binding = 10) readonly buffer ParamsBuffer { double params[]; };
+layout(std430, binding = 11) buffer EdgesBuffer { double edges[]; };
 
 uniform uint uStride;
 uniform uint uRows;
 uniform uint uCount;
 uniform uint uGroups;
 uniform uint uSlot;
+uniform uint uEdges;
 
 #ifndef WATERFLOW_GIVERS
 shared double sMoved[LOCAL_X];
@@ -246,11 +254,40 @@ dvec2 Gather(uint c, uint i, uint r)
   bool interior = r >= 1u && r + 1u < uRows;
   bool cell = ((isCell[c >> 2u] >> (8u * (c & 3u))) & 0xffu) != 0u;
   double area = Row(r, kArea);
+  if (uEdges != 0u)
+  {
+    // Net flux through the cell's E, NE, N and NW edges (as the core's gather): what it sent
+    // less what that neighbour sent back, as depth of this cell.
+    bool north = r + 1u < uRows;
+    uint n = c + uStride;
+    double fromNorth = Row(r, kFromNorth);
+    double own = east ? Sent(c, Row(r, kEW), Height(c + 1u)) : 0.0LF;
+    double back = east ? Sent(c + 1u, Row(r, kEW), h) : 0.0LF;
+    precise double dE = own - back;
+    own = north && east ? Sent(c, Row(r, kNE), Height(n + 1u)) : 0.0LF;
+    back = north && east ? Sent(n + 1u, Row(r, kNE), h) : 0.0LF;
+    precise double dNE = own - fromNorth * back;
+    own = north ? Sent(c, Row(r, kN), Height(n)) : 0.0LF;
+    back = north ? Sent(n, Row(r, kN), h) : 0.0LF;
+    precise double dN = own - fromNorth * back;
+    own = north && west ? Sent(c, Row(r, kNE), Height(n - 1u)) : 0.0LF;
+    back = north && west ? Sent(n - 1u, Row(r, kNE), h) : 0.0LF;
+    precise double dNW = own - fromNorth * back;
+    precise double e0 = edges[c] + dE;
+    precise double e1 = edges[uCount + c] + dNE;
+    precise double e2 = edges[2u * uCount + c] + dN;
+    precise double e3 = edges[3u * uCount + c] + dNW;
+    edges[c] = e0;
+    edges[uCount + c] = e1;
+    edges[2u * uCount + c] = e2;
+    edges[3u * uCount + c] = e3;
+  }
   if (interior && cell)
   {
     double out_ = giverOut[c];
     precise double w = waterIn[c] - out_ + inflow;
-    waterOut[c] = max(0.0LF, w);
+    precise double kept = max(0.0LF, w) + params[0];
+    waterOut[c] = kept;
     precise double d = discharge[c] + out_;
     discharge[c] = d;
     precise double moved = out_ * area;

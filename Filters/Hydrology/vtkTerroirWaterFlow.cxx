@@ -401,7 +401,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   const long long first = sim.Iterations();
   bool stopped = false;
   hy::WaterFlowStopReason stopReason = hy::WaterFlowStopReason::MaximumIterations;
-  bool gpu = backend == vtkTerroirComputeContext::GPU && this->Mode == Pulse;
+  bool gpu = backend == vtkTerroirComputeContext::GPU;
   while (!stopped && sim.Iterations() < target)
   {
     const long long interval = this->CheckpointInterval;
@@ -415,7 +415,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     {
       hy::WaterFlowGPUResult result;
       const int ran = this->RunGPUPath(
-        [&] { result = hy::RunWaterFlowGPU(sim, next, applyRules, rule.autoStopRatio); });
+        [&] { result = hy::RunWaterFlowGPU(sim, next, applyRules, rule); });
       if (ran < 0)
       {
         return 0;

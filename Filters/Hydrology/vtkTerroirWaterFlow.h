@@ -37,8 +37,8 @@
  *   (Priority-Flood, Barnes et al. 2014: the state steady rain reaches), then RainRate mm/h
  *   (default 0.3) falls on every cell each iteration (RainRate x IterationDuration) until the
  *   outflow through the border reaches 1 - BalanceTolerance (default 0.02) of the rain (stop
- *   reason "Balanced"; the seed's auto-stop is off). The WaterSource is not used. CPU only: a
- *   GPU request is an error.
+ *   reason "Balanced"; the seed's auto-stop is off). The WaterSource is not used. Both
+ *   backends (the GPU kernel adds the rain and the edge sums too, bit for bit).
  *
  * Parameters (defaults):
  * - WaterSource: Constant (0, default; WaterDepth mm on every cell, default 100),
@@ -232,8 +232,7 @@ protected:
   ~vtkTerroirWaterFlow() override;
 
   int GetHaloWidth() override { return -1; }
-  /// The Rivers mode runs on the CPU only (so far).
-  bool HasGPUPath() override { return this->Mode == Pulse; }
+  bool HasGPUPath() override { return true; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;

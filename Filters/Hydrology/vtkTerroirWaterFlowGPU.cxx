@@ -120,14 +120,28 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
   double autoStopRatio,
   int checkEvery)
 {
+  WaterFlowStopRule rule;
+  rule.autoStopRatio = autoStopRatio;
+  return RunWaterFlowGPU(sim, targetIterations, applyStopRules, rule, checkEvery);
+}
+
+//------------------------------------------------------------------------------
+WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
+  long long targetIterations,
+  bool applyStopRules,
+  const WaterFlowStopRule& rule,
+  int checkEvery)
+{
+  const double autoStopRatio = rule.autoStopRatio;
   if (checkEvery < 1)
   {
     throw std::invalid_argument(
       "water flow GPU: checkEvery must be at least 1, not " + std::to_string(checkEvery));
   }
-  if (!(autoStopRatio >= 0.0))
+  if (!(autoStopRatio >= 0.0) || !(rule.balanceTolerance >= 0.0 && rule.balanceTolerance < 1.0))
   {
-    throw std::invalid_argument("water flow GPU: negative or NaN auto-stop ratio");
+    throw std::invalid_argument(
+      "water flow GPU: negative or NaN auto-stop ratio, or balance tolerance not in [0, 1)");
   }
   WaterFlowGPUResult result;
   if (sim.Iterations() >= targetIterations)
@@ -184,6 +198,9 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
   double movedTotal = sim.TotalMoved();
   std::vector<double> water = sim.PaddedWater();
   std::vector<double> discharge = sim.PaddedDischarge();
+  std::vector<double> edges = sim.PaddedEdges(); // empty unless the net flux is on
+  const bool withEdges = !edges.empty();
+  const double params[1] = { sim.GetRain() };
   std::vector<double> partials(maxBlock * dispatched * 2);
   const std::size_t cellBytes = n * sizeof(double);
   const double work = static_cast<double>(targetIterations - iterations) * static_cast<double>(n);
@@ -222,6 +239,9 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
       gpu::StorageBuffer bScale(cellBytes, undefined);
       gpu::StorageBuffer bOut(cellBytes, undefined);
       gpu::StorageBuffer bDischarge(cellBytes, discharge.data());
+      gpu::StorageBuffer bParams(sizeof(params), params);
+      const std::size_t edgeBytes = withEdges ? 4 * cellBytes : sizeof(double);
+      gpu::StorageBuffer bEdges(edgeBytes, withEdges ? edges.data() : params);
       // Two blocks are in flight: each has its partial volumes and, when a stop rule may undo
       // its end, a snapshot of the water and discharge at its start.
       const std::size_t partialBytes = partials.size() * sizeof(double);
@@ -232,6 +252,9 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
         gpu::StorageBuffer(snapBytes, undefined) };
       gpu::StorageBuffer bSnapDischarge[2] = { gpu::StorageBuffer(snapBytes, undefined),
         gpu::StorageBuffer(snapBytes, undefined) };
+      const std::size_t snapEdgeBytes = applyStopRules && withEdges ? edgeBytes : sizeof(double);
+      gpu::StorageBuffer bSnapEdges[2] = { gpu::StorageBuffer(snapEdgeBytes, undefined),
+        gpu::StorageBuffer(snapEdgeBytes, undefined) };
 
       auto& givers = ctx.GetProgram(
         "WaterFlow.comp", vtkTerroirWaterFlowCS, { "LOCAL_X 256", "WATERFLOW_GIVERS" });
@@ -242,6 +265,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
         prog->SetUInt("uRows", static_cast<unsigned>(rows));
         prog->SetUInt("uCount", static_cast<unsigned>(n));
         prog->SetUInt("uGroups", static_cast<unsigned>(dispatched));
+        prog->SetUInt("uEdges", withEdges ? 1u : 0u);
       }
       bTerrain->Bind(0);
       bCell->Bind(1);
@@ -250,6 +274,8 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
       bScale.Bind(6);
       bOut.Bind(7);
       bDischarge.Bind(8);
+      bParams.Bind(10);
+      bEdges.Bind(11);
       const unsigned dx = static_cast<unsigned>(gx);
       const unsigned dy = static_cast<unsigned>(gy);
 
@@ -288,6 +314,10 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
         {
           bSnapWater[b.ring].CopyFrom(bWater[current], cellBytes);
           bSnapDischarge[b.ring].CopyFrom(bDischarge, cellBytes);
+          if (withEdges)
+          {
+            bSnapEdges[b.ring].CopyFrom(bEdges, edgeBytes);
+          }
         }
         for (std::size_t k = 0; k < b.count; ++k)
         {
@@ -301,6 +331,10 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
       {
         bWater[b.start].CopyFrom(bSnapWater[b.ring], cellBytes);
         bDischarge.CopyFrom(bSnapDischarge[b.ring], cellBytes);
+        if (withEdges)
+        {
+          bEdges.CopyFrom(bSnapEdges[b.ring], edgeBytes);
+        }
         current = b.start;
       };
 
@@ -341,16 +375,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
           {
             continue;
           }
-          if (it.moved <= 0.0)
-          {
-            result.stopped = true;
-            result.reason = WaterFlowStopReason::NoMovement;
-          }
-          else if (WaterFlowAutoStop(it.moved, before, autoStopRatio))
-          {
-            result.stopped = true;
-            result.reason = WaterFlowStopReason::AutoStop;
-          }
+          result.stopped = sim.StopsAfter(it, before, rule, result.reason);
           if (result.stopped)
           {
             if (b + 1 < block.count)
@@ -379,9 +404,17 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
       }
       bWater[current].Download(water.data(), cellBytes);
       bDischarge.Download(discharge.data(), cellBytes);
+      if (withEdges)
+      {
+        bEdges.Download(edges.data(), edgeBytes);
+      }
     });
   sim.PaddedWater().swap(water);
   sim.PaddedDischarge().swap(discharge);
+  if (withEdges)
+  {
+    sim.PaddedEdges().swap(edges);
+  }
   for (const WaterFlowIteration& it : recorded)
   {
     sim.RecordIteration(it);

@@ -43,8 +43,9 @@ struct WaterFlowGPUResult
  * @brief Runs iterations of `sim` on the GPU until sim.Iterations() == targetIterations or,
  *        when applyStopRules, a stop rule fires.
  *
- * Stop rules, tested after each iteration as WaterFlowSimulation::Run does: moved <= 0 ->
- * NoMovement; WaterFlowAutoStop(moved, movedBefore, autoStopRatio) -> AutoStop. Every iteration
+ * Stop rules, tested after each iteration as WaterFlowSimulation::Run does (StopsAfter): moved
+ * <= 0 without rain -> NoMovement; WaterFlowAutoStop(moved, movedBefore, autoStopRatio) ->
+ * AutoStop. Every iteration
  * is recorded with sim.RecordIteration, and the final state is written into
  * sim.PaddedWater() and sim.PaddedDischarge(). Nothing runs when sim.Iterations() >=
  * targetIterations.
@@ -61,6 +62,17 @@ VTKTERROIRFILTERSHYDROLOGY_EXPORT WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSi
   long long targetIterations,
   bool applyStopRules,
   double autoStopRatio,
+  int checkEvery = 16);
+
+/**
+ * @brief The same with a whole stop rule (WaterFlowSimulation::StopsAfter: the auto-stop and the
+ *        balance of outflow and rain; maximumIterations is not used, targetIterations is).
+ *        The simulation's rain and net-flux sums (SetRain, SetNetFlux) run on the GPU too.
+ */
+VTKTERROIRFILTERSHYDROLOGY_EXPORT WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
+  long long targetIterations,
+  bool applyStopRules,
+  const WaterFlowStopRule& rule,
   int checkEvery = 16);
 
 } // namespace hydrology

@@ -268,6 +268,55 @@ TEST(TerroirWaterFlowGPU, Fractal256ToAutoStop)
   RunBothToStop(scene, 1e-3, 10000, 16, "fractal 256^2, 0.1 m, auto stop");
 }
 
+// The river-forming mode on the GPU: rain every iteration, the net-flux edge sums, the balance
+// stop, with a checking period that makes the stop fall inside a block (replayed from the
+// snapshot, edges included): the same stop, the same bits as the CPU.
+TEST(TerroirWaterFlowGPU, RainAndNetFluxToBalance)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  Scene scene = TiltedWithNoData(64, 48, 5);
+  for (double& w : scene.water)
+  {
+    w = 0.0;
+  }
+  for (int every : { 16, 7 })
+  {
+    hy::WaterFlowSimulation cpu = scene.Make();
+    hy::WaterFlowSimulation gpu = scene.Make();
+    for (auto* sim : { &cpu, &gpu })
+    {
+      sim->SetRain(2e-4);
+      sim->SetNetFlux(true);
+    }
+    hy::WaterFlowStopRule rule;
+    rule.autoStopRatio = 0.0;
+    rule.balanceTolerance = 0.01;
+    rule.maximumIterations = 5000;
+    const hy::WaterFlowStopReason reason = cpu.Run(rule);
+    ASSERT_EQ(reason, hy::WaterFlowStopReason::Balanced);
+    const hy::WaterFlowGPUResult r = hy::RunWaterFlowGPU(gpu, 5000, true, rule, every);
+    EXPECT_TRUE(r.stopped);
+    EXPECT_EQ(r.reason, hy::WaterFlowStopReason::Balanced);
+    EXPECT_EQ(gpu.Iterations(), cpu.Iterations());
+    const Difference w = CompareArray(cpu.PaddedWater(), gpu.PaddedWater(), "water");
+    const Difference e = CompareArray(cpu.PaddedEdges(), gpu.PaddedEdges(), "edges");
+    EXPECT_EQ(w.bad, 0);
+    EXPECT_EQ(e.bad, 0);
+    std::vector<double> qc(static_cast<std::size_t>(scene.nx) * scene.ny), qg(qc.size());
+    cpu.GetNetDischarge(qc.data());
+    gpu.GetNetDischarge(qg.data());
+    for (std::size_t k = 0; k < qc.size(); ++k)
+    {
+      if (!(std::isnan(qc[k]) && std::isnan(qg[k])))
+      {
+        ASSERT_EQ(qc[k], qg[k]) << k;
+      }
+    }
+    std::cout << "rain, balance (check every " << every << "): " << gpu.Iterations()
+              << " iterations, max |gpu-cpu| water " << w.max << ", edges " << e.max << std::endl;
+  }
+}
+
 // A stop inside a read-back block: the GPU restores the block's snapshot and runs it again up
 // to the stopping iteration. Starting both after a few CPU steps shifts the GPU's blocks so
 // that the stop is not at a block end (and checks that a GPU run continues a CPU one).

@@ -127,7 +127,8 @@ TEST(TerroirWaterFlow, ArraysUnitsDefaults)
 
 // The river-forming mode: the dimple (3 m deep, one cell) holds still water from the start; rain
 // of 36 mm/h (1e-4 m per 10 s iteration) runs until the outflow balances it; every array is
-// there with its units; the valley floor carries the rain of the cells above it.
+// there with its units; the valley floor carries the rain of the cells above it. (GPU = CPU bit
+// for bit: Testing/GPU/TestWaterFlowGPU.cxx and TestDeterminismGPU.cxx.)
 TEST(TerroirWaterFlow, RiversModeBalancesTheRain)
 {
   vtkNew<vtkTerroirWaterFlow> f;
@@ -176,18 +177,6 @@ TEST(TerroirWaterFlow, RiversModeBalancesTheRain)
   // River: the floor (a crest of the discharge) from where it carries 5000 m^2 of rain.
   EXPECT_EQ(river->GetComponent(5 * 31 + 15, 0), 1.0);
   EXPECT_EQ(river->GetComponent(5 * 31 + 10, 0), 0.0);
-  // A GPU request is refused in this mode (CPU only so far).
-  vtkNew<vtkTerroirWaterFlow> g;
-  g->SetModeToRivers();
-  g->SetBackendToGPU();
-  vtkNew<terroir_test::ErrorObserver> errors;
-  g->AddObserver(vtkCommand::ErrorEvent, errors);
-  vtkNew<terroir_test::ErrorObserver> pipeline;
-  g->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline);
-  auto refused = RunFlow(g, Valley());
-  EXPECT_EQ(errors->ErrorCount, 1) << errors->Errors;
-  EXPECT_NE(errors->Errors.find("GPU"), std::string::npos) << errors->Errors;
-  EXPECT_EQ(refused->GetNumberOfPoints(), 0);
 }
 
 // The filter is the core: same water and discharge as WaterFlowSimulation run by hand.
