@@ -708,6 +708,13 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
       "Rivers mode: RiverStrength factor beside the crest of a band of flow (0 removes, 1 keeps)")
     ->check(FiniteIn(0.0, 1.0))
     ->capture_default_str();
+  app->add_flag("--seed-capacity",
+    s.SeedCapacity,
+    "The seed's literal rule: no flow from a cell whose capacity 2T - H(n-1) - H(n+1) "
+    "(8 neighbours, higher ones included) is negative");
+  app->add_flag("--count-emptied",
+    s.CountEmptied,
+    "The seed's stop measure: cells emptied per iteration instead of the volume moved (CPU)");
 }
 
 void CheckWaterFlow(const WaterFlowSettings& s, const CLI::App& app)

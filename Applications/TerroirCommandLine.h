@@ -120,6 +120,8 @@ struct WaterFlowSettings
   double RainRate = 0.3;          ///< --rain MM_PER_HOUR (rivers mode)
   double BalanceTolerance = 0.02; ///< --balance TOLERANCE (rivers mode)
   double Thinning = 0.1;          ///< --thinning FACTOR (rivers mode: RiverStrength)
+  bool SeedCapacity = false;      ///< --seed-capacity: the seed's literal WEC < 0 rule
+  bool CountEmptied = false;      ///< --count-emptied: the seed's emptied-cell stop count
   std::string DischargeOutput;    ///< --discharge FILE (waterflow)
   std::string RiverOutput;        ///< --river FILE (waterflow)
 };

@@ -82,6 +82,8 @@ vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
   flow->SetRainRate(s.RainRate);
   flow->SetBalanceTolerance(s.BalanceTolerance);
   flow->SetThinningFactor(s.Thinning);
+  flow->SetSeedCapacityRule(s.SeedCapacity);
+  flow->SetCountEmptiedCells(s.CountEmptied);
   if (std::isfinite(s.RiverThreshold))
   {
     flow->SetRiverThreshold(s.RiverThreshold);

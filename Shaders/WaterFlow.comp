@@ -42,7 +42,7 @@
 //  11            double edges[4*N]          net flux sums, planes E, NE, N, NW (uEdges != 0)
 // Uniforms: uint uStride (nx + 2), uint uRows (ny + 2), uint uCount (N), uint uGroups (work
 // groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration), uint uEdges (1:
-// accumulate edges[]).
+// accumulate edges[]), uint uSeedCapacity (1: the seed's literal capacity rule, givers).
 // Work group LOCAL_X (define, a power of two, 256 by default); dispatch ceil(N / LOCAL_X)
 // groups, as gx x gy when that exceeds GL_MAX_COMPUTE_WORK_GROUP_COUNT[0] (group index
 // TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + TERROIR_WORKGROUP_ID.x).
@@ -72,6 +72,7 @@ uniform uint uCount;
 uniform uint uGroups;
 uniform uint uSlot;
 uniform uint uEdges;
+uniform uint uSeedCapacity;
 
 #ifndef WATERFLOW_GIVERS
 shared double sMoved[LOCAL_X];
@@ -129,7 +130,21 @@ void Givers(uint c, uint i, uint r)
   double out_ = 0.0LF;
   double water = waterIn[c];
   bool inner = r >= 1u && r + 1u < uRows && i >= 1u && i + 1u < uStride;
-  if (inner && water > 0.0LF)
+  bool gated = false;
+  if (inner && water > 0.0LF && uSeedCapacity != 0u)
+  {
+    // The seed's literal rule: no flow when WEC = sum c (T - H), higher neighbours included,
+    // is negative (WaterFlowSeedCapacity).
+    double t = double(terrain[c]);
+    precise double wec = 0.0LF;
+    for (int k = 0; k < 8; ++k)
+    {
+      precise double d = t - Height(Neighbour(c, k));
+      wec = wec + Closeness(r, k) * d;
+    }
+    gated = wec < 0.0LF;
+  }
+  if (inner && water > 0.0LF && !gated)
   {
     double t = double(terrain[c]);
     precise double h = t + water;

@@ -102,6 +102,8 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CheckpointMemory: " << this->CheckpointMemory << " MiB\n";
   os << indent << "IterationEventInterval: " << this->IterationEventInterval << "\n";
   os << indent << "Mode: " << (this->Mode == Rivers ? "Rivers" : "Pulse") << "\n";
+  os << indent << "SeedCapacityRule: " << this->SeedCapacityRule << "\n";
+  os << indent << "CountEmptiedCells: " << this->CountEmptiedCells << "\n";
   os << indent << "RainRate: " << this->RainRate << " mm/h\n";
   os << indent << "BalanceTolerance: " << this->BalanceTolerance << "\n";
   os << indent << "RateIterations: " << this->RateIterations << "\n";
@@ -305,6 +307,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     try
     {
       cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
+      cache.Sim->SetSeedCapacityRule(this->SeedCapacityRule != 0);
       if (this->Mode == Rivers)
       {
         cache.Sim->SetRain(this->RainRate / 1000.0 / 3600.0 * this->IterationDuration);
@@ -331,6 +334,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   hy::WaterFlowStopRule rule;
   rule.autoStopRatio = this->AutoStopRatio;
   rule.maximumIterations = this->MaximumIterations;
+  rule.countEmptiedCells = this->CountEmptiedCells != 0;
   if (this->Mode == Rivers)
   {
     rule.autoStopRatio = 0.0; // steady rain moves the same every iteration
@@ -414,8 +418,8 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     if (gpu)
     {
       hy::WaterFlowGPUResult result;
-      const int ran = this->RunGPUPath(
-        [&] { result = hy::RunWaterFlowGPU(sim, next, applyRules, rule); });
+      const int ran =
+        this->RunGPUPath([&] { result = hy::RunWaterFlowGPU(sim, next, applyRules, rule); });
       if (ran < 0)
       {
         return 0;
@@ -433,6 +437,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       while (sim.Iterations() < next)
       {
         const double before = sim.TotalMoved();
+        const double emptiedBefore = sim.TotalEmptied();
         const hy::WaterFlowIteration it = sim.Step();
         if (it.moved <= 0.0 && sim.GetRain() <= 0.0)
         {
@@ -440,7 +445,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
           stopReason = hy::WaterFlowStopReason::NoMovement;
           break;
         }
-        if (applyRules && sim.StopsAfter(it, before, rule, stopReason))
+        if (applyRules && sim.StopsAfter(it, before, rule, stopReason, emptiedBefore))
         {
           stopped = true;
           break;

@@ -120,6 +120,22 @@ public:
   void SetModeToRivers() { this->SetMode(Rivers); }
   ///@}
 
+  ///@{
+  /// The seed's literal rules, off by default (measured in Documentation/validation.md):
+  /// SeedCapacityRule: no water leaves a cell whose signed capacity WEC = sum c (T - H) over all
+  /// 8 neighbours, higher ones included, is negative (the seed's eq. 3.8 and table 3.3;
+  /// WaterFlowSeedCapacity in WaterFlow.h). CountEmptiedCells: the auto-stop measures flow as
+  /// the number of cells an iteration emptied completely, as the seed does (its section 3.3.4),
+  /// instead of the volume moved; the CPU path only (Auto runs the CPU, a GPU request is an
+  /// error).
+  vtkSetMacro(SeedCapacityRule, vtkTypeBool);
+  vtkGetMacro(SeedCapacityRule, vtkTypeBool);
+  vtkBooleanMacro(SeedCapacityRule, vtkTypeBool);
+  vtkSetMacro(CountEmptiedCells, vtkTypeBool);
+  vtkGetMacro(CountEmptiedCells, vtkTypeBool);
+  vtkBooleanMacro(CountEmptiedCells, vtkTypeBool);
+  ///@}
+
   /// Rivers mode: rain on every cell, mm per hour of simulated time (finite, > 0). Default 0.3.
   vtkSetMacro(RainRate, double);
   vtkGetMacro(RainRate, double);
@@ -232,7 +248,7 @@ protected:
   ~vtkTerroirWaterFlow() override;
 
   int GetHaloWidth() override { return -1; }
-  bool HasGPUPath() override { return true; }
+  bool HasGPUPath() override { return !this->CountEmptiedCells; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -243,6 +259,8 @@ protected:
 #endif
 
   int Mode = Pulse;
+  vtkTypeBool SeedCapacityRule = 0;
+  vtkTypeBool CountEmptiedCells = 0;
   double RainRate = 0.3;
   double BalanceTolerance = 0.02;
   vtkIdType RateIterations = 10;

@@ -138,6 +138,11 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
     throw std::invalid_argument(
       "water flow GPU: checkEvery must be at least 1, not " + std::to_string(checkEvery));
   }
+  if (rule.countEmptiedCells && applyStopRules)
+  {
+    throw std::invalid_argument(
+      "water flow GPU: the emptied-cell stop count runs on the CPU path only");
+  }
   if (!(autoStopRatio >= 0.0) || !(rule.balanceTolerance >= 0.0 && rule.balanceTolerance < 1.0))
   {
     throw std::invalid_argument(
@@ -266,6 +271,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
         prog->SetUInt("uCount", static_cast<unsigned>(n));
         prog->SetUInt("uGroups", static_cast<unsigned>(dispatched));
         prog->SetUInt("uEdges", withEdges ? 1u : 0u);
+        prog->SetUInt("uSeedCapacity", sim.GetSeedCapacityRule() ? 1u : 0u);
       }
       bTerrain->Bind(0);
       bCell->Bind(1);

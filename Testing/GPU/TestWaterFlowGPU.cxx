@@ -317,6 +317,32 @@ TEST(TerroirWaterFlowGPU, RainAndNetFluxToBalance)
   }
 }
 
+// The seed's literal capacity rule (no flow where the signed WEC is negative): the same gate on
+// both paths, so the same stop and bits. The emptied-cell stop count is refused on the GPU.
+TEST(TerroirWaterFlowGPU, SeedCapacityRule)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  Scene scene = RandomWalled(48, 40, 13);
+  hy::WaterFlowSimulation cpu = scene.Make();
+  hy::WaterFlowSimulation gpu = scene.Make();
+  cpu.SetSeedCapacityRule(true);
+  gpu.SetSeedCapacityRule(true);
+  hy::WaterFlowStopRule rule;
+  rule.maximumIterations = 3000;
+  const hy::WaterFlowStopReason reason = cpu.Run(rule);
+  const hy::WaterFlowGPUResult r = hy::RunWaterFlowGPU(gpu, 3000, true, rule, 16);
+  EXPECT_EQ(
+    hy::WaterFlowStopReasonName(r.reason), std::string(hy::WaterFlowStopReasonName(reason)));
+  CompareSimulations(cpu, gpu, "walled, seed's capacity rule");
+  // The gate changes the result (it is not a no-op on this terrain).
+  hy::WaterFlowSimulation general = scene.Make();
+  general.Run(rule);
+  EXPECT_NE(general.TotalMoved(), cpu.TotalMoved());
+  rule.countEmptiedCells = true;
+  hy::WaterFlowSimulation other = scene.Make();
+  EXPECT_THROW(hy::RunWaterFlowGPU(other, 10, true, rule, 16), std::invalid_argument);
+}
+
 // A stop inside a read-back block: the GPU restores the block's snapshot and runs it again up
 // to the stopping iteration. Starting both after a few CPU steps shifts the GPU's blocks so
 // that the stop is not at a block end (and checks that a GPU run continues a CPU one).

@@ -697,6 +697,95 @@ TEST(WaterFlow, DominantDirectionIsTheEdgeMostWaterLeftBy)
   }
 }
 
+TEST(WaterFlow, SeedLiteralCapacityRule)
+{
+  // The seed's eq. 3.8 in 1-D: WEC = 2 T - H(n-1) - H(n+1). T = 5, a lower neighbour at 3 and a
+  // higher one at 8 (the others far above, as in OneD, are left out by closeness 0): WEC =
+  // 2 + (-3) = -1 < 0: the literal rule moves nothing, the generalisation moves water down.
+  const double h[8] = { 3, kHigh, kHigh, kHigh, 8, kHigh, kHigh, kHigh };
+  const double c[8] = { 1, 0, 0, 0, 1, 0, 0, 0 };
+  EXPECT_DOUBLE_EQ(hy::WaterFlowSeedCapacity(5.0, h, c), -1.0);
+  EXPECT_EQ(hy::WaterFlowEvacuation(5.0, 0.5, h, c, true).out, 0.0);
+  EXPECT_DOUBLE_EQ(hy::WaterFlowEvacuation(5.0, 0.5, h, c, false).out, 0.5);
+  // On a tilted plane the signed sum over the 8 neighbours is 0 - (water around): negative,
+  // so with the literal rule nothing moves; a cone's apex (convex) still gives its water.
+  Scene plane(12, 8);
+  for (int j = 0; j < 8; ++j)
+  {
+    for (int i = 0; i < 12; ++i)
+    {
+      plane.Z(i, j) = static_cast<float>(40 - 2 * i - j);
+      plane.Water(i, j) = 0.01;
+    }
+  }
+  hy::WaterFlowSimulation literal(plane.view, plane.water.data());
+  literal.SetSeedCapacityRule(true);
+  EXPECT_EQ(literal.Step().moved, 0.0);
+  hy::WaterFlowSimulation general(plane.view, plane.water.data());
+  EXPECT_GT(general.Step().moved, 0.0);
+  Scene cone(5, 5);
+  for (int j = 0; j < 5; ++j)
+  {
+    for (int i = 0; i < 5; ++i)
+    {
+      cone.Z(i, j) = static_cast<float>(10 - std::max(std::abs(i - 2), std::abs(j - 2)));
+    }
+  }
+  cone.Water(2, 2) = 0.1;
+  hy::WaterFlowSimulation apex(cone.view, cone.water.data());
+  apex.SetSeedCapacityRule(true);
+  EXPECT_NEAR(apex.Step().moved, 0.1, 1e-15); // all of it (all case: WEC 8 x ~0.85 >= 0.1)
+}
+
+TEST(WaterFlow, SeedStopRuleCountsEmptiedCells)
+{
+  // Thin water on a steep plane: every cell gives all it has, so the first iteration empties
+  // every wet cell (96); the auto-stop on counts is replayed by hand from the steps' counts.
+  Scene s(12, 8);
+  for (int j = 0; j < 8; ++j)
+  {
+    for (int i = 0; i < 12; ++i)
+    {
+      s.Z(i, j) = static_cast<float>(40 - 2 * i - j);
+      s.Water(i, j) = 0.001 * (1 + (i * 7 + j * 3) % 5);
+    }
+  }
+  hy::WaterFlowSimulation a(s.view, s.water.data());
+  const hy::WaterFlowIteration first = a.Step();
+  EXPECT_EQ(first.emptied, 96.0);
+  hy::WaterFlowSimulation b(s.view, s.water.data());
+  hy::WaterFlowStopRule rule;
+  rule.countEmptiedCells = true;
+  rule.autoStopRatio = 0.05;
+  rule.maximumIterations = 1000;
+  const hy::WaterFlowStopReason reason = b.Run(rule);
+  hy::WaterFlowSimulation c(s.view, s.water.data());
+  double total = 0.0;
+  long long expected = 0;
+  hy::WaterFlowStopReason want = hy::WaterFlowStopReason::MaximumIterations;
+  for (long long k = 1; k <= 1000; ++k)
+  {
+    const hy::WaterFlowIteration it = c.Step();
+    total += it.emptied;
+    if (it.moved <= 0.0)
+    {
+      expected = k;
+      want = hy::WaterFlowStopReason::NoMovement;
+      break;
+    }
+    if (it.emptied < 0.05 * total)
+    {
+      expected = k;
+      want = hy::WaterFlowStopReason::AutoStop;
+      break;
+    }
+  }
+  ASSERT_GT(expected, 1);
+  EXPECT_EQ(reason, want);
+  EXPECT_EQ(b.Iterations(), expected);
+  EXPECT_EQ(b.TotalEmptied(), total);
+}
+
 // Threads run blocks of rows, each with its own halo rows: any blocking gives the same bits.
 // Moving a simulation keeps its state.
 TEST(WaterFlow, RowBlockingDoesNotChangeResult)

@@ -59,8 +59,9 @@ struct GiverRow
     const double* __restrict hm, const double* __restrict hn, const double* __restrict close,      \
     double* __restrict out, double* __restrict f0, double* __restrict f1, double* __restrict f2,   \
     double* __restrict f3, double* __restrict f4, double* __restrict f5, double* __restrict f6,    \
-    double* __restrict f7
-#define TERROIR_GIVER_ROW_ARGUMENTS nx, T, W, hs, hm, hn, close, out, f0, f1, f2, f3, f4, f5, f6, f7
+    double* __restrict f7, bool literal
+#define TERROIR_GIVER_ROW_ARGUMENTS                                                                \
+  nx, T, W, hs, hm, hn, close, out, f0, f1, f2, f3, f4, f5, f6, f7, literal
 // clang-format on
 
 /// The fast "none" and "all" cases of WaterFlowEvacuation for every cell of a row, as straight
@@ -96,7 +97,17 @@ inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAME
     all += c6 * d6;
     all += c7 * d7;
     const double share = w / all;
-    const bool wet = w > 0.0;
+    // The seed's literal rule (WaterFlowSeedCapacity): no flow when the signed capacity, higher
+    // neighbours included, is negative.
+    double wec = c0 * (t - hm[pi + 1]);
+    wec += c1 * (t - hn[pi + 1]);
+    wec += c2 * (t - hn[pi]);
+    wec += c3 * (t - hn[pi - 1]);
+    wec += c4 * (t - hm[pi - 1]);
+    wec += c5 * (t - hs[pi - 1]);
+    wec += c6 * (t - hs[pi]);
+    wec += c7 * (t - hs[pi + 1]);
+    const bool wet = (w > 0.0) & !(literal & (wec < 0.0));
     const bool fast = wet & (all >= w) & (share < 1.0); // no branches: selects only
     const double scale = fast ? share : 0.0;
     // Flags for the other cases: -1 part (all < W), -2 all with share exactly 1.
@@ -318,12 +329,13 @@ struct GatherRowConstants
     const double* __restrict nS, const double* __restrict nSW, const double* __restrict sNE,       \
     const double* __restrict sN, const double* __restrict sNW, double* __restrict next,            \
     double* __restrict discharge, double* __restrict cellOut, double* __restrict outletIn,         \
+    double* __restrict cellEmptied,                                                                \
     const double* __restrict m1, const double* __restrict m2, const double* __restrict m3,         \
     double* __restrict edgeE, double* __restrict edgeNE, double* __restrict edgeN,                 \
     double* __restrict edgeNW
 #define TERROIR_GATHER_ROW_ARGUMENTS                                                               \
   columns, interior, k, W, isCell, mo, mE, mW, nSE, nS, nSW, sNE, sN, sNW, next, discharge,        \
-    cellOut, outletIn, m1, m2, m3, edgeE, edgeNE, edgeN, edgeNW
+    cellOut, outletIn, cellEmptied, m1, m2, m3, edgeE, edgeNE, edgeN, edgeNW
 // clang-format on
 
 template<bool Edges>
@@ -344,6 +356,8 @@ inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARA
     discharge[pi] += cell ? o : 0.0;
     cellOut[pi] = cell ? o : 0.0;
     outletIn[pi] = cell ? 0.0 : in;
+    // A cell that gave all its water (the "all" case gives exactly W).
+    cellEmptied[pi] = cell & (W[pi] > 0.0) & (o == W[pi]) ? 1.0 : 0.0;
     if (Edges)
     {
       // Net flux through the cell's E, NE, N and NW edges (depth of this cell, positive out):
@@ -594,6 +608,7 @@ struct RowScratch
       h.assign(n, 0.0);
     }
     this->cellOut.assign(n, 0.0);
+    this->cellEmptied.assign(n, 0.0);
     this->outletIn.assign(n, 0.0);
     this->partColumn.assign(n + 16, 0);
     this->partHeights.assign(8 * n, 0.0);
@@ -611,7 +626,7 @@ struct RowScratch
   GiverRow rows[3];
   GiverRow zero; // beyond the southern and northern border rows
   std::vector<double> heights[4];
-  std::vector<double> cellOut, outletIn;
+  std::vector<double> cellOut, outletIn, cellEmptied;
   // The part cells of one row.
   std::vector<int> partColumn;
   std::vector<double> partSelf, partHeights, partLevel, partNum, partDen, partLowest, partChanged,
@@ -768,6 +783,7 @@ WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const d
   this->NextWater = this->Water;
   this->RowMoved.assign(NY, 0.0);
   this->RowOutflow.assign(NY, 0.0);
+  this->RowEmptied.assign(NY, 0.0);
 }
 
 //------------------------------------------------------------------------------
@@ -827,6 +843,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     return heights[k].data();
   };
   std::vector<double>& cellOut = sc.cellOut;
+  std::vector<double>& cellEmptied = sc.cellEmptied;
   std::vector<double>& outletIn = sc.outletIn;
   std::vector<int>& partColumn = sc.partColumn;
   std::vector<double>& partSelf = sc.partSelf;
@@ -874,7 +891,8 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       g.Flow(4),
       g.Flow(5),
       g.Flow(6),
-      g.Flow(7));
+      g.Flow(7),
+      this->SeedCapacity);
     // The part cells, gathered into a structure of arrays for the vectorised kernel; the rare
     // all = W cells through the scalar function.
     bool rare = false;
@@ -886,7 +904,8 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
         const double h[8] = {
           hm[pi + 1], hn[pi + 1], hn[pi], hn[pi - 1], hm[pi - 1], hs[pi - 1], hs[pi], hs[pi + 1]
         };
-        const WaterFlowGiver v = WaterFlowEvacuation(T[row0 + pi], W[row0 + pi], h, close);
+        const WaterFlowGiver v =
+          WaterFlowEvacuation(T[row0 + pi], W[row0 + pi], h, close, this->SeedCapacity);
         g.out[pi + 1] = v.out;
         for (int k = 0; k < kWaterFlowNeighbours; ++k)
         {
@@ -923,7 +942,8 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
                   const GiverRow& mid,
                   const GiverRow& north,
                   double& moved,
-                  double& outflow)
+                  double& outflow,
+                  double& emptied)
   {
     const std::size_t row0 = rowStart(r);
     GatherRowConstants k;
@@ -954,6 +974,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       discharge + row0,
       cellOut.data(),
       outletIn.data(),
+      cellEmptied.data(),
       mid.Flow(1),
       mid.Flow(2),
       mid.Flow(3),
@@ -963,6 +984,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       edges ? this->Edges.data() + 3 * plane + row0 : nullptr);
     moved += RowSum(cellOut.data(), stride) * Area[r];
     outflow += RowSum(outletIn.data(), stride) * Area[r];
+    emptied += RowSum(cellEmptied.data(), stride);
   };
 
   // Ring of three giver rows: padded rows r - 1, r, r + 1 for interior row r = j + 1. Each
@@ -979,18 +1001,20 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     givers(r + 1, rows[slot[2]]);
     double moved = 0.0;
     double outflow = 0.0;
+    double emptied = 0.0;
     if (r == 1)
     {
       // The southern border row gathers from row 1 only.
-      gather(0, zero, rows[slot[0]], rows[slot[1]], moved, outflow);
+      gather(0, zero, rows[slot[0]], rows[slot[1]], moved, outflow, emptied);
     }
-    gather(r, rows[slot[0]], rows[slot[1]], rows[slot[2]], moved, outflow);
+    gather(r, rows[slot[0]], rows[slot[1]], rows[slot[2]], moved, outflow, emptied);
     if (r == NY)
     {
-      gather(NY + 1, rows[slot[1]], rows[slot[2]], zero, moved, outflow);
+      gather(NY + 1, rows[slot[1]], rows[slot[2]], zero, moved, outflow, emptied);
     }
     this->RowMoved[j] = moved;
     this->RowOutflow[j] = outflow;
+    this->RowEmptied[j] = emptied;
     std::rotate(slot, slot + 1, slot + 3);
   }
 }
@@ -1012,6 +1036,7 @@ WaterFlowIteration WaterFlowSimulation::Step()
   {
     it.moved += this->RowMoved[j];
     it.outflow += this->RowOutflow[j];
+    it.emptied += this->RowEmptied[j];
   }
   this->Water.swap(this->NextWater);
   this->RecordIteration(it);
@@ -1024,8 +1049,10 @@ void WaterFlowSimulation::RecordIteration(const WaterFlowIteration& it)
   ++this->IterationCount;
   this->Moved.push_back(it.moved);
   this->Outflow.push_back(it.outflow);
+  this->Emptied.push_back(it.emptied);
   this->MovedTotal += it.moved;
   this->OutflowTotal += it.outflow;
+  this->EmptiedTotal += it.emptied;
 }
 
 //------------------------------------------------------------------------------
@@ -1154,14 +1181,16 @@ void ThinAcrossFlow(const GridView<double>& discharge,
 bool WaterFlowSimulation::StopsAfter(const WaterFlowIteration& it,
   double movedBefore,
   const WaterFlowStopRule& rule,
-  WaterFlowStopReason& reason) const
+  WaterFlowStopReason& reason,
+  double emptiedBefore) const
 {
   if (it.moved <= 0.0 && this->Rain <= 0.0)
   {
     reason = WaterFlowStopReason::NoMovement;
     return true;
   }
-  if (WaterFlowAutoStop(it.moved, movedBefore, rule.autoStopRatio))
+  if (rule.countEmptiedCells ? WaterFlowAutoStop(it.emptied, emptiedBefore, rule.autoStopRatio)
+                             : WaterFlowAutoStop(it.moved, movedBefore, rule.autoStopRatio))
   {
     reason = WaterFlowStopReason::AutoStop;
     return true;
@@ -1186,9 +1215,10 @@ WaterFlowStopReason WaterFlowSimulation::Run(const WaterFlowStopRule& rule)
   while (this->IterationCount < rule.maximumIterations)
   {
     const double before = this->MovedTotal;
+    const double emptiedBefore = this->EmptiedTotal;
     const WaterFlowIteration it = this->Step();
     WaterFlowStopReason reason;
-    if (this->StopsAfter(it, before, rule, reason))
+    if (this->StopsAfter(it, before, rule, reason, emptiedBefore))
     {
       return reason;
     }
@@ -1255,13 +1285,16 @@ void WaterFlowSimulation::TruncateHistory(long long iterations)
   }
   this->Moved.resize(static_cast<std::size_t>(iterations));
   this->Outflow.resize(static_cast<std::size_t>(iterations));
+  this->Emptied.resize(static_cast<std::size_t>(iterations));
   this->IterationCount = iterations;
   this->MovedTotal = 0.0;
   this->OutflowTotal = 0.0;
+  this->EmptiedTotal = 0.0;
   for (std::size_t k = 0; k < this->Moved.size(); ++k)
   {
     this->MovedTotal += this->Moved[k];
     this->OutflowTotal += this->Outflow[k];
+    this->EmptiedTotal += this->Emptied[k];
   }
 }
 
@@ -1271,6 +1304,7 @@ bool WaterFlowSimulation::FindStop(const WaterFlowStopRule& rule,
   WaterFlowStopReason& reason) const
 {
   double before = 0.0;
+  double emptiedBefore = 0.0;
   for (std::size_t k = 0; k < this->Moved.size(); ++k)
   {
     if (static_cast<long long>(k) >= rule.maximumIterations)
@@ -1280,12 +1314,14 @@ bool WaterFlowSimulation::FindStop(const WaterFlowStopRule& rule,
     WaterFlowIteration it;
     it.moved = this->Moved[k];
     it.outflow = this->Outflow[k];
-    if (this->StopsAfter(it, before, rule, reason))
+    it.emptied = this->Emptied[k];
+    if (this->StopsAfter(it, before, rule, reason, emptiedBefore))
     {
       iteration = static_cast<long long>(k) + 1;
       return true;
     }
     before += it.moved;
+    emptiedBefore += it.emptied;
   }
   if (static_cast<long long>(this->Moved.size()) >= rule.maximumIterations)
   {

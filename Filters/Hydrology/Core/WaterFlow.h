@@ -94,6 +94,25 @@ namespace hydrology
 /// (north = row j + 1).
 constexpr int kWaterFlowNeighbours = 8;
 
+/**
+ * The seed's water evacuation capacity in its literal form (its eq. 3.8, 2 T_n - H_(n-1) -
+ * H_(n+1) in 1-D): WEC = sum_k c_ik (T_i - H_k) over all 8 neighbours, higher ones included
+ * (they count negatively). The seed moves no water when WEC < 0, even towards a lower
+ * neighbour; with `seedCapacity` (WaterFlowSimulation::SetSeedCapacityRule) the model does the
+ * same. Summed in neighbour order, no FMA (the kernels' order).
+ */
+inline double WaterFlowSeedCapacity(double terrain,
+  const double height[kWaterFlowNeighbours],
+  const double closeness[kWaterFlowNeighbours])
+{
+  double wec = closeness[0] * (terrain - height[0]);
+  for (int k = 1; k < kWaterFlowNeighbours; ++k)
+  {
+    wec += closeness[k] * (terrain - height[k]);
+  }
+  return wec;
+}
+
 /// What a giver cell does in one iteration: f_ik = scale * c_ik * max(0, level - H_k).
 struct WaterFlowGiver
 {
@@ -112,13 +131,18 @@ struct WaterFlowGiver
 inline WaterFlowGiver WaterFlowEvacuation(double terrain,
   double water,
   const double height[kWaterFlowNeighbours],
-  const double closeness[kWaterFlowNeighbours])
+  const double closeness[kWaterFlowNeighbours],
+  bool seedCapacity = false)
 {
   WaterFlowGiver g;
   g.level = terrain + water;
   if (!(water > 0.0))
   {
     return g;
+  }
+  if (seedCapacity && WaterFlowSeedCapacity(terrain, height, closeness) < 0.0)
+  {
+    return g; // the seed's literal rule: no water moves when WEC < 0
   }
   const double h = terrain + water;
   double all = 0.0;
@@ -201,6 +225,9 @@ struct WaterFlowStopRule
   /// reached (1 - balanceTolerance) of the rain of one iteration (the river-forming mode's
   /// steady state); 0 disables the rule. Must be in [0, 1).
   double balanceTolerance = 0.0;
+  /// The seed's own measure of flow for the auto-stop: the number of cells an iteration
+  /// emptied completely (its section 3.3.4), instead of the volume moved. CPU only.
+  bool countEmptiedCells = false;
 };
 
 /// Why a run stopped.
@@ -254,6 +281,7 @@ struct WaterFlowIteration
 {
   double moved = 0.0;   ///< water that left cells (sum of out times cell area)
   double outflow = 0.0; ///< water that reached an outlet (border or no-data cell)
+  double emptied = 0.0; ///< cells that gave all their water (a count; CPU path only)
 };
 
 /**
@@ -301,6 +329,11 @@ public:
    * only what passed. Turning it on starts the sums at zero; off frees them.
    */
   void SetNetFlux(bool on);
+
+  /// The seed's literal capacity rule (WaterFlowSeedCapacity): no water moves from a cell whose
+  /// WEC is negative. Default off (the 8-neighbour generalisation above).
+  void SetSeedCapacityRule(bool on) { this->SeedCapacity = on; }
+  bool GetSeedCapacityRule() const { return this->SeedCapacity; }
   bool GetNetFlux() const { return !this->Edges.empty(); }
   /**
    * Net discharge (m^3, nx*ny; NaN on no-data cells): per cell, the sum over its 8 edges of the
@@ -337,6 +370,7 @@ public:
   long long Iterations() const { return this->IterationCount; }
   double TotalMoved() const { return this->MovedTotal; }     ///< m^3
   double TotalOutflow() const { return this->OutflowTotal; } ///< m^3
+  double TotalEmptied() const { return this->EmptiedTotal; } ///< cells emptied, all iterations
   double InitialVolume() const { return this->Initial; }     ///< m^3
   /// Water stored on the terrain now, m^3 (double sum in row order).
   double StoredVolume() const;
@@ -391,13 +425,15 @@ public:
   /**
    * The stop rules after one iteration `it` (movedBefore: the volume moved by the iterations
    * before it): no movement, the seed's auto-stop, the balance of outflow and rain, in that
-   * order; true with the reason when one fires. Every path (Run, FindStop, the filter's loop,
-   * the GPU path) asks this one function.
+   * order; true with the reason when one fires (with rule.countEmptiedCells the auto-stop
+   * compares it.emptied with emptiedBefore, the cells emptied by the earlier iterations).
+   * Every path (Run, FindStop, the filter's loop, the GPU path) asks this one function.
    */
   bool StopsAfter(const WaterFlowIteration& it,
     double movedBefore,
     const WaterFlowStopRule& rule,
-    WaterFlowStopReason& reason) const;
+    WaterFlowStopReason& reason,
+    double emptiedBefore = 0.0) const;
 
 private:
   struct ScratchPool;
@@ -428,6 +464,10 @@ private:
   double Initial = 0.0;
   double Rain = 0.0;
   double CellAreaTotal = 0.0;
+  bool SeedCapacity = false;
+  double EmptiedTotal = 0.0;
+  std::vector<double> Emptied;
+  std::vector<double> RowEmptied;
   std::vector<double> Edges;
 };
 
