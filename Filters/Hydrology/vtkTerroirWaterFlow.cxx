@@ -17,6 +17,7 @@
 #include "vtkTerroirTerrainInput.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "DepressionWaterBodies.h"
 #include "PriorityFlood.h"
 #include "RiverValidation.h"
 #include "WaterFlow.h"
@@ -49,7 +50,7 @@ struct vtkTerroirWaterFlow::Cache
     std::vector<double> Edges; ///< net flux sums (Rivers mode)
   };
   std::map<long long, Checkpoint> Checkpoints;
-  std::vector<double> Spill; ///< Rivers mode: still water of the depressions, m
+  std::vector<std::uint8_t> Lake; ///< Rivers mode: 1 on the lakes (LakeMask)
 };
 
 namespace
@@ -107,7 +108,7 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RainRate: " << this->RainRate << " mm/h\n";
   os << indent << "BalanceTolerance: " << this->BalanceTolerance << "\n";
   os << indent << "RateIterations: " << this->RateIterations << "\n";
-  os << indent << "LakeDepth: " << this->LakeDepth << " m\n";
+  os << indent << "LakeArea: " << this->LakeArea << " m2\n";
   os << indent << "RiverArea: " << this->RiverArea << " m2\n";
   os << indent << "ThinningFactor: " << this->ThinningFactor << "\n";
 }
@@ -180,9 +181,9 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   {
     return "RateIterations " + std::to_string(this->RateIterations) + " must be >= 1";
   }
-  if (!(std::isfinite(this->LakeDepth) && this->LakeDepth >= 0.0))
+  if (!(std::isfinite(this->LakeArea) && this->LakeArea >= 0.0))
   {
-    return "LakeDepth " + Num(this->LakeDepth) + " m must be a finite number >= 0";
+    return "LakeArea " + Num(this->LakeArea) + " m2 must be a finite number >= 0";
   }
   if (!(this->ThinningFactor >= 0.0 && this->ThinningFactor <= 1.0))
   {
@@ -269,6 +270,18 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       // state rain alone reaches at steady state; the run then only has to form the flow.
       spill.resize(n);
       hy::PriorityFloodBarnes2014(v, spill.data());
+      // Lakes: the filled depressions and the flat water surfaces (hydro-flattened lakes) of
+      // at least LakeArea, as vtkTerroirFloodFill's FillDepressions finds them.
+      hy::DepressionWaterBodyOptions lakeOptions;
+      lakeOptions.minimumArea = this->LakeArea;
+      std::vector<std::int32_t> ids(n, 0);
+      std::vector<float> depth(n, 0.0f);
+      hy::DepressionWaterBodies(v, spill.data(), lakeOptions, ids.data(), depth.data());
+      cache.Lake.assign(n, 0);
+      for (std::size_t c = 0; c < n; ++c)
+      {
+        cache.Lake[c] = ids[c] > 0 ? 1 : 0;
+      }
     }
     for (std::size_t c = 0; c < n; ++c)
     {
@@ -312,7 +325,6 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       {
         cache.Sim->SetRain(this->RainRate / 1000.0 / 3600.0 * this->IterationDuration);
         cache.Sim->SetNetFlux(true);
-        cache.Spill.assign(water.begin(), water.end());
       }
     }
     catch (const std::invalid_argument& e)
@@ -535,9 +547,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     unsigned char* b = body->GetPointer(0);
     for (std::size_t c = 0; c < n; ++c)
     {
-      b[c] = cache.Spill.size() == n && cache.Spill[c] >= this->LakeDepth && cache.Spill[c] > 0.0
-        ? 1
-        : 0;
+      b[c] = cache.Lake.size() == n ? cache.Lake[c] : 0;
     }
   }
 

@@ -15,8 +15,9 @@
  *   the rain of at least RiverArea m^2 (DischargeRate >= RiverArea x RainRate);
  * - Rivers mode only: `DischargeRate` (float64, m^3/s): the water leaving each cell per second
  *   at steady state, averaged over RateIterations iterations after the stop (at steady state,
- *   the rain on the cell's upstream area); `LakeMask` (unsigned char): 1 on the still water of
- *   the terrain's depressions at least LakeDepth deep (lakes, kept apart from rivers);
+ *   the rain on the cell's upstream area); `LakeMask` (unsigned char): 1 on the lakes: the
+ *   depressions the still water fills and the flat water surfaces of the DEM, of LakeArea or
+ *   more (DepressionWaterBodies; kept apart from rivers);
  * and as field data `WaterFlowIterations` (iterations run), `WaterFlowStopReason` ("AutoStop",
  * "NoMovement", "MaximumIterations", "Balanced", "SimulatedTime" or "RequestedTime"),
  * `WaterFlowSimulatedTime` (s), and the volumes (m^3) `WaterFlowInitialVolume`,
@@ -159,10 +160,10 @@ public:
   vtkSetMacro(ThinningFactor, double);
   vtkGetMacro(ThinningFactor, double);
 
-  /// Rivers mode: a cell is part of a lake (LakeMask = 1) when it lies in a depression
-  /// of the terrain whose still water is at least this deep, metres (>= 0). Default 0.05.
-  vtkSetMacro(LakeDepth, double);
-  vtkGetMacro(LakeDepth, double);
+  /// Rivers mode: smallest lake of LakeMask, m^2 (>= 0): filled depressions and flat water
+  /// surfaces (hydro-flattened lakes), as vtkTerroirFloodFill finds them. Default 1e4 (1 ha).
+  vtkSetMacro(LakeArea, double);
+  vtkGetMacro(LakeArea, double);
 
   enum WaterSourceType
   {
@@ -264,7 +265,7 @@ protected:
   double RainRate = 0.3;
   double BalanceTolerance = 0.02;
   vtkIdType RateIterations = 10;
-  double LakeDepth = 0.05;
+  double LakeArea = 1e4;
   double RiverArea = 1e5;
   double ThinningFactor = 0.1;
   int WaterSource = Constant;

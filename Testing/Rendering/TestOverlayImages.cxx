@@ -27,6 +27,7 @@
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
+#include "vtkTerroirWaterFlow.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
@@ -415,6 +416,51 @@ TEST(TerroirOverlayImages, LegendLakesMap)
   EXPECT_STREQ(view->GetEffectivePreset(), "WaterBodies");
   view->ShowLegendOn();
   view->SetTitle("Lakes (FillDepressions)");
+  CompareWithBaseline(view);
+}
+
+// `terroir run`'s rivers overlay: the water flow's river-forming mode on the bundled DEM
+// (defaults: 0.3 mm/h to the balance), rivers (River, Okabe-Ito blue) and lakes (LakeMask, sky
+// blue: Independence Lake in the north-west and a small pond), top-down with the legend.
+TEST(TerroirOverlayImages, LegendRiversMap)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  vtkNew<vtkTerroirWaterFlow> flow;
+  flow->SetInputData(SagehenTerrain());
+  flow->SetModeToRivers();
+  flow->SetBackendToCPU();
+  flow->Update();
+  vtkImageData* out = flow->GetOutput();
+  vtkDataArray* river = out->GetPointData()->GetArray(vtkTerroirWaterFlow::RiverName());
+  vtkDataArray* lake = out->GetPointData()->GetArray(vtkTerroirWaterFlow::LakeMaskName());
+  ASSERT_TRUE(river && lake);
+  vtkNew<vtkUnsignedCharArray> network;
+  network->SetName("RiverNetwork");
+  network->SetNumberOfTuples(river->GetNumberOfTuples());
+  long long rivers = 0, lakes = 0;
+  for (vtkIdType k = 0; k < river->GetNumberOfTuples(); ++k)
+  {
+    const bool r = river->GetComponent(k, 0) != 0.0;
+    const bool l = lake->GetComponent(k, 0) != 0.0;
+    network->SetValue(k, r ? 1 : (l ? 2 : 0));
+    rivers += r ? 1 : 0;
+    lakes += l ? 1 : 0;
+  }
+  // Rivers are lines (a few thousand cells of 566,000), the lakes Independence Lake (about
+  // 24,000 cells) and the small ponds.
+  EXPECT_GT(rivers, 2000);
+  EXPECT_LT(rivers, 20000);
+  EXPECT_GT(lakes, 20000);
+  auto picture = vtkSmartPointer<vtkImageData>::New();
+  picture->ShallowCopy(out);
+  picture->GetPointData()->AddArray(network);
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(picture);
+  view->SetArrayName("RiverNetwork");
+  view->SetPreset("Rivers");
+  view->SetModeToMap();
+  view->ShowLegendOn();
+  view->SetTitle("Rivers and lakes (map)");
   CompareWithBaseline(view);
 }
 
