@@ -10,8 +10,9 @@
 // TerroirHydrologyCore): river cells are the crests of the flow measure (ChannelCells) at or above
 // the threshold that makes them as many as the reference cells inside the watershed
 // (LengthMatchingThreshold); precision, recall and F1 within 30 m and 60 m (ScoreRivers). The
-// result is the same as `terroir validate --max-iterations 150`. A map of the comparison at
-// 60 m is saved (RiverComparisonCategories).
+// result is the same as `terroir validate --mode pulse --max-iterations 150` (the seed's pulse;
+// validate and run use the river-forming mode). A map of the comparison at 60 m is saved
+// (RiverComparisonCategories).
 //
 // Run under an X display (or xvfb-run -a):
 //   build/bin/RiversFromRain --data Data --out example-output [--iterations N]

@@ -11,7 +11,9 @@ numpy on the arrays that vtkmodules.numpy_interface.dataset_adapter exposes: riv
 crests of the flow measure (a local maximum across one of the four axes through the cell) at or
 above the threshold that makes them as many as the reference cells inside the watershed;
 precision, recall and F1 within 30 m and 60 m. The result is the same as `terroir validate
---max-iterations 150` (the example's test checks it). A map of the comparison at 60 m is saved.
+--mode pulse --max-iterations 150` (the example's test checks it). A map of the comparison at
+60 m is saved. (This is the seed's single pulse; `terroir validate` and `terroir run` use the
+river-forming mode, SetModeToRivers(): Documentation/validation.md.)
 
 Run under an X display (or xvfb-run -a):
   PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \

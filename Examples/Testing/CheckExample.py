@@ -310,7 +310,7 @@ def compare(name, dir_a, dir_b):
         command = [binary, "validate", os.path.join(sagehen, "sagehen_dem_utm11n_10m.tif"),
                    "--reference", os.path.join(sagehen, "sagehen_nhd_flowlines_utm11n.geojson"),
                    "--mask", os.path.join(sagehen, "sagehen_watershed_utm11n.geojson"),
-                   "--max-iterations", "150", "--json", path]
+                   "--mode", "pulse", "--max-iterations", "150", "--json", path]
         result = subprocess.run(command, capture_output=True, text=True, timeout=300)
         check(result.returncode == 0, f"terroir validate failed: {result.stderr}")
         if result.returncode != 0:
