@@ -417,7 +417,15 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   const long long first = sim.Iterations();
   bool stopped = false;
   hy::WaterFlowStopReason stopReason = hy::WaterFlowStopReason::MaximumIterations;
-  bool gpu = backend == vtkTerroirComputeContext::GPU;
+  // The emptied-cell stop count runs on the CPU only: Auto uses the CPU, a GPU request fails.
+  if (backend == vtkTerroirComputeContext::GPU && this->CountEmptiedCells && applyRules &&
+    this->GetBackend() == vtkTerroirComputeContext::GPU)
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input)
+                  << "CountEmptiedCells (the seed's stop count) runs on the CPU path only");
+    return 0;
+  }
+  bool gpu = backend == vtkTerroirComputeContext::GPU && !(this->CountEmptiedCells && applyRules);
   while (!stopped && sim.Iterations() < target)
   {
     const long long interval = this->CheckpointInterval;

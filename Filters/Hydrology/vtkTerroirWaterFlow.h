@@ -249,7 +249,7 @@ protected:
   ~vtkTerroirWaterFlow() override;
 
   int GetHaloWidth() override { return -1; }
-  bool HasGPUPath() override { return !this->CountEmptiedCells; }
+  bool HasGPUPath() override { return true; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;

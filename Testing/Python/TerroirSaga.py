@@ -23,40 +23,24 @@ from osgeo import gdal
 
 gdal.UseExceptions()
 
-SKIP = 77  # CTest SKIP_RETURN_CODE of the SAGA tests (Testing/CMakeLists.txt)
-
 # ta_hydrology 0 METHOD choices (saga_cmd ta_hydrology 0 --help, SAGA 8.5.0).
 METHOD_D8 = 0       # Deterministic 8 (O'Callaghan & Mark 1984)
 METHOD_DINF = 3     # "Deterministic Infinity": see the warning in TestFlowAccumulationSaga.py
 METHOD_MFD = 4      # Multiple Flow Direction (Freeman 1991; slope^p, p = CONVERGENCE)
 METHOD_MTFD = 5     # Multiple Triangular Flow Direction (Seibert & McGlynn 2007)
 
-failures = []
-
-
-def check(condition, message):
-    """Records a failed check (the test goes on, and finish() reports them all)."""
-    if not condition:
-        failures.append(message)
-        print("FAIL:", message)
-
-
-def finish(name):
-    """Exits 1 when a check failed, else prints "<name>: OK" and exits 0."""
-    if failures:
-        print("%d failure(s)" % len(failures))
-        sys.exit(1)
-    print("%s: OK" % name)
-    sys.exit(0)
+# The checks and their report are the GRASS peer tests' (one implementation for both peers).
+from TerroirGrass import check, failures, finish  # noqa: E402,F401 (beside this module)
 
 
 def require_saga():
-    """The `saga_cmd` program, or exit SKIP (77) with a message when it is not installed."""
+    """The `saga_cmd` program, or exit 1: like the GRASS peer tests, this one fails (not skips)
+    without its peer (Scripts/setup.sh installs the Debian package saga)."""
     saga = shutil.which("saga_cmd")
     if saga is None:
-        print("SKIP: `saga_cmd` (SAGA GIS, Debian package saga) is not on PATH; this peer test "
+        print("FAIL: `saga_cmd` (SAGA GIS, Debian package saga) is not on PATH; this peer test "
               "needs it (Scripts/setup.sh installs it).")
-        sys.exit(SKIP)
+        sys.exit(1)
     return saga
 
 

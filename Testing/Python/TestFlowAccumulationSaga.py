@@ -3,8 +3,8 @@ Accumulation (Top-Down)" on the bundled Sagehen Creek DEM (786 x 720 cells, 10 m
 
 Run by CTest with Debian's /usr/bin/python3 (TERROIR_BIN_DIR = the built terroir program,
 TERROIR_DATA_DIR = the bundled data, TERROIR_TEMP_DIR = scratch space). Needs `saga_cmd` (Debian
-`saga`, SAGA 8.5.0 when this was written): without it the test SKIPS (exit 77, CTest's
-SKIP_RETURN_CODE for this test). Exits 1 on failure. About 10 s on 2 cores (7 s of it
+`saga`, SAGA 8.5.0 when this was written): without it the test FAILS, as the GRASS peer tests
+do (Scripts/setup.sh installs it). Exits 1 on failure. About 10 s on 2 cores (7 s of it
 SAGA, mostly saga_cmd loading its tool libraries, about 1 s a call).
 
 Both sides
