@@ -15,7 +15,7 @@
 // (default) gather: for every padded cell, in = sum over the 8 neighbours of
 //          scale * c * max(0, level - H) (neighbours outside the padded array give nothing;
 //          volume from rows r +- 1 becomes depth through the area ratio); on cells (interior row,
-//          isCell) waterOut = max(0, W - out + in) + rain and discharge += out; on outlets
+//          isCell) waterOut = max(0, W - out + in) + rain[c] and discharge += out; on outlets
 //          waterOut = 0; with uEdges, the net flux through each cell's E, NE, N and NW edges is
 //          added to edges[] (the river-forming mode's net discharge).
 //          Each work group reduces out * area (moved) and in * area of its outlets (outflow), in
@@ -38,11 +38,13 @@
 //   7            double giverOut[N]         water the cell gives, metres (givers -> gather)
 //   8            double discharge[N]        accumulated out, metres of depth (gather)
 //   9  writeonly double partials[]          2 per work group and iteration slot (gather)
-//  10  readonly  double params[1]           rain added to every cell per iteration, metres
+//  10  readonly  double rain[N or 1]        rain added to each cell per iteration, metres (one
+//                                           value for every cell when uRainField is 0)
 //  11            double edges[4*N]          net flux sums, planes E, NE, N, NW (uEdges != 0)
 // Uniforms: uint uStride (nx + 2), uint uRows (ny + 2), uint uCount (N), uint uGroups (work
 // groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration), uint uEdges (1:
-// accumulate edges[]), uint uSeedCapacity (1: the seed's literal capacity rule, givers).
+// accumulate edges[]), uint uSeedCapacity (1: the seed's literal capacity rule, givers), uint
+// uRainField (1: rain[] per cell).
 // Work group LOCAL_X (define, a power of two, 256 by default); dispatch ceil(N / LOCAL_X)
 // groups, as gx x gy when that exceeds GL_MAX_COMPUTE_WORK_GROUP_COUNT[0] (group index
 // TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + TERROIR_WORKGROUP_ID.x).
@@ -63,7 +65,7 @@ layout(std430, binding = 6) buffer ScaleBuffer { double giverScale[]; };
 layout(std430, binding = 7) buffer OutBuffer { double giverOut[]; };
 layout(std430, binding = 8) buffer DischargeBuffer { double discharge[]; };
 layout(std430, binding = 9) writeonly buffer PartialsBuffer { double partials[]; };
-layout(std430, binding = 10) readonly buffer ParamsBuffer { double params[]; };
+layout(std430, binding = 10) readonly buffer RainBuffer { double rain[]; };
 layout(std430, binding = 11) buffer EdgesBuffer { double edges[]; };
 
 uniform uint uStride;
@@ -73,6 +75,7 @@ uniform uint uGroups;
 uniform uint uSlot;
 uniform uint uEdges;
 uniform uint uSeedCapacity;
+uniform uint uRainField;
 
 #ifndef WATERFLOW_GIVERS
 shared double sMoved[LOCAL_X];
@@ -301,7 +304,7 @@ dvec2 Gather(uint c, uint i, uint r)
   {
     double out_ = giverOut[c];
     precise double w = waterIn[c] - out_ + inflow;
-    precise double kept = max(0.0LF, w) + params[0];
+    precise double kept = max(0.0LF, w) + rain[uRainField != 0u ? c : 0u];
     waterOut[c] = kept;
     precise double d = discharge[c] + out_;
     discharge[c] = d;

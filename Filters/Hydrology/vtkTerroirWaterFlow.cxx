@@ -264,6 +264,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       }
     }
     std::vector<float> spill;
+    std::vector<double> rain(this->Mode == Rivers && this->WaterSource != Constant ? n : 0, 0.0);
     if (this->Mode == Rivers)
     {
       // Still water first: every depression full to its spill level (Priority-Flood), the
@@ -293,7 +294,10 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       if (this->Mode == Rivers)
       {
         water[c] = std::max(0.0, static_cast<double>(spill[c]) - static_cast<double>(v.data[c]));
-        continue;
+        if (this->WaterSource == Constant)
+        {
+          continue; // uniform rain, RainRate
+        }
       }
       double mm = this->WaterDepth;
       if (this->WaterSource == StandingWaterMonth)
@@ -315,6 +319,16 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
                       << ") is negative or not a number: water depths must be >= 0");
         return 0;
       }
+      if (this->Mode == Rivers)
+      {
+        // The month's (or the year's) standing water spread evenly over its hours, as rain per
+        // iteration, metres.
+        static const double kDays[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
+        const double hours =
+          24.0 * (this->WaterSource == StandingWaterMonth ? kDays[this->Month - 1] : 365.0);
+        rain[c] = mm / hours / 1000.0 / 3600.0 * this->IterationDuration;
+        continue;
+      }
       water[c] = mm / 1000.0;
     }
     try
@@ -323,7 +337,14 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       cache.Sim->SetSeedCapacityRule(this->SeedCapacityRule != 0);
       if (this->Mode == Rivers)
       {
-        cache.Sim->SetRain(this->RainRate / 1000.0 / 3600.0 * this->IterationDuration);
+        if (rain.empty())
+        {
+          cache.Sim->SetRain(this->RainRate / 1000.0 / 3600.0 * this->IterationDuration);
+        }
+        else
+        {
+          cache.Sim->SetRainField(rain.data());
+        }
         cache.Sim->SetNetFlux(true);
       }
     }
@@ -589,7 +610,9 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     qv.nx = v.nx;
     qv.ny = v.ny;
     hy::ChannelCells(qv, channel.data());
-    const double least = this->RiverArea * this->RainRate / 1000.0 / 3600.0; // m3/s
+    // m3/s: the mean rain rate (m/s) on RiverArea.
+    const double least = this->RiverArea * sim.RainVolume() /
+      std::max(sim.TotalCellArea(), 1e-300) / this->IterationDuration;
     const double* qr = rate->GetPointer(0);
     for (std::size_t c = 0; c < n; ++c)
     {

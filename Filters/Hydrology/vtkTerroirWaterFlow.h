@@ -38,8 +38,10 @@
  *   (Priority-Flood, Barnes et al. 2014: the state steady rain reaches), then RainRate mm/h
  *   (default 0.3) falls on every cell each iteration (RainRate x IterationDuration) until the
  *   outflow through the border reaches 1 - BalanceTolerance (default 0.02) of the rain (stop
- *   reason "Balanced"; the seed's auto-stop is off). The WaterSource is not used. Both
- *   backends (the GPU kernel adds the rain and the edge sums too, bit for bit).
+ *   reason "Balanced"; the seed's auto-stop is off). With the StandingWater sources the rain
+ *   is per cell instead: the month's (or the year's) `StandingWater` spread evenly over its
+ *   hours (31 x 24 h for January, 365 x 24 h for the year). Both backends (the GPU kernel adds
+ *   the rain and the edge sums too, bit for bit).
  *
  * Parameters (defaults):
  * - WaterSource: Constant (0, default; WaterDepth mm on every cell, default 100),

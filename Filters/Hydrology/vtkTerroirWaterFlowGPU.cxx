@@ -205,7 +205,13 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
   std::vector<double> discharge = sim.PaddedDischarge();
   std::vector<double> edges = sim.PaddedEdges(); // empty unless the net flux is on
   const bool withEdges = !edges.empty();
-  const double params[1] = { sim.GetRain() };
+  // Rain per padded cell (the simulation's field), or its uniform rain as one value.
+  std::vector<double> rain = sim.PaddedRain();
+  const bool rainField = !rain.empty();
+  if (!rainField)
+  {
+    rain.assign(1, sim.GetRain());
+  }
   std::vector<double> partials(maxBlock * dispatched * 2);
   const std::size_t cellBytes = n * sizeof(double);
   const double work = static_cast<double>(targetIterations - iterations) * static_cast<double>(n);
@@ -244,9 +250,9 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
       gpu::StorageBuffer bScale(cellBytes, undefined);
       gpu::StorageBuffer bOut(cellBytes, undefined);
       gpu::StorageBuffer bDischarge(cellBytes, discharge.data());
-      gpu::StorageBuffer bParams(sizeof(params), params);
+      gpu::StorageBuffer bRain(rain.size() * sizeof(double), rain.data());
       const std::size_t edgeBytes = withEdges ? 4 * cellBytes : sizeof(double);
-      gpu::StorageBuffer bEdges(edgeBytes, withEdges ? edges.data() : params);
+      gpu::StorageBuffer bEdges(edgeBytes, withEdges ? edges.data() : rain.data());
       // Two blocks are in flight: each has its partial volumes and, when a stop rule may undo
       // its end, a snapshot of the water and discharge at its start.
       const std::size_t partialBytes = partials.size() * sizeof(double);
@@ -272,6 +278,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
         prog->SetUInt("uGroups", static_cast<unsigned>(dispatched));
         prog->SetUInt("uEdges", withEdges ? 1u : 0u);
         prog->SetUInt("uSeedCapacity", sim.GetSeedCapacityRule() ? 1u : 0u);
+        prog->SetUInt("uRainField", rainField ? 1u : 0u);
       }
       bTerrain->Bind(0);
       bCell->Bind(1);
@@ -280,7 +287,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
       bScale.Bind(6);
       bOut.Bind(7);
       bDischarge.Bind(8);
-      bParams.Bind(10);
+      bRain.Bind(10);
       bEdges.Bind(11);
       const unsigned dx = static_cast<unsigned>(gx);
       const unsigned dy = static_cast<unsigned>(gy);

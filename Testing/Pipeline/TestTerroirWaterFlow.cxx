@@ -181,6 +181,62 @@ TEST(TerroirWaterFlow, RiversModeBalancesTheRain)
   EXPECT_EQ(river->GetComponent(5 * 31 + 10, 0), 0.0);
 }
 
+// Rivers mode with a month's standing water: spread over the month's hours as rain per cell.
+// 744 mm in January (31 days = 744 h) is 1 mm/h: the same run as RainRate 1; and where the
+// standing water is doubled on the western half, more water runs there.
+TEST(TerroirWaterFlow, RiversModeSpreadsTheMonthsStandingWater)
+{
+  auto uniform = Valley();
+  vtkNew<vtkFloatArray> standing;
+  standing->SetName("StandingWater");
+  standing->SetNumberOfComponents(12);
+  standing->SetNumberOfTuples(uniform->GetNumberOfPoints());
+  standing->Fill(744.0);
+  uniform->GetPointData()->AddArray(standing);
+  vtkNew<vtkTerroirWaterFlow> byRate;
+  byRate->SetModeToRivers();
+  byRate->SetRainRate(1.0);
+  byRate->SetBackendToCPU();
+  auto a = RunFlow(byRate, uniform);
+  vtkNew<vtkTerroirWaterFlow> byMonth;
+  byMonth->SetModeToRivers();
+  byMonth->SetWaterSourceToStandingWaterMonth();
+  byMonth->SetMonth(1);
+  byMonth->SetBackendToCPU();
+  auto b = RunFlow(byMonth, uniform);
+  EXPECT_EQ(Field(a, vtkTerroirWaterFlow::IterationsName()),
+    Field(b, vtkTerroirWaterFlow::IterationsName()));
+  const std::vector<double> qa = Values(a, vtkTerroirWaterFlow::DischargeRateName());
+  const std::vector<double> qb = Values(b, vtkTerroirWaterFlow::DischargeRateName());
+  ASSERT_EQ(qa.size(), qb.size());
+  for (std::size_t k = 0; k < qa.size(); ++k)
+  {
+    EXPECT_NEAR(qb[k], qa[k], 1e-12 * std::max(1e-12, qa[k])) << k;
+  }
+  EXPECT_NEAR(Field(b, "WaterFlowRainVolume"),
+    Field(a, "WaterFlowRainVolume"),
+    1e-9 * Field(a, "WaterFlowRainVolume"));
+  // Twice the standing water west of the floor (i < 15): the western side cells carry about
+  // twice as much as their mirror images in the east.
+  auto wet = Valley();
+  vtkNew<vtkFloatArray> halves;
+  halves->DeepCopy(standing);
+  for (vtkIdType k = 0; k < halves->GetNumberOfTuples(); ++k)
+  {
+    halves->SetComponent(k, 0, k % 31 < 15 ? 1488.0 : 744.0);
+  }
+  wet->GetPointData()->AddArray(halves);
+  vtkNew<vtkTerroirWaterFlow> uneven;
+  uneven->SetModeToRivers();
+  uneven->SetWaterSourceToStandingWaterMonth();
+  uneven->SetBackendToCPU();
+  auto c = RunFlow(uneven, wet);
+  const std::vector<double> qc = Values(c, vtkTerroirWaterFlow::DischargeRateName());
+  const double west = qc[15 * 31 + 10];
+  const double east = qc[15 * 31 + 20];
+  EXPECT_NEAR(west / east, 2.0, 0.1);
+}
+
 // The filter is the core: same water and discharge as WaterFlowSimulation run by hand.
 TEST(TerroirWaterFlow, EqualsCore)
 {

@@ -319,7 +319,6 @@ inline __attribute__((always_inline)) void HeightsRowBody(TERROIR_HEIGHTS_ROW_PA
 struct GatherRowConstants
 {
   double fromNorth, fromSouth;
-  double rain; ///< depth added to every cell after the flows, metres
 };
 // clang-format off
 #define TERROIR_GATHER_ROW_PARAMETERS                                                              \
@@ -329,19 +328,19 @@ struct GatherRowConstants
     const double* __restrict nS, const double* __restrict nSW, const double* __restrict sNE,       \
     const double* __restrict sN, const double* __restrict sNW, double* __restrict next,            \
     double* __restrict discharge, double* __restrict cellOut, double* __restrict outletIn,         \
-    double* __restrict cellEmptied,                                                                \
+    double* __restrict cellEmptied, const double* __restrict rainRow,                              \
     const double* __restrict m1, const double* __restrict m2, const double* __restrict m3,         \
     double* __restrict edgeE, double* __restrict edgeNE, double* __restrict edgeN,                 \
     double* __restrict edgeNW
 #define TERROIR_GATHER_ROW_ARGUMENTS                                                               \
   columns, interior, k, W, isCell, mo, mE, mW, nSE, nS, nSW, sNE, sN, sNW, next, discharge,        \
-    cellOut, outletIn, cellEmptied, m1, m2, m3, edgeE, edgeNE, edgeN, edgeNW
+    cellOut, outletIn, cellEmptied, rainRow, m1, m2, m3, edgeE, edgeNE, edgeN, edgeNW
 // clang-format on
 
 template<bool Edges>
 inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARAMETERS)
 {
-  const double fromNorth = k.fromNorth, fromSouth = k.fromSouth, rain = k.rain;
+  const double fromNorth = k.fromNorth, fromSouth = k.fromSouth;
   for (int pi = 0; pi < columns; ++pi)
   {
     const int s = pi + 1; // slot of this column
@@ -351,7 +350,7 @@ inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARA
     const double in = inRow + fromNorth * inNorth + fromSouth * inSouth;
     const bool cell = interior & (isCell[pi] != 0);
     const double o = mo[s];
-    const double kept = std::max(0.0, W[pi] - o + in) + rain;
+    const double kept = std::max(0.0, W[pi] - o + in) + rainRow[pi];
     next[pi] = cell ? kept : 0.0;
     discharge[pi] += cell ? o : 0.0;
     cellOut[pi] = cell ? o : 0.0;
@@ -784,6 +783,7 @@ WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const d
   this->RowMoved.assign(NY, 0.0);
   this->RowOutflow.assign(NY, 0.0);
   this->RowEmptied.assign(NY, 0.0);
+  this->RainRowData.assign(static_cast<std::size_t>(stride), 0.0);
 }
 
 //------------------------------------------------------------------------------
@@ -950,7 +950,6 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     // Volume sent from a neighbouring row becomes depth here through the area ratio.
     k.fromNorth = r + 1 < NY + 2 ? Area[r + 1] / Area[r] : 0.0;
     k.fromSouth = r > 0 ? Area[r - 1] / Area[r] : 0.0;
-    k.rain = this->Rain;
     // Neighbour order E, NE, N, NW, W, SW, S, SE: a cell receives what its row's givers send
     // east (0) and west (4), what the northern row sends south-east (7), south (6) and
     // south-west (5), and what the southern row sends north-east (1), north (2), north-west (3).
@@ -975,6 +974,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       cellOut.data(),
       outletIn.data(),
       cellEmptied.data(),
+      this->RainField.empty() ? this->RainRowData.data() : this->RainField.data() + row0,
       mid.Flow(1),
       mid.Flow(2),
       mid.Flow(3),
@@ -1063,6 +1063,43 @@ void WaterFlowSimulation::SetRain(double metres)
     throw std::invalid_argument("water flow: rain per iteration must be a finite depth >= 0");
   }
   this->Rain = metres;
+  std::vector<double>().swap(this->RainField);
+  this->RainRowData.assign(static_cast<std::size_t>(NX + 2), metres);
+  this->RainVolumeTotal = metres * this->CellAreaTotal;
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::SetRainField(const double* metres)
+{
+  const int stride = NX + 2;
+  std::vector<double> field(this->Water.size(), 0.0);
+  double volume = 0.0;
+  double most = 0.0;
+  for (int j = 0; j < NY; ++j)
+  {
+    double row = 0.0;
+    for (int i = 0; i < NX; ++i)
+    {
+      const std::size_t c = static_cast<std::size_t>(j + 1) * stride + (i + 1);
+      if (!this->IsCell[c])
+      {
+        continue;
+      }
+      const double r = metres[static_cast<std::size_t>(j) * NX + i];
+      if (!(std::isfinite(r) && r >= 0.0))
+      {
+        throw std::invalid_argument("water flow: rain " + std::to_string(r) + " m at cell (" +
+          std::to_string(i) + ", " + std::to_string(j) + ") is negative or not a number");
+      }
+      field[c] = r;
+      row += r;
+      most = std::max(most, r);
+    }
+    volume += row * this->Area[j + 1];
+  }
+  this->RainField.swap(field);
+  this->Rain = most;
+  this->RainVolumeTotal = volume;
 }
 
 //------------------------------------------------------------------------------

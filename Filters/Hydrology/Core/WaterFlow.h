@@ -317,9 +317,20 @@ public:
    * finite and >= 0 (else std::invalid_argument); default 0 (the seed's single pulse).
    */
   void SetRain(double metres);
+  /**
+   * Rain per cell instead (nx*ny depths per iteration, metres; no-data cells ignored), e.g. a
+   * month's standing water spread over the month. Throws std::invalid_argument on a negative or
+   * non-finite depth on a cell with data.
+   */
+  void SetRainField(const double* metres);
+  /// The rain of SetRain, or the largest of SetRainField (0: no rain), metres per iteration.
   double GetRain() const { return this->Rain; }
-  /// Rain volume of one iteration, m^3 (rain times the area of the cells).
-  double RainVolume() const { return this->Rain * this->CellAreaTotal; }
+  /// Rain volume of one iteration, m^3 (rain times the area of the cells, summed).
+  double RainVolume() const { return this->RainVolumeTotal; }
+  /// Area of the cells with data, m^2.
+  double TotalCellArea() const { return this->CellAreaTotal; }
+  /// Rain per padded cell (SetRainField), or empty for uniform rain (GetRain()).
+  const std::vector<double>& PaddedRain() const { return this->RainField; }
 
   /**
    * Also accumulate the net flux through every edge between two cells over the iterations
@@ -463,6 +474,9 @@ private:
   double OutflowTotal = 0.0;
   double Initial = 0.0;
   double Rain = 0.0;
+  double RainVolumeTotal = 0.0;
+  std::vector<double> RainField;   ///< per padded cell, or empty (uniform)
+  std::vector<double> RainRowData; ///< one padded row of the uniform rain
   double CellAreaTotal = 0.0;
   bool SeedCapacity = false;
   double EmptiedTotal = 0.0;
