@@ -134,6 +134,14 @@ double vtkTerroirWaterFlow::EstimateMemory(double nx, double ny)
   // Padded state: terrain 4, cell flag 1, water 8 + 8 (ping-pong), discharge 8; input water 4;
   // outputs: WaterHeight 4, Discharge 8, River 1. Checkpoints are bounded separately.
   const double padded = (nx + 2.0) * (ny + 2.0);
+  if (this->Mode == Rivers)
+  {
+    // Also: net-flux edge sums 32 (and their copy for the rate window 32), water and discharge
+    // copies 16, rain per cell 8 (StandingWater sources); Priority-Flood and the lakes while
+    // the state is set up (about 20); outputs DischargeRate 8, RiverStrength 8, LakeMask 1,
+    // the dominant directions 1.
+    return padded * (29.0 + 32.0 + 32.0 + 16.0 + 8.0) + nx * ny * (17.0 + 20.0 + 18.0);
+  }
   return padded * 29.0 + nx * ny * 17.0;
 }
 
