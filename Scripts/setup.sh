@@ -24,7 +24,7 @@ mode=${1:-build}
 # tests compare with; GRASS r.sunmask, r.horizon and r.watershed, SAGA's flow accumulation).
 packages=(
   build-essential cmake pkg-config git
-  libvtk9-dev python3-vtk9 python3-numpy python3-sklearn
+  libvtk9-dev python3-vtk9 python3-numpy python3-scipy python3-sklearn
   libgdal-dev gdal-bin python3-gdal
   libgeographiclib-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libx11-dev
