@@ -343,6 +343,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     {
       cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
       cache.Sim->SetSeedCapacityRule(this->SeedCapacityRule != 0);
+      cache.Sim->SetCountEmptiedCells(this->CountEmptiedCells != 0);
       if (this->Mode == Rivers)
       {
         if (rain.empty())

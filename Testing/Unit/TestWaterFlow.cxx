@@ -751,6 +751,8 @@ TEST(WaterFlow, SeedStopRuleCountsEmptiedCells)
     }
   }
   hy::WaterFlowSimulation a(s.view, s.water.data());
+  EXPECT_EQ(hy::WaterFlowSimulation(s.view, s.water.data()).Step().emptied, 0.0); // not counted
+  a.SetCountEmptiedCells(true);
   const hy::WaterFlowIteration first = a.Step();
   EXPECT_EQ(first.emptied, 96.0);
   hy::WaterFlowSimulation b(s.view, s.water.data());
@@ -760,6 +762,7 @@ TEST(WaterFlow, SeedStopRuleCountsEmptiedCells)
   rule.maximumIterations = 1000;
   const hy::WaterFlowStopReason reason = b.Run(rule);
   hy::WaterFlowSimulation c(s.view, s.water.data());
+  c.SetCountEmptiedCells(true);
   double total = 0.0;
   long long expected = 0;
   hy::WaterFlowStopReason want = hy::WaterFlowStopReason::MaximumIterations;

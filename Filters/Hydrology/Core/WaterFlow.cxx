@@ -59,9 +59,8 @@ struct GiverRow
     const double* __restrict hm, const double* __restrict hn, const double* __restrict close,      \
     double* __restrict out, double* __restrict f0, double* __restrict f1, double* __restrict f2,   \
     double* __restrict f3, double* __restrict f4, double* __restrict f5, double* __restrict f6,    \
-    double* __restrict f7, bool literal
-#define TERROIR_GIVER_ROW_ARGUMENTS                                                                \
-  nx, T, W, hs, hm, hn, close, out, f0, f1, f2, f3, f4, f5, f6, f7, literal
+    double* __restrict f7
+#define TERROIR_GIVER_ROW_ARGUMENTS nx, T, W, hs, hm, hn, close, out, f0, f1, f2, f3, f4, f5, f6, f7
 // clang-format on
 
 /// The fast "none" and "all" cases of WaterFlowEvacuation for every cell of a row, as straight
@@ -71,6 +70,7 @@ struct GiverRow
 /// Cells in the "part" case (for PartCellsBody) and at all = W exactly (for the scalar
 /// function) are flagged in `out`. (A flag array of bytes next to the float and double arrays
 /// kept GCC 12 from vectorising the loop.)
+template<bool Literal>
 inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAMETERS)
 {
   const double c0 = close[0], c1 = close[1], c2 = close[2], c3 = close[3];
@@ -99,15 +99,19 @@ inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAME
     const double share = w / all;
     // The seed's literal rule (WaterFlowSeedCapacity): no flow when the signed capacity, higher
     // neighbours included, is negative.
-    double wec = c0 * (t - hm[pi + 1]);
-    wec += c1 * (t - hn[pi + 1]);
-    wec += c2 * (t - hn[pi]);
-    wec += c3 * (t - hn[pi - 1]);
-    wec += c4 * (t - hm[pi - 1]);
-    wec += c5 * (t - hs[pi - 1]);
-    wec += c6 * (t - hs[pi]);
-    wec += c7 * (t - hs[pi + 1]);
-    const bool wet = (w > 0.0) & !(literal & (wec < 0.0));
+    bool wet = w > 0.0;
+    if (Literal)
+    {
+      double wec = c0 * (t - hm[pi + 1]);
+      wec += c1 * (t - hn[pi + 1]);
+      wec += c2 * (t - hn[pi]);
+      wec += c3 * (t - hn[pi - 1]);
+      wec += c4 * (t - hm[pi - 1]);
+      wec += c5 * (t - hs[pi - 1]);
+      wec += c6 * (t - hs[pi]);
+      wec += c7 * (t - hs[pi + 1]);
+      wet = wet & !(wec < 0.0);
+    }
     const bool fast = wet & (all >= w) & (share < 1.0); // no branches: selects only
     const double scale = fast ? share : 0.0;
     // Flags for the other cases: -1 part (all < W), -2 all with share exactly 1.
@@ -328,13 +332,13 @@ struct GatherRowConstants
     const double* __restrict nS, const double* __restrict nSW, const double* __restrict sNE,       \
     const double* __restrict sN, const double* __restrict sNW, double* __restrict next,            \
     double* __restrict discharge, double* __restrict cellOut, double* __restrict outletIn,         \
-    double* __restrict cellEmptied, const double* __restrict rainRow,                              \
+    const double* __restrict rainRow,                                                              \
     const double* __restrict m1, const double* __restrict m2, const double* __restrict m3,         \
     double* __restrict edgeE, double* __restrict edgeNE, double* __restrict edgeN,                 \
     double* __restrict edgeNW
 #define TERROIR_GATHER_ROW_ARGUMENTS                                                               \
   columns, interior, k, W, isCell, mo, mE, mW, nSE, nS, nSW, sNE, sN, sNW, next, discharge,        \
-    cellOut, outletIn, cellEmptied, rainRow, m1, m2, m3, edgeE, edgeNE, edgeN, edgeNW
+    cellOut, outletIn, rainRow, m1, m2, m3, edgeE, edgeNE, edgeN, edgeNW
 // clang-format on
 
 template<bool Edges>
@@ -355,8 +359,6 @@ inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARA
     discharge[pi] += cell ? o : 0.0;
     cellOut[pi] = cell ? o : 0.0;
     outletIn[pi] = cell ? 0.0 : in;
-    // A cell that gave all its water (the "all" case gives exactly W).
-    cellEmptied[pi] = cell & (W[pi] > 0.0) & (o == W[pi]) ? 1.0 : 0.0;
     if (Edges)
     {
       // Net flux through the cell's E, NE, N and NW edges (depth of this cell, positive out):
@@ -374,7 +376,11 @@ inline __attribute__((always_inline)) void GatherRowBody(TERROIR_GATHER_ROW_PARA
 // same bits on every path.
 void GiverRowBase(TERROIR_GIVER_ROW_PARAMETERS)
 {
-  GiverRowBody(TERROIR_GIVER_ROW_ARGUMENTS);
+  GiverRowBody<false>(TERROIR_GIVER_ROW_ARGUMENTS);
+}
+void GiverLiteralRowBase(TERROIR_GIVER_ROW_PARAMETERS)
+{
+  GiverRowBody<true>(TERROIR_GIVER_ROW_ARGUMENTS);
 }
 void GatherRowBase(TERROIR_GATHER_ROW_PARAMETERS)
 {
@@ -395,7 +401,11 @@ void HeightsRowBase(TERROIR_HEIGHTS_ROW_PARAMETERS)
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 __attribute__((target("avx2"))) void GiverRowAVX2(TERROIR_GIVER_ROW_PARAMETERS)
 {
-  GiverRowBody(TERROIR_GIVER_ROW_ARGUMENTS);
+  GiverRowBody<false>(TERROIR_GIVER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx2"))) void GiverLiteralRowAVX2(TERROIR_GIVER_ROW_PARAMETERS)
+{
+  GiverRowBody<true>(TERROIR_GIVER_ROW_ARGUMENTS);
 }
 __attribute__((target("avx2"))) void GatherRowAVX2(TERROIR_GATHER_ROW_PARAMETERS)
 {
@@ -416,7 +426,12 @@ __attribute__((target("avx2"))) void HeightsRowAVX2(TERROIR_HEIGHTS_ROW_PARAMETE
 __attribute__((target("avx512f,avx512vl,avx512bw"))) void GiverRowAVX512(
   TERROIR_GIVER_ROW_PARAMETERS)
 {
-  GiverRowBody(TERROIR_GIVER_ROW_ARGUMENTS);
+  GiverRowBody<false>(TERROIR_GIVER_ROW_ARGUMENTS);
+}
+__attribute__((target("avx512f,avx512vl,avx512bw"))) void GiverLiteralRowAVX512(
+  TERROIR_GIVER_ROW_PARAMETERS)
+{
+  GiverRowBody<true>(TERROIR_GIVER_ROW_ARGUMENTS);
 }
 __attribute__((target("avx512f,avx512vl,avx512bw"))) void GatherRowAVX512(
   TERROIR_GATHER_ROW_PARAMETERS)
@@ -527,6 +542,7 @@ double RowSum(const double* x, int n)
 struct RowKernels
 {
   void (*giver)(TERROIR_GIVER_ROW_PARAMETERS) = GiverRowBase;
+  void (*giverLiteral)(TERROIR_GIVER_ROW_PARAMETERS) = GiverLiteralRowBase;
   void (*gather)(TERROIR_GATHER_ROW_PARAMETERS) = GatherRowBase;
   void (*gatherEdges)(TERROIR_GATHER_ROW_PARAMETERS) = GatherEdgesRowBase;
   void (*part)(TERROIR_PART_CELLS_PARAMETERS) = PartCellsBase;
@@ -550,6 +566,7 @@ RowKernels ChooseRowKernels()
     __builtin_cpu_supports("avx512bw"))
   {
     k.giver = GiverRowAVX512;
+    k.giverLiteral = GiverLiteralRowAVX512;
     k.gather = GatherRowAVX512;
     k.gatherEdges = GatherEdgesRowAVX512;
     k.part = PartCellsAVX512;
@@ -559,6 +576,7 @@ RowKernels ChooseRowKernels()
   else if (__builtin_cpu_supports("avx2"))
   {
     k.giver = GiverRowAVX2;
+    k.giverLiteral = GiverLiteralRowAVX2;
     k.gather = GatherRowAVX2;
     k.gatherEdges = GatherEdgesRowAVX2;
     k.part = PartCellsAVX2;
@@ -876,7 +894,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     const double* hs = heightsOf(r - 1);
     const double* hm = heightsOf(r);
     const double* hn = heightsOf(r + 1);
-    kernels.giver(NX,
+    (this->SeedCapacity ? kernels.giverLiteral : kernels.giver)(NX,
       T + row0,
       W + row0,
       hs,
@@ -891,8 +909,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       g.Flow(4),
       g.Flow(5),
       g.Flow(6),
-      g.Flow(7),
-      this->SeedCapacity);
+      g.Flow(7));
     // The part cells, gathered into a structure of arrays for the vectorised kernel; the rare
     // all = W cells through the scalar function.
     bool rare = false;
@@ -973,7 +990,6 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       discharge + row0,
       cellOut.data(),
       outletIn.data(),
-      cellEmptied.data(),
       this->RainField.empty() ? this->RainRowData.data() : this->RainField.data() + row0,
       mid.Flow(1),
       mid.Flow(2),
@@ -984,7 +1000,19 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       edges ? this->Edges.data() + 3 * plane + row0 : nullptr);
     moved += RowSum(cellOut.data(), stride) * Area[r];
     outflow += RowSum(outletIn.data(), stride) * Area[r];
-    emptied += RowSum(cellEmptied.data(), stride);
+    if (this->CountEmptied)
+    {
+      // Cells that gave all their water (the "all" case gives exactly W), for the seed's stop
+      // measure: cellOut holds what each cell gave.
+      const double* w = W + row0;
+      const std::uint8_t* cells = isCell + row0;
+      const bool interior = r >= 1 && r <= NY;
+      for (int pi = 0; pi < stride; ++pi)
+      {
+        cellEmptied[pi] = interior && cells[pi] && w[pi] > 0.0 && cellOut[pi] == w[pi] ? 1.0 : 0.0;
+      }
+      emptied += RowSum(cellEmptied.data(), stride);
+    }
   };
 
   // Ring of three giver rows: padded rows r - 1, r, r + 1 for interior row r = j + 1. Each
@@ -1249,6 +1277,7 @@ WaterFlowStopReason WaterFlowSimulation::Run(const WaterFlowStopRule& rule)
     throw std::invalid_argument(
       "water flow: negative iteration limit or stop ratio, or balance tolerance not in [0, 1)");
   }
+  this->CountEmptied = this->CountEmptied || rule.countEmptiedCells;
   while (this->IterationCount < rule.maximumIterations)
   {
     const double before = this->MovedTotal;

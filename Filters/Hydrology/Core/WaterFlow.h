@@ -281,7 +281,7 @@ struct WaterFlowIteration
 {
   double moved = 0.0;   ///< water that left cells (sum of out times cell area)
   double outflow = 0.0; ///< water that reached an outlet (border or no-data cell)
-  double emptied = 0.0; ///< cells that gave all their water (a count; CPU path only)
+  double emptied = 0.0; ///< cells that gave all their water (a count; CPU path, when counted)
 };
 
 /**
@@ -345,6 +345,11 @@ public:
   /// WEC is negative. Default off (the 8-neighbour generalisation above).
   void SetSeedCapacityRule(bool on) { this->SeedCapacity = on; }
   bool GetSeedCapacityRule() const { return this->SeedCapacity; }
+
+  /// Count the cells each iteration empties (WaterFlowIteration::emptied, the seed's stop
+  /// measure); off by default (the count is 0), on after a Run with rule.countEmptiedCells.
+  void SetCountEmptiedCells(bool on) { this->CountEmptied = on; }
+  bool GetCountEmptiedCells() const { return this->CountEmptied; }
   bool GetNetFlux() const { return !this->Edges.empty(); }
   /**
    * Net discharge (m^3, nx*ny; NaN on no-data cells): per cell, the sum over its 8 edges of the
@@ -479,6 +484,7 @@ private:
   std::vector<double> RainRowData; ///< one padded row of the uniform rain
   double CellAreaTotal = 0.0;
   bool SeedCapacity = false;
+  bool CountEmptied = false;
   double EmptiedTotal = 0.0;
   std::vector<double> Emptied;
   std::vector<double> RowEmptied;
