@@ -373,6 +373,10 @@ public:
   /// reference for kernels' share of the GPU's bandwidth. Throws when unavailable.
   double MeasureCopyBandwidth(std::size_t bytes = std::size_t(64) << 20, int repeats = 5);
 
+  /// The copy kernel MeasureCopyBandwidth times (dst[i] = src[i], one uint per invocation, a
+  /// 2-D grid of 256-wide groups, uniform uN; bindings 0 src, 1 dst), for tests that need one.
+  static const char* CopyKernelSource();
+
   /// True once a stage ran past its budget (the context is then unavailable).
   bool IsLost();
 

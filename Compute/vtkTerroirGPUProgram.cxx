@@ -429,7 +429,7 @@ Groups GridPlan::For(std::size_t invocations) const
 }
 
 //------------------------------------------------------------------------------
-double Context::MeasureCopyBandwidth(std::size_t bytes, int repeats)
+const char* Context::CopyKernelSource()
 {
   static const char* const kCopy = R"(
 layout(local_size_x = 256) in;
@@ -445,6 +445,13 @@ void main()
   }
 }
 )";
+  return kCopy;
+}
+
+//------------------------------------------------------------------------------
+double Context::MeasureCopyBandwidth(std::size_t bytes, int repeats)
+{
+  const char* const kCopy = CopyKernelSource();
   const std::size_t n = std::max<std::size_t>(1, bytes / 4);
   double best = 0.0;
   this->Run("copy bandwidth",

@@ -47,21 +47,9 @@ using terroir::gpu::Error;
 using terroir::gpu::StorageBuffer;
 using terroir::gpu::Transfer;
 
-// Copies src to dst, one uint per invocation (2-D grid of 256-wide groups).
-const char* kCopySource = R"(
-layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Src { uint src[]; };
-layout(std430, binding = 1) writeonly buffer Dst { uint dst[]; };
-uniform uint uN;
-void main()
-{
-  uint i = TERROIR_GLOBAL_ID.y * (TERROIR_NUM_WORKGROUPS.x * 256u) + TERROIR_GLOBAL_ID.x;
-  if (i < uN)
-  {
-    dst[i] = src[i];
-  }
-}
-)";
+// Copies src to dst, one uint per invocation (2-D grid of 256-wide groups): the bandwidth
+// probe's kernel.
+const char* const kCopySource = terroir::gpu::Context::CopyKernelSource();
 
 // ids[i] = i (through the split-aware macros); the first invocation of each group records the
 // order in which the groups ran.

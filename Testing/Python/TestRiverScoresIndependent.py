@@ -32,7 +32,7 @@ import sys
 import tempfile
 
 import numpy as np
-from osgeo import gdal, ogr
+from osgeo import gdal
 from scipy import ndimage
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
@@ -48,24 +48,10 @@ DEM = os.path.join(SAGEHEN, "sagehen_dem_utm11n_10m.tif")
 LINES = os.path.join(SAGEHEN, "sagehen_nhd_flowlines_utm11n.geojson")
 AREA = os.path.join(SAGEHEN, "sagehen_watershed_utm11n.geojson")
 
-failures = []
-
-
-def check(condition, message):
-    if not condition:
-        failures.append(message)
-        print("FAIL:", message)
-
-
-def burn(vector, like):
-    """The vector file burnt onto the grid of `like` (GDAL defaults), as booleans."""
-    out = gdal.GetDriverByName("MEM").Create("", like.RasterXSize, like.RasterYSize, 1,
-                                             gdal.GDT_Byte)
-    out.SetGeoTransform(like.GetGeoTransform())
-    out.SetProjection(like.GetProjection())
-    src = ogr.Open(vector)
-    gdal.RasterizeLayer(out, [1], src.GetLayer(0), burn_values=[1])
-    return out.GetRasterBand(1).ReadAsArray().astype(bool)
+# The peer tests' check helpers, and TestValidateJson's burning of vector files onto the grid
+# (GDAL's rasterisation: not the project's code either).
+from TerroirGrass import check, failures  # noqa: E402 (beside this script)
+from TestValidateJson import burn  # noqa: E402
 
 
 def channel_cells(value):
