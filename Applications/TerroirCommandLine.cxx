@@ -708,6 +708,15 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
       "Rivers mode: RiverStrength factor beside the crest of a band of flow (0 removes, 1 keeps)")
     ->check(FiniteIn(0.0, 1.0))
     ->capture_default_str();
+  app
+    ->add_option("--settle",
+      s.Settle,
+      "Rivers mode: iterations a warm-started grid runs before the balance may stop it")
+    ->check(CLI::Range(0LL, 100000000LL))
+    ->capture_default_str();
+  app->add_flag("!--no-warm-start",
+    s.WarmStart,
+    "Rivers mode: start from still water only, not from the steady state of coarser grids");
   app->add_flag("--seed-capacity",
     s.SeedCapacity,
     "The seed's literal rule: no flow from a cell whose capacity 2T - H(n-1) - H(n+1) "
@@ -871,6 +880,11 @@ void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::s
     need(x >= 0.0 && x <= 1.0, "0 to 1");
     s.Thinning = x;
   }
+  else if (name == "settle")
+  {
+    need(x >= 0.0 && x <= 1e8 && x == std::floor(x), "a whole number, 0 to 1e8");
+    s.Settle = static_cast<long long>(x);
+  }
   else if (name == "max-iterations")
   {
     need(x >= 0.0 && x <= 1e8 && x == std::floor(x), "a whole number, 0 to 1e8");
@@ -899,7 +913,7 @@ void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::s
   else
   {
     throw std::invalid_argument("--sweep: unknown option '" + name +
-      "' (water, rain, balance, thinning, max-iterations, auto-stop, time, "
+      "' (water, rain, balance, thinning, settle, max-iterations, auto-stop, time, "
       "iteration-duration, river-threshold, mode)");
   }
 }

@@ -120,6 +120,8 @@ struct WaterFlowSettings
   double RainRate = 0.3;          ///< --rain MM_PER_HOUR (rivers mode)
   double BalanceTolerance = 0.02; ///< --balance TOLERANCE (rivers mode)
   double Thinning = 0.1;          ///< --thinning FACTOR (rivers mode: RiverStrength)
+  bool WarmStart = true;          ///< off with --no-warm-start (rivers mode: coarse-to-fine)
+  long long Settle = 100;         ///< --settle N (rivers mode, warm start)
   bool SeedCapacity = false;      ///< --seed-capacity: the seed's literal WEC < 0 rule
   bool CountEmptied = false;      ///< --count-emptied: the seed's emptied-cell stop count
   std::string DischargeOutput;    ///< --discharge FILE (waterflow)
@@ -139,8 +141,8 @@ struct ValidateSettings
 
 /**
  * Applies one value of a validate sweep to the simulation's settings: NAME is a water-flow
- * option without its dashes (water, rain, balance, thinning, max-iterations, auto-stop, time,
- * iteration-duration, river-threshold, mode). Throws std::invalid_argument naming --sweep and
+ * option without its dashes (water, rain, balance, thinning, settle, max-iterations, auto-stop,
+ * time, iteration-duration, river-threshold, mode). Throws std::invalid_argument naming --sweep and
  * the bad name or value.
  */
 void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::string& value);

@@ -82,6 +82,8 @@ vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
   flow->SetRainRate(s.RainRate);
   flow->SetBalanceTolerance(s.BalanceTolerance);
   flow->SetThinningFactor(s.Thinning);
+  flow->SetWarmStart(s.WarmStart);
+  flow->SetSettleIterations(static_cast<vtkIdType>(s.Settle));
   flow->SetSeedCapacityRule(s.SeedCapacity);
   flow->SetCountEmptiedCells(s.CountEmptied);
   if (std::isfinite(s.RiverThreshold))
@@ -130,14 +132,28 @@ void PrintWaterFlow(vtkImageData* out, double seconds)
             << " iterations (" << FieldText(out, vtkTerroirWaterFlow::StopReasonName()) << "), ";
   if (rivers)
   {
-    std::cout << "still water " << Fixed(still, 0) << " m3, rain " << Fixed(rain, 0) << " m3";
+    // The initial water: the still water, plus the warm start's flowing water.
+    std::cout << "initial water " << Fixed(still, 0) << " m3, rain " << Fixed(rain, 0) << " m3";
   }
   else
   {
     std::cout << "water " << Fixed(water, 0) << " m3";
   }
   std::cout << ", left the terrain " << Fixed(outflow, 0) << " m3 ("
-            << Fixed(water > 0.0 ? 100.0 * outflow / water : 0.0, 1) << " %)\n";
+            << Fixed(water > 0.0 ? 100.0 * outflow / water : 0.0, 1) << " %)";
+  vtkDataArray* levels = vtkDataArray::SafeDownCast(
+    out->GetFieldData()->GetAbstractArray("WaterFlowWarmStartIterations"));
+  if (levels && levels->GetNumberOfTuples() > 0 && levels->GetNumberOfComponents() == 3)
+  {
+    std::cout << "; warm start:";
+    for (vtkIdType l = 0; l < levels->GetNumberOfTuples(); ++l)
+    {
+      std::cout << (l ? "," : "") << " " << static_cast<long long>(levels->GetComponent(l, 0))
+                << " iterations on " << static_cast<long long>(levels->GetComponent(l, 1)) << "x"
+                << static_cast<long long>(levels->GetComponent(l, 2));
+    }
+  }
+  std::cout << "\n";
 }
 
 /// A point array as doubles (NaN stays NaN), absolute values when `absolute`.

@@ -515,6 +515,19 @@ int CommandRun(const std::string& demArg,
       result->GetFieldData()->GetAbstractArray(vtkTerroirWaterFlow::StopReasonName()))
                           ->GetValue(0);
     rs["rain_mm_per_h"] = flow->GetRainRate();
+    if (vtkDataArray* levels = vtkDataArray::SafeDownCast(
+          result->GetFieldData()->GetAbstractArray("WaterFlowWarmStartIterations")))
+    {
+      // The coarse-to-fine start: iterations and size of each level, coarsest first.
+      json warm = json::array();
+      for (vtkIdType l = 0; l < levels->GetNumberOfTuples(); ++l)
+      {
+        warm.push_back({ { "iterations", levels->GetComponent(l, 0) },
+          { "nx", levels->GetComponent(l, 1) },
+          { "ny", levels->GetComponent(l, 2) } });
+      }
+      rs["warm_start_levels"] = warm;
+    }
     rs["river_area_m2"] = flow->GetRiverArea();
     rs["river_cells"] = riverCells;
     rs["river_length_km"] = riverCells * cell / 1000.0; // cells x cell size: approximate

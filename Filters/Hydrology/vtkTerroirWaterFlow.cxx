@@ -21,6 +21,7 @@
 #include "PriorityFlood.h"
 #include "RiverValidation.h"
 #include "WaterFlow.h"
+#include "WaterFlowWarmStart.h"
 #include "vtkTerroirWaterFlowGPU.h"
 
 #include <algorithm>
@@ -50,7 +51,8 @@ struct vtkTerroirWaterFlow::Cache
     std::vector<double> Edges; ///< net flux sums (Rivers mode)
   };
   std::map<long long, Checkpoint> Checkpoints;
-  std::vector<std::uint8_t> Lake; ///< Rivers mode: 1 on the lakes (LakeMask)
+  std::vector<std::uint8_t> Lake;                ///< Rivers mode: 1 on the lakes (LakeMask)
+  std::vector<hy::WaterFlowWarmStartLevel> Warm; ///< Rivers mode: the warm start's levels
 };
 
 namespace
@@ -111,6 +113,9 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LakeArea: " << this->LakeArea << " m2\n";
   os << indent << "RiverArea: " << this->RiverArea << " m2\n";
   os << indent << "ThinningFactor: " << this->ThinningFactor << "\n";
+  os << indent << "WarmStart: " << this->WarmStart << "\n";
+  os << indent << "WarmStartSide: " << this->WarmStartSide << "\n";
+  os << indent << "SettleIterations: " << this->SettleIterations << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -140,7 +145,10 @@ double vtkTerroirWaterFlow::EstimateMemory(double nx, double ny)
     // copies 16, rain per cell 8 (StandingWater sources); Priority-Flood and the lakes while
     // the state is set up (about 20); outputs DischargeRate 8, RiverStrength 8, LakeMask 1,
     // the dominant directions 1.
-    return padded * (29.0 + 32.0 + 32.0 + 16.0 + 8.0) + nx * ny * (17.0 + 20.0 + 18.0);
+    // The warm start's levels (at most a third of the cells in all, one level's state and
+    // fill at a time plus the refinement's arrays of each): about 20 bytes per cell.
+    return padded * (29.0 + 32.0 + 32.0 + 16.0 + 8.0) +
+      nx * ny * (17.0 + 20.0 + 18.0 + (this->WarmStart ? 20.0 : 0.0));
   }
   return padded * 29.0 + nx * ny * 17.0;
 }
@@ -196,6 +204,11 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   if (!(this->ThinningFactor >= 0.0 && this->ThinningFactor <= 1.0))
   {
     return "ThinningFactor " + Num(this->ThinningFactor) + " must be in [0, 1]";
+  }
+  if (this->WarmStartSide < 2 || this->SettleIterations < 0)
+  {
+    return "WarmStartSide " + std::to_string(this->WarmStartSide) + " must be >= 2 and " +
+      "SettleIterations " + std::to_string(this->SettleIterations) + " >= 0";
   }
   if (!(std::isfinite(this->RiverArea) && this->RiverArea >= 0.0))
   {
@@ -339,8 +352,49 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       }
       water[c] = mm / 1000.0;
     }
+    const double uniformRain = this->RainRate / 1000.0 / 3600.0 * this->IterationDuration;
+    cache.Warm.clear();
     try
     {
+      if (this->Mode == Rivers && this->WarmStart)
+      {
+        // Coarse-to-fine: each coarser level run to the balance on the chosen path.
+        hy::WaterFlowWarmStartOptions warm;
+        warm.coarsestSide = this->WarmStartSide;
+        warm.settleIterations = this->SettleIterations;
+        warm.rule.autoStopRatio = 0.0;
+        warm.rule.balanceTolerance = this->BalanceTolerance;
+        warm.rule.maximumIterations = this->MaximumIterations;
+        bool gpuLevels = backend == vtkTerroirComputeContext::GPU;
+        bool failed = false;
+        const hy::WaterFlowLevelRun runLevel =
+          [&](hy::WaterFlowSimulation& level, const hy::WaterFlowStopRule& levelRule)
+        {
+          level.SetSeedCapacityRule(this->SeedCapacityRule != 0);
+          hy::UseSMPTools(level);
+          if (gpuLevels && !failed)
+          {
+            hy::WaterFlowGPUResult result;
+            const int ran = this->RunGPUPath(
+              [&] {
+                result = hy::RunWaterFlowGPU(level, levelRule.maximumIterations, true, levelRule);
+              });
+            if (ran == vtkTerroirComputeContext::GPU)
+            {
+              return result.stopped ? result.reason : hy::WaterFlowStopReason::MaximumIterations;
+            }
+            failed = ran < 0;
+            gpuLevels = false;
+          }
+          return failed ? hy::WaterFlowStopReason::MaximumIterations : level.Run(levelRule);
+        };
+        cache.Warm = hy::WaterFlowWarmStart(
+          v, water.data(), uniformRain, rain.empty() ? nullptr : rain.data(), warm, runLevel);
+        if (failed)
+        {
+          return 0; // the GPU request failed (reported)
+        }
+      }
       cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
       cache.Sim->SetSeedCapacityRule(this->SeedCapacityRule != 0);
       cache.Sim->SetCountEmptiedCells(this->CountEmptiedCells != 0);
@@ -348,7 +402,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       {
         if (rain.empty())
         {
-          cache.Sim->SetRain(this->RainRate / 1000.0 / 3600.0 * this->IterationDuration);
+          cache.Sim->SetRain(uniformRain);
         }
         else
         {
@@ -381,6 +435,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   {
     rule.autoStopRatio = 0.0; // steady rain moves the same every iteration
     rule.balanceTolerance = this->BalanceTolerance;
+    rule.balanceAfter = cache.Warm.empty() ? 0 : this->SettleIterations;
   }
   bool bySimulatedTime = false;
   if (this->MaximumSimulatedTime > 0.0)
@@ -495,7 +550,8 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
           stopReason = hy::WaterFlowStopReason::NoMovement;
           break;
         }
-        if (applyRules && sim.StopsAfter(it, before, rule, stopReason, emptiedBefore))
+        if (applyRules &&
+          sim.StopsAfter(it, sim.Iterations(), before, rule, stopReason, emptiedBefore))
         {
           stopped = true;
           break;
@@ -659,6 +715,16 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   fd->AddArray(Scalar("WaterFlowInitialVolume", sim.InitialVolume(), "m3"));
   if (this->Mode == Rivers)
   {
+    // The warm start's coarse levels, coarsest first: iterations and cells of each.
+    auto levels = vtkSmartPointer<vtkIdTypeArray>::New();
+    levels->SetName("WaterFlowWarmStartIterations");
+    levels->SetNumberOfComponents(3);
+    levels->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "iterations, nx, ny");
+    for (const hy::WaterFlowWarmStartLevel& level : cache.Warm)
+    {
+      levels->InsertNextTuple3(static_cast<double>(level.iterations), level.nx, level.ny);
+    }
+    fd->AddArray(levels);
     fd->AddArray(Scalar(
       "WaterFlowRainVolume", sim.RainVolume() * static_cast<double>(sim.Iterations()), "m3"));
   }

@@ -18,8 +18,8 @@
  *   the rain on the cell's upstream area); `LakeMask` (unsigned char): 1 on the lakes: the
  *   depressions the still water fills and the flat water surfaces of the DEM, of LakeArea or
  *   more (DepressionWaterBodies; kept apart from rivers);
- * and as field data `WaterFlowIterations` (iterations run), `WaterFlowStopReason` ("AutoStop",
- * "NoMovement", "MaximumIterations", "Balanced", "SimulatedTime" or "RequestedTime"),
+ * and as field data `WaterFlowIterations` (iterations run on the grid), `WaterFlowStopReason`
+ * ("AutoStop", "NoMovement", "MaximumIterations", "Balanced", "SimulatedTime" or "RequestedTime"),
  * `WaterFlowSimulatedTime` (s), and the volumes (m^3) `WaterFlowInitialVolume`,
  * `WaterFlowStoredVolume`, `WaterFlowOutflowVolume` (left through the border or into no-data cells)
  * and `WaterFlowMovedVolume` (sum over iterations of the water that moved).
@@ -40,8 +40,13 @@
  *   outflow through the border reaches 1 - BalanceTolerance (default 0.02) of the rain (stop
  *   reason "Balanced"; the seed's auto-stop is off). With the StandingWater sources the rain
  *   is per cell instead: the month's (or the year's) `StandingWater` spread evenly over its
- *   hours (31 x 24 h for January, 365 x 24 h for the year). Both backends (the GPU kernel adds
- *   the rain and the edge sums too, bit for bit).
+ *   hours (31 x 24 h for January, 365 x 24 h for the year). With WarmStart (default on) the
+ *   initial water is the steady state of coarser grids refined (WaterFlowWarmStart.h: 2 x 2
+ *   averages while the shorter side keeps WarmStartSide = 128 cells; each level and then the
+ *   grid settle SettleIterations = 100 before the balance may stop them); field data
+ *   `WaterFlowWarmStartIterations` (3 components: iterations, nx, ny of each level, coarsest
+ *   first; no tuples without a warm start). Both backends (the GPU kernel adds the rain and the
+ *   edge sums too, bit for bit; the levels run on the chosen backend).
  *
  * Parameters (defaults):
  * - WaterSource: Constant (0, default; WaterDepth mm on every cell, default 100),
@@ -162,6 +167,22 @@ public:
   vtkSetMacro(ThinningFactor, double);
   vtkGetMacro(ThinningFactor, double);
 
+  /// Rivers mode: start from the steady state of coarser grids (WaterFlowWarmStart.h: 2 x 2
+  /// averages while the shorter side keeps WarmStartSide cells, each level run to the balance,
+  /// refined into the next). Default on.
+  vtkSetMacro(WarmStart, vtkTypeBool);
+  vtkGetMacro(WarmStart, vtkTypeBool);
+  vtkBooleanMacro(WarmStart, vtkTypeBool);
+
+  /// Rivers mode, WarmStart: shorter side of the coarsest level, cells (>= 2). Default 128.
+  vtkSetMacro(WarmStartSide, int);
+  vtkGetMacro(WarmStartSide, int);
+
+  /// Rivers mode, WarmStart: iterations a warm-started grid runs before the balance may stop it
+  /// (>= 0). Default 100.
+  vtkSetMacro(SettleIterations, vtkIdType);
+  vtkGetMacro(SettleIterations, vtkIdType);
+
   /// Rivers mode: smallest lake of LakeMask, m^2 (>= 0): filled depressions and flat water
   /// surfaces (hydro-flattened lakes), as vtkTerroirFloodFill finds them. Default 1e4 (1 ha).
   vtkSetMacro(LakeArea, double);
@@ -268,6 +289,9 @@ protected:
   double BalanceTolerance = 0.02;
   vtkIdType RateIterations = 10;
   double LakeArea = 1e4;
+  vtkTypeBool WarmStart = 1;
+  int WarmStartSide = 128;
+  vtkIdType SettleIterations = 100;
   double RiverArea = 1e5;
   double ThinningFactor = 0.1;
   int WaterSource = Constant;

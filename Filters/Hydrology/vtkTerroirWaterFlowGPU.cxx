@@ -388,7 +388,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
           {
             continue;
           }
-          result.stopped = sim.StopsAfter(it, before, rule, result.reason);
+          result.stopped = sim.StopsAfter(it, iterations, before, rule, result.reason);
           if (result.stopped)
           {
             if (b + 1 < block.count)

@@ -18,6 +18,7 @@
 
 #include "FractalNoise.h"
 #include "WaterFlow.h"
+#include "WaterFlowWarmStart.h"
 
 #include <gtest/gtest.h>
 
@@ -315,6 +316,56 @@ TEST(TerroirWaterFlowGPU, RainAndNetFluxToBalance)
     std::cout << "rain, balance (check every " << every << "): " << gpu.Iterations()
               << " iterations, max |gpu-cpu| water " << w.max << ", edges " << e.max << std::endl;
   }
+}
+
+// The coarse-to-fine start (WaterFlowWarmStart.h) with its levels on the GPU path: the same
+// levels, iterations and initial water as with the levels on the CPU (the refinement is shared
+// code, the levels' runs give the same bits).
+TEST(TerroirWaterFlowGPU, WarmStartLevelsOnTheGPU)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  Scene scene = TiltedWithNoData(96, 80, 11);
+  for (double& w : scene.water)
+  {
+    w = 0.0;
+  }
+  hy::WaterFlowWarmStartOptions options;
+  options.coarsestSide = 10; // 48 x 40, 24 x 20, 12 x 10
+  options.settleIterations = 20;
+  options.rule.autoStopRatio = 0.0;
+  options.rule.balanceTolerance = 0.02;
+  options.rule.maximumIterations = 5000;
+  std::vector<double> cpu = scene.water, gpu = scene.water;
+  const auto cpuLevels = hy::WaterFlowWarmStart(scene.View(), cpu.data(), 2e-4, nullptr, options);
+  int gpuRuns = 0;
+  const auto gpuLevels = hy::WaterFlowWarmStart(scene.View(),
+    gpu.data(),
+    2e-4,
+    nullptr,
+    options,
+    [&](hy::WaterFlowSimulation& sim, const hy::WaterFlowStopRule& rule)
+    {
+      ++gpuRuns;
+      const hy::WaterFlowGPUResult r =
+        hy::RunWaterFlowGPU(sim, rule.maximumIterations, true, rule, 16);
+      return r.stopped ? r.reason : hy::WaterFlowStopReason::MaximumIterations;
+    });
+  ASSERT_EQ(cpuLevels.size(), 3u);
+  ASSERT_EQ(gpuLevels.size(), 3u);
+  EXPECT_EQ(gpuRuns, 3);
+  for (std::size_t l = 0; l < cpuLevels.size(); ++l)
+  {
+    EXPECT_EQ(gpuLevels[l].iterations, cpuLevels[l].iterations) << "level " << l;
+    EXPECT_EQ(gpuLevels[l].reason, hy::WaterFlowStopReason::Balanced) << "level " << l;
+    EXPECT_EQ(cpuLevels[l].reason, hy::WaterFlowStopReason::Balanced) << "level " << l;
+  }
+  for (std::size_t c = 0; c < cpu.size(); ++c)
+  {
+    ASSERT_EQ(cpu[c], gpu[c]) << c;
+  }
+  std::cout << "warm start: levels of " << cpuLevels[0].iterations << ", "
+            << cpuLevels[1].iterations << ", " << cpuLevels[2].iterations << " iterations"
+            << std::endl;
 }
 
 // The seed's literal capacity rule (no flow where the signed WEC is negative): the same gate on

@@ -181,6 +181,53 @@ TEST(TerroirWaterFlow, RiversModeBalancesTheRain)
   EXPECT_EQ(river->GetComponent(5 * 31 + 10, 0), 0.0);
 }
 
+// Rivers mode's coarse-to-fine start: the levels it ran are reported, and it ends where a cold
+// start ends (the discharge along the floor within 1 %, once the refinement's extra water has
+// drained: 60 settling iterations, about twice the way down the valley), after fewer
+// iterations on the grid.
+TEST(TerroirWaterFlow, RiversModeWarmStartEndsWhereAColdStartEnds)
+{
+  vtkSmartPointer<vtkImageData> rates[2];
+  double iterations[2];
+  for (int warm = 0; warm < 2; ++warm)
+  {
+    vtkNew<vtkTerroirWaterFlow> f;
+    EXPECT_EQ(f->GetWarmStart(), 1);
+    EXPECT_EQ(f->GetWarmStartSide(), 128);
+    EXPECT_EQ(f->GetSettleIterations(), 100);
+    f->SetModeToRivers();
+    f->SetRainRate(36.0);
+    f->SetBalanceTolerance(1e-6);
+    f->SetWarmStart(warm);
+    f->SetWarmStartSide(5); // 31 x 21: levels of 16 x 11 and 8 x 6
+    f->SetSettleIterations(60);
+    f->SetBackendToCPU();
+    rates[warm] = RunFlow(f, Valley());
+    EXPECT_EQ(Reason(rates[warm]), "Balanced");
+    iterations[warm] = Field(rates[warm], vtkTerroirWaterFlow::IterationsName());
+    vtkDataArray* levels = vtkDataArray::SafeDownCast(
+      rates[warm]->GetFieldData()->GetAbstractArray("WaterFlowWarmStartIterations"));
+    ASSERT_NE(levels, nullptr);
+    ASSERT_EQ(levels->GetNumberOfComponents(), 3);
+    ASSERT_EQ(levels->GetNumberOfTuples(), warm ? 2 : 0);
+    if (warm)
+    {
+      EXPECT_EQ(levels->GetComponent(0, 1), 8.0); // coarsest first: nx, ny
+      EXPECT_EQ(levels->GetComponent(0, 2), 6.0);
+      EXPECT_EQ(levels->GetComponent(1, 1), 16.0);
+      EXPECT_EQ(levels->GetComponent(1, 2), 11.0);
+      EXPECT_GE(levels->GetComponent(1, 0), 60.0); // settled, then balanced
+    }
+  }
+  EXPECT_LT(iterations[1], iterations[0]);
+  const std::vector<double> cold = Values(rates[0], vtkTerroirWaterFlow::DischargeRateName());
+  const std::vector<double> warm = Values(rates[1], vtkTerroirWaterFlow::DischargeRateName());
+  for (int j = 0; j < 20; ++j)
+  {
+    EXPECT_NEAR(warm[j * 31 + 15], cold[j * 31 + 15], 0.01 * cold[j * 31 + 15]) << "row " << j;
+  }
+}
+
 // Rivers mode with a month's standing water: spread over the month's hours as rain per cell.
 // 744 mm in January (31 days = 744 h) is 1 mm/h: the same run as RainRate 1; and where the
 // standing water is doubled on the western half, more water runs there.
@@ -480,6 +527,12 @@ TEST(TerroirWaterFlow, BadInputsAreOneErrorAndAnEmptyOutput)
     { in,
       [](vtkTerroirWaterFlow* f) { f->SetWaterSourceToStandingWaterAnnual(); },
       "dem.tif: the StandingWater sources need a point array `StandingWater` with 12 components" },
+    { in,
+      [](vtkTerroirWaterFlow* f) { f->SetWarmStartSide(1); },
+      "dem.tif: WarmStartSide 1 must be >= 2 and SettleIterations 100 >= 0" },
+    { in,
+      [](vtkTerroirWaterFlow* f) { f->SetSettleIterations(-3); },
+      "dem.tif: WarmStartSide 128 must be >= 2 and SettleIterations -3 >= 0" },
     { negative,
       [](vtkTerroirWaterFlow* f) { f->SetWaterSourceToStandingWaterMonth(); },
       "dem.tif: water -2 mm at cell (2, 1) is negative or not a number" },

@@ -129,6 +129,12 @@ class TerroirCommandLine(unittest.TestCase):
         # rivers score against the bundled NHD lines (validation.md: F1 0.820 within 60 m).
         rs = report["stages"]["rivers"]
         self.assertEqual(rs["stop_reason"], "Balanced")
+        # The coarse-to-fine start: 786 x 720 averaged to 393 x 360 and 197 x 180 (a 128-cell
+        # side is the coarsest), coarsest first; the grid settled 100 iterations at least.
+        levels = rs["warm_start_levels"]
+        self.assertEqual([(l["nx"], l["ny"]) for l in levels], [(197, 180), (393, 360)])
+        self.assertGreaterEqual(levels[1]["iterations"], 100)
+        self.assertGreaterEqual(rs["iterations"], 100)
         rivers = gdal.Open(os.path.join(out, "rivers.tif")).ReadAsArray()
         rate = gdal.Open(os.path.join(out, "discharge.tif")).ReadAsArray().astype(np.float64)
         self.assertEqual(int((rivers == 1).sum()), rs["river_cells"])

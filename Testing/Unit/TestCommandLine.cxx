@@ -669,15 +669,27 @@ TEST(TerroirCommandLineParse, WaterFlowFlowAccAndValidate)
   EXPECT_EQ(line.WaterFlow.BalanceTolerance, 0.05);
   EXPECT_EQ(line.Validate.Sweep, "water=1,10");
   EXPECT_EQ(ErrorOf({ "validate", "--sweep", "colour=1,2" }),
-    "--sweep: unknown option 'colour' (water, rain, balance, thinning, max-iterations, "
-    "auto-stop, time, iteration-duration, river-threshold, mode)");
+    "--sweep: unknown option 'colour' (water, rain, balance, thinning, settle, "
+    "max-iterations, auto-stop, time, iteration-duration, river-threshold, mode)");
   EXPECT_EQ(ErrorOf({ "validate", "--sweep", "rain" }),
     "--sweep needs NAME=V1,V2,... (e.g. rain=0.1,0.3,1), not 'rain'");
   EXPECT_EQ(ErrorOf({ "validate", "--sweep", "rain=1,-2" }),
     "--sweep: rain = -2 is out of range (1e-9 to 1e6 mm/h)");
   EXPECT_EQ(ErrorOf({ "validate", "--sweep", "mode=pulse,fast" }),
     "--sweep: mode must be pulse or rivers, not 'fast'");
+  // The coarse-to-fine start: on unless --no-warm-start; its settling count.
+  EXPECT_TRUE(line.WaterFlow.WarmStart);
+  EXPECT_EQ(line.WaterFlow.Settle, 100);
+  outcome = Parse({ "validate", "--no-warm-start", "--settle", "30" }, line);
+  ASSERT_TRUE(outcome.Run) << outcome.Error;
+  EXPECT_FALSE(line.WaterFlow.WarmStart);
+  EXPECT_EQ(line.WaterFlow.Settle, 30);
+  EXPECT_EQ(ErrorOf({ "validate", "--settle", "-1" }),
+    "--settle: Value -1 not in range 0 to 100000000 (see terroir --help)");
   terroir::app::WaterFlowSettings swept;
+  terroir::app::ApplySweepValue(swept, "settle", "40");
+  EXPECT_EQ(swept.Settle, 40);
+  EXPECT_THROW(terroir::app::ApplySweepValue(swept, "settle", "4.5"), std::invalid_argument);
   terroir::app::ApplySweepValue(swept, "max-iterations", "250");
   EXPECT_EQ(swept.MaximumIterations, 250);
   EXPECT_THROW(

@@ -1244,6 +1244,7 @@ void ThinAcrossFlow(const GridView<double>& discharge,
 
 //------------------------------------------------------------------------------
 bool WaterFlowSimulation::StopsAfter(const WaterFlowIteration& it,
+  long long iteration,
   double movedBefore,
   const WaterFlowStopRule& rule,
   WaterFlowStopReason& reason,
@@ -1260,7 +1261,8 @@ bool WaterFlowSimulation::StopsAfter(const WaterFlowIteration& it,
     reason = WaterFlowStopReason::AutoStop;
     return true;
   }
-  if (WaterFlowBalanced(it.outflow, this->RainVolume(), rule.balanceTolerance))
+  if (iteration >= rule.balanceAfter &&
+    WaterFlowBalanced(it.outflow, this->RainVolume(), rule.balanceTolerance))
   {
     reason = WaterFlowStopReason::Balanced;
     return true;
@@ -1272,10 +1274,10 @@ bool WaterFlowSimulation::StopsAfter(const WaterFlowIteration& it,
 WaterFlowStopReason WaterFlowSimulation::Run(const WaterFlowStopRule& rule)
 {
   if (rule.maximumIterations < 0 || !(rule.autoStopRatio >= 0.0) ||
-    !(rule.balanceTolerance >= 0.0 && rule.balanceTolerance < 1.0))
+    !(rule.balanceTolerance >= 0.0 && rule.balanceTolerance < 1.0) || rule.balanceAfter < 0)
   {
-    throw std::invalid_argument(
-      "water flow: negative iteration limit or stop ratio, or balance tolerance not in [0, 1)");
+    throw std::invalid_argument("water flow: negative iteration limit, stop ratio or settling "
+                                "count, or balance tolerance not in [0, 1)");
   }
   this->CountEmptied = this->CountEmptied || rule.countEmptiedCells;
   while (this->IterationCount < rule.maximumIterations)
@@ -1284,7 +1286,7 @@ WaterFlowStopReason WaterFlowSimulation::Run(const WaterFlowStopRule& rule)
     const double emptiedBefore = this->EmptiedTotal;
     const WaterFlowIteration it = this->Step();
     WaterFlowStopReason reason;
-    if (this->StopsAfter(it, before, rule, reason, emptiedBefore))
+    if (this->StopsAfter(it, this->IterationCount, before, rule, reason, emptiedBefore))
     {
       return reason;
     }
@@ -1381,7 +1383,7 @@ bool WaterFlowSimulation::FindStop(const WaterFlowStopRule& rule,
     it.moved = this->Moved[k];
     it.outflow = this->Outflow[k];
     it.emptied = this->Emptied[k];
-    if (this->StopsAfter(it, before, rule, reason, emptiedBefore))
+    if (this->StopsAfter(it, static_cast<long long>(k) + 1, before, rule, reason, emptiedBefore))
     {
       iteration = static_cast<long long>(k) + 1;
       return true;

@@ -225,6 +225,9 @@ struct WaterFlowStopRule
   /// reached (1 - balanceTolerance) of the rain of one iteration (the river-forming mode's
   /// steady state); 0 disables the rule. Must be in [0, 1).
   double balanceTolerance = 0.0;
+  /// The balance rule fires only after an iteration numbered at least this (counting from 1):
+  /// a warm-started run (WaterFlowWarmStart.h) first settles its finer channels. Must be >= 0.
+  long long balanceAfter = 0;
   /// The seed's own measure of flow for the auto-stop: the number of cells an iteration
   /// emptied completely (its section 3.3.4), instead of the volume moved. CPU only.
   bool countEmptiedCells = false;
@@ -439,13 +442,15 @@ public:
     WaterFlowStopReason& reason) const;
 
   /**
-   * The stop rules after one iteration `it` (movedBefore: the volume moved by the iterations
-   * before it): no movement, the seed's auto-stop, the balance of outflow and rain, in that
-   * order; true with the reason when one fires (with rule.countEmptiedCells the auto-stop
-   * compares it.emptied with emptiedBefore, the cells emptied by the earlier iterations).
-   * Every path (Run, FindStop, the filter's loop, the GPU path) asks this one function.
+   * The stop rules after one iteration `it`, the `iteration`-th (counting from 1; movedBefore:
+   * the volume moved by the iterations before it): no movement, the seed's auto-stop, the balance
+   * of outflow and rain, in that order; true with the reason when one fires (with
+   * rule.countEmptiedCells the auto-stop compares it.emptied with emptiedBefore, the cells emptied
+   * by the earlier iterations). Every path (Run, FindStop, the filter's loop, the GPU path) asks
+   * this one function.
    */
   bool StopsAfter(const WaterFlowIteration& it,
+    long long iteration,
     double movedBefore,
     const WaterFlowStopRule& rule,
     WaterFlowStopReason& reason,
