@@ -19,6 +19,29 @@ bool CellHasData(const GridView<float>& g, std::size_t c)
   return (!g.valid || g.valid[c]) && std::isfinite(g.data[c]);
 }
 
+/// Mean of `values` over the cells with data of coarse cell (i, j)'s 2 x 2 block of `fine`;
+/// false (and 0) when none has data.
+template<typename T>
+bool BlockMean(const GridView<float>& fine, const T* values, int i, int j, double& mean)
+{
+  double sum = 0.0;
+  int count = 0;
+  for (int fj = 2 * j; fj < std::min(2 * j + 2, fine.ny); ++fj)
+  {
+    for (int fi = 2 * i; fi < std::min(2 * i + 2, fine.nx); ++fi)
+    {
+      const std::size_t c = fine.Index(fi, fj);
+      if (CellHasData(fine, c))
+      {
+        sum += values[c];
+        ++count;
+      }
+    }
+  }
+  mean = count > 0 ? sum / count : 0.0;
+  return count > 0;
+}
+
 /// The still water of `g` (Priority-Flood depth; 0 on no data), metres.
 std::vector<double> StillWater(const GridView<float>& g)
 {
@@ -53,24 +76,12 @@ void WaterFlowCoarsen(const GridView<float>& fine,
   {
     for (int i = 0; i < nx; ++i)
     {
-      double sum = 0.0;
-      int count = 0;
-      for (int fj = 2 * j; fj < std::min(2 * j + 2, fine.ny); ++fj)
-      {
-        for (int fi = 2 * i; fi < std::min(2 * i + 2, fine.nx); ++fi)
-        {
-          const std::size_t c = fine.Index(fi, fj);
-          if (CellHasData(fine, c))
-          {
-            sum += fine.data[c];
-            ++count;
-          }
-        }
-      }
+      double mean = 0.0;
+      const bool any = BlockMean(fine, fine.data, i, j, mean);
       const std::size_t c =
         static_cast<std::size_t>(j) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(i);
-      heights[c] = count > 0 ? static_cast<float>(sum / count) : 0.0f;
-      valid[c] = count > 0 ? 1 : 0;
+      heights[c] = static_cast<float>(mean);
+      valid[c] = any ? 1 : 0;
     }
   }
   coarse = GridView<float>();
@@ -133,21 +144,7 @@ std::vector<WaterFlowWarmStartLevel> WaterFlowWarmStart(const GridView<float>& t
     {
       for (int i = 0; i < coarse.nx; ++i)
       {
-        double sum = 0.0;
-        int count = 0;
-        for (int fj = 2 * j; fj < std::min(2 * j + 2, terrain.ny); ++fj)
-        {
-          for (int fi = 2 * i; fi < std::min(2 * i + 2, terrain.nx); ++fi)
-          {
-            const std::size_t c = terrain.Index(fi, fj);
-            if (CellHasData(terrain, c))
-            {
-              sum += rainField[c];
-              ++count;
-            }
-          }
-        }
-        coarseRain[coarse.Index(i, j)] = count > 0 ? sum / count : 0.0;
+        BlockMean(terrain, rainField, i, j, coarseRain[coarse.Index(i, j)]);
       }
     }
   }
