@@ -15,6 +15,7 @@
 
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirFloodFill.h"
+#include "vtkTerroirFlowAccumulation.h"
 #include "vtkTerroirGPU.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirInfiltration.h"
@@ -661,6 +662,25 @@ int CommandBench(int size,
           extra["water_bodies"] = cells ? cells->GetNumberOfTuples() : 0;
           extra["wet_cells"] = wet;
           report(stage, bname, best, extra);
+        }
+        else if (stage == "flowacc")
+        {
+          // D8 flow accumulation (Priority-Flood, flats, D8 directions, accumulation): CPU.
+          if (b != vtkTerroirComputeContext::CPU)
+          {
+            continue;
+          }
+          vtkNew<vtkTerroirFlowAccumulation> f;
+          f->SetInputData(terrain);
+          const double best = bestOf([&] { return timedUpdate(f, stage); });
+          vtkDataArray* dir = f->GetOutput()->GetPointData()->GetArray(
+            vtkTerroirFlowAccumulation::FlowDirectionName());
+          vtkIdType outlets = 0;
+          for (vtkIdType k = 0; dir && k < dir->GetNumberOfTuples(); ++k)
+          {
+            outlets += dir->GetComponent(k, 0) == -1.0 ? 1 : 0;
+          }
+          report(stage, bname, best, json{ { "outlet_cells", outlets } });
         }
         else if (stage == "waterflow")
         {

@@ -803,6 +803,7 @@ const std::vector<std::string>& BenchStageNames()
     "humidity",
     "floodfill",
     "depressions",
+    "flowacc",
     "waterflow",
     "kmeans" };
   return names;

@@ -283,8 +283,13 @@ public:
   /// software rasterizers (llvmpipe). Used by `Auto` to avoid starting a context that it would
   /// not use.
   bool HasHardwareDevice();
-  /// Limits probed when the context was made (zeros when unavailable).
+  /// Limits probed when the context was made (zeros when unavailable), with
+  /// MaxShaderStorageBlockSize capped by SetStorageBlockLimit.
   Limits GetLimits();
+  /// Caps the MaxShaderStorageBlockSize that GetLimits reports (bytes; 0, the default: the
+  /// device's own). Filters then split their work into bands as on a device with that limit:
+  /// the tests of the banded paths run on any GPU, small.
+  void SetStorageBlockLimit(long long bytes);
 
   /// Runs `job` on the context thread and waits for it, with the default budget (10 min).
   /// Exceptions thrown by the job are re-thrown in the caller. Throws `Error` when the context

@@ -210,6 +210,8 @@ struct Context::Internals
   /// context works).
   static void Configure();
   static void WorkerMain(Internals* self);
+  /// SetStorageBlockLimit: a cap on the reported MaxShaderStorageBlockSize (0: none).
+  long long BlockLimit = 0;
 
   bool CreateGL(std::string& reason);
   bool TryDisplay(EGLDisplay dpy, const char* platform, std::string& reason);
@@ -952,7 +954,23 @@ Limits Context::GetLimits()
 {
   this->Impl->EnsureStarted();
   std::lock_guard<std::mutex> lock(this->Impl->Mutex);
-  return this->Impl->Status == Internals::State::Ready ? gContextLimits : Limits();
+  if (this->Impl->Status != Internals::State::Ready)
+  {
+    return Limits();
+  }
+  Limits limits = gContextLimits;
+  if (this->Impl->BlockLimit > 0 && limits.MaxShaderStorageBlockSize > 0)
+  {
+    limits.MaxShaderStorageBlockSize =
+      std::min(limits.MaxShaderStorageBlockSize, this->Impl->BlockLimit);
+  }
+  return limits;
+}
+
+void Context::SetStorageBlockLimit(long long bytes)
+{
+  std::lock_guard<std::mutex> lock(this->Impl->Mutex);
+  this->Impl->BlockLimit = bytes > 0 ? bytes : 0;
 }
 
 void Context::Run(const std::function<void()>& job)

@@ -6,9 +6,10 @@
  * metres, origin (0, 0, 0), point array `Elevation` (float32, metres), no georeference
  * (grid north = true north). Height of cell (i, j):
  *
- *   h = BaseHeight + Amplitude * sum_{o<Octaves} Persistence^o * noise((i+0.5)/L_o, (j+0.5)/L_o)
+ *   h = BaseHeight + Amplitude * sum_{o<Octaves} Persistence^o *
+ *       noise((i+0.5)/L_o + offx_o, (j+0.5)/L_o + offy_o)
  *
- * with L_o = FeatureSize / 2^o cells and `noise` the 2-D gradient noise of Perlin (1985) with
+ * with L_o = FeatureSize / 2^o cells, per-octave offsets from the hash (FractalNoise.h), and `noise` the 2-D gradient noise of Perlin (1985) with
  * the quintic fade of Perlin (2002), normalised to [-1, 1], driven by our own 32-bit integer
  * hash (terroir::io::FractalNoisePerlin2002, IO/Core). So
  * |h - BaseHeight| <= Amplitude * sum_o Persistence^o.

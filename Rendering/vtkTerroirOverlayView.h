@@ -62,7 +62,7 @@
  * @par Correctness
  * Testing/Rendering/TestOverlayView.cxx (analytic Blinn–Phong intensities of a ridge, NaN
  * hole colour, map framing, PNG export failure modes) and TestOverlayImages.cxx (baseline
- * images of the bundled DEM, threshold 0.15).
+ * images of the bundled DEM, Testing/Rendering/TerroirImageCompare.h).
  *
  * @par References
  * J. F. Blinn, "Models of light reflection for computer synthesized pictures", SIGGRAPH 1977,

@@ -86,13 +86,16 @@ case "$mode" in
   # files unless asked), so running this command twice gives the same outcome.
   run) with_display "$build/bin/terroir" run --overwrite "$@" ;;
   test)
-    # The GPU path is exercised for real on llvmpipe: a missing compute context is a failure.
+    # The GPU path is exercised for real on llvmpipe: a missing compute context is a failure;
+    # so is a missing peer program (gdaldem, ogr2ogr: the tests would otherwise skip).
     export TERROIR_REQUIRE_GPU=${TERROIR_REQUIRE_GPU:-1}
+    export TERROIR_REQUIRE_PEERS=${TERROIR_REQUIRE_PEERS:-1}
     with_display ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" ;;
   sanitize)
     configure_sanitize
     cmake --build "$sanitize_build" -j "$jobs"
     export TERROIR_REQUIRE_GPU=${TERROIR_REQUIRE_GPU:-1}
+    export TERROIR_REQUIRE_PEERS=${TERROIR_REQUIRE_PEERS:-1}
     # Each test runs with ASAN_OPTIONS/UBSAN_OPTIONS set by Testing/CMakeLists.txt: a leak, a
     # memory error or undefined behaviour aborts the test, so the run fails.
     with_display ctest --test-dir "$sanitize_build" --output-on-failure -j "$jobs" \

@@ -8,6 +8,7 @@
 #include "vtkSmartPointer.h"
 
 #include <array>
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <vector>
@@ -105,6 +106,23 @@ bool GPUAvailable(bool& mustFail, std::string& reason);
         FAIL() << "TERROIR_REQUIRE_GPU=1 but no GPU compute context: " << terroirWhy;              \
       }                                                                                            \
       GTEST_SKIP() << "no GPU compute context: " << terroirWhy;                                    \
+    }                                                                                              \
+  } while (false)
+
+/// In a GoogleTest body: when `available` is false (a peer program such as gdaldem is missing),
+/// skip the test, or FAIL it when TERROIR_REQUIRE_PEERS=1 (Scripts/setup.sh test sets it, so CI
+/// never passes with a peer check left out), naming what is missing.
+#define TERROIR_REQUIRE_PEER_OR_SKIP(available, what)                                              \
+  do                                                                                               \
+  {                                                                                                \
+    if (!(available))                                                                              \
+    {                                                                                              \
+      const char* terroirPeers = std::getenv("TERROIR_REQUIRE_PEERS");                             \
+      if (terroirPeers && std::string(terroirPeers) == "1")                                        \
+      {                                                                                            \
+        FAIL() << "TERROIR_REQUIRE_PEERS=1 but " << (what);                                        \
+      }                                                                                            \
+      GTEST_SKIP() << (what);                                                                      \
     }                                                                                              \
   } while (false)
 

@@ -154,21 +154,27 @@ TEST(SlopeGPU, MatchesCPUOnSyntheticGridWithNoDataAndRowSpacing)
 }
 
 // Outputs larger than one storage buffer are computed band by band: the band edges must not
-// show (each band reads its halo rows from the whole-grid elevation buffer).
+// show (each band reads its halo rows from the whole-grid elevation buffer). The storage-block
+// limit is capped at 320 KiB (Context::SetStorageBlockLimit): the elevation of 301 x 257 cells
+// (4 B per cell) still fits one buffer, the normals (12 B per cell) take bands of 80 rows
+// (four bands) on any device.
 TEST(SlopeGPU, MatchesCPUWhenOutputsExceedOneStorageBuffer)
 {
   TERROIR_REQUIRE_GPU_OR_SKIP();
-  const long long maxBlock = terroir::gpu::Context::Global().GetLimits().MaxShaderStorageBlockSize;
-  const int nx = 2048;
-  // The normals (12 B per cell) of this many rows overflow one buffer by a few bands.
-  const long long rows = maxBlock / (12LL * nx) + 37;
-  if (rows * nx > 30000000LL)
-  {
-    GTEST_SKIP() << "storage buffers of " << maxBlock << " bytes: no banding below 30 Mcells";
-  }
-  auto in = Synthetic(nx, static_cast<int>(rows), true);
+  terroir::gpu::Context& context = terroir::gpu::Context::Global();
+  const long long device = context.GetLimits().MaxShaderStorageBlockSize;
+  const long long cap = 320 << 10;
+  ASSERT_GT(device, cap);
+  context.SetStorageBlockLimit(cap);
+  EXPECT_EQ(context.GetLimits().MaxShaderStorageBlockSize, cap);
+  const int nx = 301, ny = 257;
+  ASSERT_LE(4LL * nx * ny, cap);      // the elevation in one buffer
+  ASSERT_GT(12LL * nx * ny, 2 * cap); // the normals in three bands or more
+  auto in = Synthetic(nx, ny, true);
   auto cpu = RunSlope(in, vtkTerroirComputeContext::CPU);
   auto gpu = RunSlope(in, vtkTerroirComputeContext::GPU);
+  context.SetStorageBlockLimit(0);
+  EXPECT_EQ(context.GetLimits().MaxShaderStorageBlockSize, device);
   Compare(cpu, gpu, "banded");
 }
 

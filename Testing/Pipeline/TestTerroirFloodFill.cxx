@@ -19,7 +19,6 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <iostream>
@@ -485,40 +484,4 @@ TEST(TerroirFloodFill, BadInputsAreOneErrorAndAnEmptyOutput)
   f->AddSeedCell(40, 40, std::nan(""));
   auto out = RunFloodFill(f, in);
   EXPECT_NE(Ids(out), nullptr);
-}
-
-// Not an assertion: the time of both modes on a 2048 x 2048 fractal terrain, printed for
-// Documentation/Filters/vtkTerroirFloodFill.md. The seed sits in the middle with a level 30 m
-// above the terrain there.
-TEST(TerroirFloodFill, TimingOn2048Squared)
-{
-  vtkNew<vtkTerroirFractalTerrainSource> source;
-  source->SetDimensions(2048, 2048);
-  source->SetSeed(3);
-  source->Update();
-  vtkImageData* terrain = source->GetOutput();
-  const double cells = 2048.0 * 2048.0;
-  const double centre =
-    terrain->GetPointData()->GetArray("Elevation")->GetComponent(1024 * 2048 + 1024, 0);
-  for (int mode : { vtkTerroirFloodFill::Seeds, vtkTerroirFloodFill::FillDepressions })
-  {
-    vtkNew<vtkTerroirFloodFill> f;
-    f->SetMode(mode);
-    f->AddSeedCell(1024, 1024, centre + 30.0);
-    f->SetInputData(terrain);
-    const auto t0 = std::chrono::steady_clock::now();
-    f->Update();
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    vtkFieldData* fd = f->GetOutput()->GetFieldData();
-    vtkDataArray* n = vtkDataArray::SafeDownCast(fd->GetAbstractArray("WaterBodyCells"));
-    ASSERT_NE(n, nullptr);
-    double wet = 0.0;
-    for (vtkIdType b = 0; b < n->GetNumberOfTuples(); ++b)
-    {
-      wet += n->GetComponent(b, 0);
-    }
-    std::cout << "2048 x 2048 " << f->GetModeAsString() << ": " << s << " s, " << cells / s / 1e6
-              << " Mcells/s, " << n->GetNumberOfTuples() << " water bodies, " << wet
-              << " wet cells\n";
-  }
 }

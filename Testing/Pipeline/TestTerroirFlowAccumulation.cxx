@@ -481,27 +481,3 @@ TEST(TerroirFlowAccumulation, BadInputsAreOneErrorAndAnEmptyOutput)
   }
   EXPECT_EQ(sum, 29.0);
 }
-
-// Not an assertion: the time on a 2048 x 2048 fractal terrain, printed for
-// Documentation/Filters/vtkTerroirFlowAccumulation.md.
-TEST(TerroirFlowAccumulation, TimingOn2048Squared)
-{
-  vtkNew<vtkTerroirFractalTerrainSource> source;
-  source->SetDimensions(2048, 2048);
-  source->SetSeed(3);
-  source->Update();
-  vtkNew<vtkTerroirFlowAccumulation> f;
-  f->SetInputData(source->GetOutput());
-  const auto t0 = std::chrono::steady_clock::now();
-  f->Update();
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  vtkDataArray* dir = f->GetOutput()->GetPointData()->GetArray("FlowDirection");
-  ASSERT_NE(dir, nullptr);
-  vtkIdType outlets = 0;
-  for (vtkIdType k = 0; k < dir->GetNumberOfTuples(); ++k)
-  {
-    outlets += dir->GetComponent(k, 0) == -1.0 ? 1 : 0;
-  }
-  std::cout << "2048 x 2048 fractal terrain: " << s << " s, " << 2048.0 * 2048.0 / s / 1e6
-            << " Mcells/s, " << outlets << " outlet cells\n";
-}

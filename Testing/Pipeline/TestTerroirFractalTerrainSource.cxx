@@ -14,7 +14,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -135,17 +134,4 @@ TEST(TerroirFractalTerrainSource, RejectsBadParameters)
   source->Update();
   EXPECT_EQ(source->GetOutput()->GetNumberOfPoints(), 100);
   EXPECT_STREQ(source->GetErrorMessage(), "");
-}
-
-TEST(TerroirFractalTerrainSource, LargeGridTiming)
-{
-  // 2048 x 2048 = 4.19 M cells; prints the generation rate for the documentation.
-  vtkNew<vtkTerroirFractalTerrainSource> source;
-  source->SetDimensions(2048, 2048);
-  const auto t0 = std::chrono::steady_clock::now();
-  source->Update();
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::cout << "[ timing ] fractal 2048 x 2048, 8 octaves: " << s
-            << " s = " << s / (2048.0 * 2048.0 / 1e6) << " s per million cells\n";
-  EXPECT_EQ(source->GetOutput()->GetNumberOfPoints(), 2048 * 2048);
 }

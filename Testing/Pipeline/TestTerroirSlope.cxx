@@ -165,10 +165,7 @@ TEST(TerroirSlope, NoDataCellsAreNaNAndNeighboursFollowGdaldem)
 {
   // A rough random surface with holes, also on the border and the corners; the same grid goes
   // through `gdaldem slope -compute_edges` and every cell must agree within 0.01 degrees.
-  if (!terroir_test::HaveGdaldem())
-  {
-    GTEST_SKIP() << "/usr/bin/gdaldem not installed";
-  }
+  TERROIR_REQUIRE_PEER_OR_SKIP(terroir_test::HaveGdaldem(), "/usr/bin/gdaldem not installed");
   std::uint64_t state = 42;
   auto next = [&state]()
   {

@@ -52,10 +52,7 @@ class TerroirSlopeGdaldem : public ::testing::Test
 protected:
   void SetUp() override
   {
-    if (!terroir_test::HaveGdaldem())
-    {
-      GTEST_SKIP() << "/usr/bin/gdaldem not installed";
-    }
+    TERROIR_REQUIRE_PEER_OR_SKIP(terroir_test::HaveGdaldem(), "/usr/bin/gdaldem not installed");
   }
 };
 

@@ -842,10 +842,8 @@ TEST(TerroirVectorRasterizer, SagehenMatchesTheShippedGdalRasterizeMasks)
 // an invalid filter.
 TEST(TerroirVectorRasterizer, GeoPackageInGeographicCoordinates)
 {
-  if (!terroir::testing::PathExists("/usr/bin/ogr2ogr"))
-  {
-    GTEST_SKIP() << "no /usr/bin/ogr2ogr (Debian gdal-bin)";
-  }
+  TERROIR_REQUIRE_PEER_OR_SKIP(
+    terroir::testing::PathExists("/usr/bin/ogr2ogr"), "no /usr/bin/ogr2ogr (Debian gdal-bin)");
   const std::string dir = Scratch();
   const std::string gpkg = dir + "/flowlines_nad83.gpkg";
   ASSERT_EQ(terroir_test::RunCommand("/usr/bin/ogr2ogr -q -f GPKG -t_srs EPSG:4269 '" + gpkg +

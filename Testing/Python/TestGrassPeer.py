@@ -33,8 +33,12 @@ What is compared
    cells up to half a cell off the line and its horizon is biased upward (+0.4 deg mean at
    200 deg on this DEM), so GRASS cannot referee those directions to this accuracy.
 2. Horizon angles: our `HorizonAngle` with HorizonSectors = 8 against `r.horizon -d` in the same
-   8 directions; mean absolute difference <= 0.5 deg per direction (asserted), mean signed
-   difference printed (ours - GRASS) to expose a bias.
+   8 directions; per direction, mean absolute difference (MAD) <= 0.05 deg and |mean signed
+   difference| (ours - GRASS, the bias) <= 0.04 deg. Measured: MAD 0.0001 to 0.0035 deg at
+   0/90/180/270 and 0.023 to 0.035 at the diagonals; bias +0.0000 to +0.0034 and -0.013 to
+   -0.030 (GRASS higher on the diagonals). Without the meridian-convergence correction (r.horizon
+   given 90 - a) the MAD is 0.16 to 0.36 deg in every direction and the bias beyond 0.04 deg in 7
+   of 8 (+0.081 at 0, -0.177 at 225): the old bound, MAD <= 0.5, passed that.
 
 Conventions decided here (measured, see the docstrings of the helpers)
 - GRASS r.horizon's direction is a TRUE azimuth, counterclockwise from east (8.2 corrects every
@@ -100,7 +104,10 @@ SUN = [
 ]
 K = 8  # horizon sectors compared with r.horizon: grid azimuths 0, 45, ..., 315
 IOU_MIN = 0.97
-MAD_MAX = 0.5
+# Horizon angles, deg per direction: measured max MAD 0.035, |bias| 0.030; without the
+# convergence correction MAD >= 0.16. |bias| <= MAD, so BIAS_MAX < MAD_MAX.
+MAD_MAX = 0.05
+BIAS_MAX = 0.04
 BUFFER_M = 20.0  # r.horizon bufferzone: 2 cells of NULL around the DEM
 
 # ---- our side: the DEM as VTK sees it, and its meridian convergence -------------------------
@@ -299,6 +306,8 @@ for k in range(K):
         np.percentile(np.abs(d), 99), np.abs(d).max(), int((np.abs(d) > 1.0).sum()), mad_flat))
     check(mad <= MAD_MAX, "horizon sector %d (grid azimuth %g): MAD %.4f deg > %.2f"
           % (k, azimuth, mad, MAD_MAX))
+    check(abs(d.mean()) <= BIAS_MAX, "horizon sector %d (grid azimuth %g): mean (ours - GRASS) "
+          "%+.4f deg, more than %.2f" % (k, azimuth, d.mean(), BIAS_MAX))
 
 print()
 print("time: GRASS %.1f s, terroir %.1f s, total %.1f s"

@@ -44,6 +44,12 @@ DATA = os.environ.get("TERROIR_DATA_DIR",
 BIN = os.path.join(os.environ.get("TERROIR_BIN_DIR", "build/bin"), "terroir")
 TEMP = os.environ.get("TERROIR_TEMP_DIR", tempfile.gettempdir())
 SAGEHEN = os.path.join(DATA, "sagehen_creek_ca")
+# validation.md's F1 at 60 m on Sagehen, minus 0.01 (measured 0.821, 0.782, 0.792, 0.786,
+# 0.795, 0.798, 0.818, 0.831).
+F1_FLOORS = {
+    "terroir waterflow rivers": 0.811, "D8": 0.772, "D8 A*S": 0.782, "MFD": 0.776,
+    "MFD A*S": 0.785, "MFD-md": 0.788, "D-infinity": 0.808, "D-infinity A*S": 0.821,
+}
 DEM = os.path.join(SAGEHEN, "sagehen_dem_utm11n_10m.tif")
 LINES = os.path.join(SAGEHEN, "sagehen_nhd_flowlines_utm11n.geojson")
 AREA = os.path.join(SAGEHEN, "sagehen_watershed_utm11n.geojson")
@@ -179,6 +185,14 @@ def main():
             else:
                 check(mine[1]["f1"] >= 0.77, "D8's F1 at 60 m fell to %.4f (0.782)"
                       % mine[1]["f1"])
+        # Every method's F1 at 60 m on Sagehen stays within 0.01 of what validation.md reports
+        # (the floors are those values minus 0.01): a regression in any baseline fails here.
+        for name, floor in F1_FLOORS.items():
+            check(name in rows, "terroir validate has no method %r" % name)
+            if name in rows:
+                f1 = rows[name]["scores"][1]["f1"]
+                check(rows[name]["scores"][1]["tolerance_m"] == 60.0, "%s: not at 60 m" % name)
+                check(f1 >= floor, "%s: F1 at 60 m %.4f, below its floor %.3f" % (name, f1, floor))
     finally:
         shutil.rmtree(work, ignore_errors=True)
     if failures:

@@ -5,10 +5,11 @@ Usage: /usr/bin/python3 Testing/Rendering/CompactBaseline.py RENDERED.png [BASEL
 
 The PNG is written with zlib level 9. When it is still over 100 KB, each colour channel is
 rounded to a multiple of a step (2, 4, then 8: every channel moves by at most step/2 grey
-levels), using the smallest step that fits. The rounding is invisible to the image comparison
-the tests use (VTK 9.1's legacy vtkImageDifference: a pixel counts as
-different only when its summed RGB difference, after 3x3 averaging and a 2-pixel shift
-search, exceeds 105), so a compacted baseline passes exactly when the exact one would.
+levels), using the smallest step that fits. The rounding stays inside the image comparison
+the tests use (Testing/Rendering/TerroirImageCompare.h: a pixel matches when every channel is
+within 8 levels of a pixel within one pixel of it): step 8 moves a channel by at most 4 levels,
+half the tolerance, so a compacted baseline passes when the rendering is within 4 levels of the
+exact one.
 Use it only for baselines that are over 100 KB as plain PNGs; look at the image first.
 """
 import os

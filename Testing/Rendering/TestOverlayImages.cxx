@@ -1,7 +1,8 @@
 // Image regression tests of the overlays (label rendering, run under xvfb-run -a).
 // Each test renders at 400 x 400 and compares with Testing/Baselines/<Suite>_<Test>.png
-// (vtkTesting legacy metric, threshold 0.15); see TerroirRenderingTestHelpers.h and
-// Documentation/Rendering.md for the review-and-update workflow.
+// (TerroirImageCompare.h: 8 levels, one pixel of slack, 16 pixels); see
+// TerroirRenderingTestHelpers.h and Documentation/Rendering.md for the review-and-update
+// workflow.
 //
 // The bundled DEM (Data/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif, UTM 11N, 10 m) goes
 // through vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature, and separately

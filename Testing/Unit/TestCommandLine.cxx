@@ -420,6 +420,7 @@ TEST(TerroirCommandLineParse, BenchStages)
       "humidity",
       "floodfill",
       "depressions",
+      "flowacc",
       "waterflow",
       "kmeans" }));
   // Run in the fixed order, each once, whatever the order asked.
@@ -428,7 +429,7 @@ TEST(TerroirCommandLineParse, BenchStages)
   EXPECT_EQ(line.BenchStages, (std::vector<std::string>{ "horizon", "instant", "monthly" }));
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "slope,shadows" }),
     "--stages: 'shadows' is not one of slope, temperature, horizon, instant, monthly, "
-    "infiltration, humidity, floodfill, depressions, waterflow, kmeans");
+    "infiltration, humidity, floodfill, depressions, flowacc, waterflow, kmeans");
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "" }), "--stages: no stage given");
 }
 

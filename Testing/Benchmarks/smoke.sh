@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# The benchmarks at a tiny size, so that they cannot rot unseen (CTest label `benchmarks`; the
+# timings mean nothing at this size): `terroir bench` on every stage and backend, and every
+# script of this folder (gdaldem, scikit-learn, the k-means core, GRASS, the big-DEM memory
+# run), each must run and write its results.
+#   Testing/Benchmarks/smoke.sh BUILD_DIR SCRATCH_DIR
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+build=$1
+scratch=$2
+rm -rf "$scratch"
+mkdir -p "$scratch"
+"$build/bin/terroir" bench --size 64 --repeat 1 --json "$scratch/bench.json" >"$scratch/bench.log"
+/usr/bin/python3 - "$scratch/bench.json" <<'PY'
+import json, sys
+stages = {r["stage"] for r in json.load(open(sys.argv[1]))["results"]}
+need = {"slope", "temperature", "horizon", "instant", "monthly", "infiltration", "humidity",
+        "floodfill", "depressions", "flowacc", "waterflow", "kmeans"}
+missing = need - stages
+if missing:
+    sys.exit("terroir bench wrote no result for " + ", ".join(sorted(missing)))
+PY
+bash "$here/Testing/Benchmarks/slope_vs_gdaldem.sh" "$build" "64" 1 >"$scratch/slope.log"
+grep -q "ratio" "$scratch/slope.log" || { cat "$scratch/slope.log"; exit 1; }
+/usr/bin/python3 "$here/Testing/Benchmarks/kmeans_vs_sklearn.py" --build "$build" --size 64 \
+  --repeat 1 --ks 2 --compare-ks 2 --vtk-cells 4096 --json "$scratch/kmeans.json" \
+  >"$scratch/kmeans.log"
+test -s "$scratch/kmeans.json"
+bash "$here/Testing/Benchmarks/kmeans_core.sh" "$build" 1 >"$scratch/kmeans_core.log"
+grep -q "same" "$scratch/kmeans_core.log" || { cat "$scratch/kmeans_core.log"; exit 1; }
+bash "$here/Testing/Benchmarks/illumination_vs_grass.sh" "$build" "64" 80 >"$scratch/grass.log"
+grep -q "ratio" "$scratch/grass.log" || { cat "$scratch/grass.log"; exit 1; }
+bash "$here/Testing/Benchmarks/big_dem.sh" "$build" 64 >"$scratch/big_dem.log"
+grep -q "memory check" "$scratch/big_dem.log" || { cat "$scratch/big_dem.log"; exit 1; }
+echo "benchmarks ran: $(ls "$scratch")"
