@@ -9,10 +9,11 @@
  *   h = BaseHeight + Amplitude * sum_{o<Octaves} Persistence^o *
  *       noise((i+0.5)/L_o + offx_o, (j+0.5)/L_o + offy_o)
  *
- * with L_o = FeatureSize / 2^o cells, per-octave offsets from the hash (FractalNoise.h), and `noise` the 2-D gradient noise of Perlin (1985) with
- * the quintic fade of Perlin (2002), normalised to [-1, 1], driven by our own 32-bit integer
- * hash (terroir::io::FractalNoisePerlin2002, IO/Core). So
- * |h - BaseHeight| <= Amplitude * sum_o Persistence^o.
+ * with L_o = FeatureSize / 2^o cells, per-octave offsets from the hash (FractalNoise.h), and
+ * `noise` the 2-D gradient noise of Perlin (1985) with the quintic fade of Perlin (2002),
+ * normalised to [-1, 1], driven by our own 32-bit integer hash
+ * (terroir::io::FractalNoisePerlin2002, IO/Core). So |h - BaseHeight| <= Amplitude * sum_o
+ * Persistence^o.
  *
  * Generation runs over rows with vtkSMPTools; every value depends only on the parameters and
  * (i, j), so the output is bit-identical for every thread count, backend and platform.

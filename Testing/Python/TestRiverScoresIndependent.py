@@ -57,7 +57,7 @@ AREA = os.path.join(SAGEHEN, "sagehen_watershed_utm11n.geojson")
 # The peer tests' check helpers, and TestValidateJson's burning of vector files onto the grid
 # (GDAL's rasterisation: not the project's code either).
 from TerroirGrass import check, failures  # noqa: E402 (beside this script)
-from TestValidateJson import burn  # noqa: E402
+from TestValidateJson import burn, valid_cells  # noqa: E402
 
 
 def channel_cells(value):
@@ -153,11 +153,7 @@ def main():
         with open(scores_json) as f:
             program = json.load(f)
         ds = gdal.Open(DEM)
-        band = ds.GetRasterBand(1)
-        z = band.ReadAsArray().astype(np.float64)
-        valid = np.isfinite(z)
-        if band.GetNoDataValue() is not None:
-            valid &= z != band.GetNoDataValue()
+        valid = valid_cells(ds)
         gt = ds.GetGeoTransform()
         dx, dy = abs(gt[1]), abs(gt[5])
         reference = burn(LINES, ds) & valid

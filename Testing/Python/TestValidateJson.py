@@ -41,6 +41,16 @@ def burn(vector, like):
     return out.GetRasterBand(1).ReadAsArray().astype(bool)
 
 
+def valid_cells(ds):
+    """The cells of the DEM `ds` with data: finite and not the band's no-data value."""
+    band = ds.GetRasterBand(1)
+    z = band.ReadAsArray().astype(np.float64)
+    valid = np.isfinite(z)
+    if band.GetNoDataValue() is not None:
+        valid &= z != band.GetNoDataValue()
+    return valid
+
+
 class TerroirValidateJson(unittest.TestCase):
     def setUp(self):
         os.makedirs(TEMP, exist_ok=True)
@@ -77,11 +87,7 @@ class TerroirValidateJson(unittest.TestCase):
     def test_scores_follow_from_the_counts_and_the_reference_is_gdals(self):
         scores, stdout = self.run_validate()
         ds = gdal.Open(DEM)
-        band = ds.GetRasterBand(1)
-        z = band.ReadAsArray().astype(np.float64)
-        valid = np.isfinite(z)
-        if band.GetNoDataValue() is not None:
-            valid &= z != band.GetNoDataValue()
+        valid = valid_cells(ds)
         reference = burn(LINES, ds) & burn(AREA, ds) & valid
         self.assertEqual(scores["reference_cells"], int(reference.sum()))
         self.assertEqual(scores["dem"], DEM)

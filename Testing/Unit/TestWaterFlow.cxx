@@ -5,6 +5,8 @@
 // the row blocking that threads use).
 #include "WaterFlow.h"
 
+#include "TerroirWaterFlowScenes.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,28 +27,16 @@ namespace hy = terroir::hydrology;
 constexpr double kHigh = 1.0e6;
 
 /// A terrain and its initial water (metres), with the view the simulation reads.
-struct Scene
+struct Scene : terroir_test::WaterFlowGrid
 {
-  int nx;
-  int ny;
-  std::vector<float> z;
   std::vector<double> water;
   std::vector<std::uint8_t> valid;
-  GridView<float> view;
 
   Scene(int nx_, int ny_, double spacing = 1.0)
-    : nx(nx_)
-    , ny(ny_)
-    , z(static_cast<std::size_t>(nx_) * ny_, 0.0f)
+    : WaterFlowGrid(nx_, ny_, spacing)
     , water(z.size(), 0.0)
   {
-    view.data = z.data();
-    view.nx = nx;
-    view.ny = ny;
-    view.dx = spacing;
-    view.dy = spacing;
   }
-  float& Z(int i, int j) { return z[static_cast<std::size_t>(j) * nx + i]; }
   double& Water(int i, int j) { return water[static_cast<std::size_t>(j) * nx + i]; }
   /// Raises the outer ring of cells to `height` (a closed basin).
   void Wall(float height)
@@ -507,13 +497,7 @@ TEST(WaterFlow, VValleyThalwegCarriesTheRainOfItsUpstreamArea)
   // straight into the border row, past the thalweg: rows 0 to 9 are left out.)
   const int nx = 21, ny = 160, c = 10;
   Scene s(nx, ny);
-  for (int j = 0; j < ny; ++j)
-  {
-    for (int i = 0; i < nx; ++i)
-    {
-      s.Z(i, j) = static_cast<float>(std::abs(i - c) * 1.0 + j * 0.01);
-    }
-  }
+  terroir_test::DrawVValley(s.z.data(), nx, ny, c);
   const double r = 1e-7;
   hy::WaterFlowSimulation sim(s.view, s.water.data());
   sim.SetRain(r);
@@ -522,18 +506,10 @@ TEST(WaterFlow, VValleyThalwegCarriesTheRainOfItsUpstreamArea)
   rule.balanceTolerance = 1e-6;
   rule.maximumIterations = 5000;
   ASSERT_EQ(sim.Run(rule), hy::WaterFlowStopReason::Balanced);
-  std::vector<double> q0(static_cast<std::size_t>(nx) * ny), q1(q0.size());
-  sim.GetDischarge(q0.data());
-  const int window = 20;
-  for (int k = 0; k < window; ++k)
-  {
-    sim.Step();
-  }
-  sim.GetDischarge(q1.data());
+  const std::vector<double> rates = terroir_test::DischargePerIteration(sim, 20);
   for (int j = 10; j + 100 <= ny; ++j)
   {
-    const std::size_t t = static_cast<std::size_t>(j) * nx + c;
-    const double rate = (q1[t] - q0[t]) / window;
+    const double rate = rates[static_cast<std::size_t>(j) * nx + c];
     const double below = nx * (ny - 1 - j) * r;
     const double above = nx * (ny - j) * r;
     EXPECT_GE(rate, below * (1.0 - 1e-6)) << "row " << j;

@@ -3,6 +3,8 @@
 // cold runs of a V valley that end at the same discharge.
 #include "WaterFlowWarmStart.h"
 
+#include "TerroirWaterFlowScenes.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,25 +18,7 @@ namespace
 using terroir::GridView;
 namespace hy = terroir::hydrology;
 
-struct Grid
-{
-  int nx;
-  int ny;
-  std::vector<float> z;
-  GridView<float> view;
-  Grid(int nx_, int ny_, double spacing = 1.0)
-    : nx(nx_)
-    , ny(ny_)
-    , z(static_cast<std::size_t>(nx_) * ny_, 0.0f)
-  {
-    view.data = z.data();
-    view.nx = nx;
-    view.ny = ny;
-    view.dx = spacing;
-    view.dy = spacing;
-  }
-  float& Z(int i, int j) { return z[static_cast<std::size_t>(j) * nx + i]; }
-};
+using Grid = terroir_test::WaterFlowGrid;
 
 hy::WaterFlowStopRule Balance(double tolerance, long long maximum)
 {
@@ -179,13 +163,7 @@ TEST(WaterFlowWarmStart, WarmAndColdRunsOfAValleyEndAtTheSameDischarge)
   // warm run stops while the extra water of its refinement still drains).
   const int nx = 22, ny = 160, c = 10;
   Grid g(nx, ny);
-  for (int j = 0; j < ny; ++j)
-  {
-    for (int i = 0; i < nx; ++i)
-    {
-      g.Z(i, j) = static_cast<float>(std::abs(i - c) * 1.0 + j * 0.01);
-    }
-  }
+  terroir_test::DrawVValley(g.z.data(), nx, ny, c);
   const double r = 1e-7;
   std::vector<double> water(g.z.size(), 0.0);
   hy::WaterFlowWarmStartOptions options;
@@ -210,17 +188,7 @@ TEST(WaterFlowWarmStart, WarmAndColdRunsOfAValleyEndAtTheSameDischarge)
     sim->SetRain(r);
     ASSERT_EQ(sim->Run(k == 0 ? rule : options.rule), hy::WaterFlowStopReason::Balanced);
     iterations[k] = sim->Iterations();
-    std::vector<double> q0(g.z.size()), q1(g.z.size());
-    sim->GetDischarge(q0.data());
-    for (int s = 0; s < 20; ++s)
-    {
-      sim->Step();
-    }
-    sim->GetDischarge(q1.data());
-    for (std::size_t t = 0; t < q0.size(); ++t)
-    {
-      rates[k].push_back((q1[t] - q0[t]) / 20.0);
-    }
+    rates[k] = terroir_test::DischargePerIteration(*sim, 20);
     ++k;
   }
   EXPECT_LT(iterations[0], iterations[1]) << "warm " << iterations[0] << " cold " << iterations[1];
