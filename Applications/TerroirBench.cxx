@@ -135,7 +135,7 @@ double TimeSlopeKernel(vtkImageData* terrain, bool allOutputs, int repeat)
 }
 
 /// Seconds per iteration of the water-flow CPU kernel alone (core WaterFlowSimulation, rows in
-/// parallel as the filter runs them): the seed's benchmark, 100 mm on every cell run to the
+/// parallel as the filter runs them): Long (2016)'s benchmark, 100 mm on every cell run to the
 /// automatic stop, timed without setting up the state; the best of `repeat` runs.
 double TimeWaterFlowKernel(vtkImageData* terrain, int repeat)
 {
@@ -591,7 +591,7 @@ int CommandBench(int size,
         }
         else if (stage == "humidity")
         {
-          // Soil humidity alone (the seed's first kernel) and with the weighted average and
+          // Soil humidity alone (Long (2016)'s first kernel) and with the weighted average and
           // standing water (its second), from rates of the default infiltration recipe.
           vtkNew<vtkTerroirInfiltration> rates;
           rates->SetInputData(terrain);
@@ -684,7 +684,7 @@ int CommandBench(int size,
         }
         else if (stage == "waterflow")
         {
-          // The seed's benchmark: 100 mm on every cell, run to the automatic stop; a fresh
+          // Long (2016)'s benchmark: 100 mm on every cell, run to the automatic stop; a fresh
           // filter each time (the filter caches its state).
           long long iterations = 0;
           const double best = bestOf(
@@ -711,7 +711,7 @@ int CommandBench(int size,
         else if (stage == "kmeans")
         {
           // Lloyd iterations on 37 features (Slope, Temperature x 12 with the storage trick
-          // off, and two synthetic 12-month fields), K = 5 and 10, the seed's diagonal seeds.
+          // off, and two synthetic 12-month fields), K = 5 and 10, Long (2016)'s diagonal seeds.
           // Time per iteration = (time of 11 iterations - time of 1) / 10: the set-up (packing,
           // seeding, the table) cancels out. The stage's seconds: 11 iterations at K = 5.
           if (!kmeansInput)

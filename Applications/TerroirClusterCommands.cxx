@@ -193,7 +193,7 @@ int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverla
   vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
 
   // A bare DEM (none of the four resources) gets the two that need no location: slope and
-  // temperature (the seed's default climate), as `terroir slope` and `terroir temperature`
+  // temperature (Long (2016)'s default climate), as `terroir slope` and `terroir temperature`
   // compute them; --features may then name them.
   if (HasNoDefaultFeature(terrain))
   {
@@ -249,7 +249,7 @@ int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverla
   for (const auto& name : summary["collapsed_arrays"])
   {
     std::cout << "  " << name.get<std::string>()
-              << ": its months differ by constants, stored as one feature (the seed's trick)\n";
+              << ": its months differ by constants, stored as one feature (Long (2016)'s trick)\n";
   }
   for (const auto& row : summary["clusters"])
   {

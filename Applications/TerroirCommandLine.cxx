@@ -677,7 +677,7 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
   app->add_option("--max-iterations", s.MaximumIterations, "Iteration limit")
     ->check(CLI::Range(0LL, 100000000LL))
     ->capture_default_str();
-  app->add_option("--auto-stop", s.AutoStop, "Seed's stop ratio (0: off)")
+  app->add_option("--auto-stop", s.AutoStop, "Long (2016)'s stop ratio (0: off)")
     ->check(FiniteIn(0.0, 0.999))
     ->capture_default_str();
   app->add_option("--time", s.Time, "Simulated time limit, s (0: none)")
@@ -690,7 +690,7 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
   app
     ->add_option("--mode",
       s.Mode,
-      "pulse: the seed's single pulse; rivers: steady rain until the outflow balances it "
+      "pulse: Long (2016)'s single pulse; rivers: steady rain until the outflow balances it "
       "(default: pulse for waterflow, rivers for validate and run)")
     ->check(CLI::IsMember({ "pulse", "rivers" }));
   app->add_option("--rain", s.RainRate, "Rivers mode: rain on every cell, mm/h")
@@ -717,13 +717,13 @@ void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
   app->add_flag("!--no-warm-start",
     s.WarmStart,
     "Rivers mode: start from still water only, not from the steady state of coarser grids");
-  app->add_flag("--seed-capacity",
-    s.SeedCapacity,
-    "The seed's literal rule: no flow from a cell whose capacity 2T - H(n-1) - H(n+1) "
+  app->add_flag("--long-capacity",
+    s.LongCapacity,
+    "Long (2016)'s literal rule: no flow from a cell whose capacity 2T - H(n-1) - H(n+1) "
     "(8 neighbours, higher ones included) is negative");
   app->add_flag("--count-emptied",
     s.CountEmptied,
-    "The seed's stop measure: cells emptied per iteration instead of the volume moved (CPU)");
+    "Long (2016)'s stop measure: cells emptied per iteration instead of the volume moved (CPU)");
 }
 
 void CheckWaterFlow(const WaterFlowSettings& s, const CLI::App& app)
@@ -1087,7 +1087,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
 
   // waterflow
   CLI::App* flow = app.add_subcommand(
-    "waterflow", "Rivers and lakes: the hydrostatic water-flow simulation (Long 2016)");
+    "waterflow", "Rivers and lakes: the hydrostatic water-flow simulation (Long (2016))");
   flow->add_option("IN", line.Input, "Input DEM")->required();
   flow->add_option("OUT", line.Output, "Output .tif (WaterHeight, m) or .vti (all arrays)")
     ->required()
@@ -1146,7 +1146,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
 
   // kmeans
   CLI::App* kmeans = app.add_subcommand(
-    "kmeans", "Ecological zones: k-means clustering of terrain resources (Long 2016, ch. 4)");
+    "kmeans", "Ecological zones: k-means clustering of terrain resources (Long (2016), ch. 4)");
   std::string kmeansFeatures;
   kmeans
     ->add_option("IN", line.Input, "Terrain with resource arrays (.vti of terroir run), or a DEM")
@@ -1162,7 +1162,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     "NAME[:WEIGHT],... point arrays to cluster on (default: Slope, Temperature, "
     "IlluminationHours, WeightedSoilHumidity:0.1, those present)");
   kmeans->add_flag("--standardize", line.KMeans.Standardize, "Cluster z-scores of the features");
-  kmeans->add_option("--seeding", line.KMeans.Seeding, "diagonal (the seed's) or kmeans++")
+  kmeans->add_option("--seeding", line.KMeans.Seeding, "diagonal (Long (2016)'s) or kmeans++")
     ->check(CLI::IsMember({ "diagonal", "kmeans++" }))
     ->capture_default_str();
   kmeans->add_option("--seed", line.KMeans.Seed, "Random seed of kmeans++")

@@ -122,8 +122,8 @@ struct WaterFlowSettings
   double Thinning = 0.1;          ///< --thinning FACTOR (rivers mode: RiverStrength)
   bool WarmStart = true;          ///< off with --no-warm-start (rivers mode: coarse-to-fine)
   long long Settle = 100;         ///< --settle N (rivers mode, warm start)
-  bool SeedCapacity = false;      ///< --seed-capacity: the seed's literal WEC < 0 rule
-  bool CountEmptied = false;      ///< --count-emptied: the seed's emptied-cell stop count
+  bool LongCapacity = false;      ///< --long-capacity: Long (2016)'s literal WEC < 0 rule
+  bool CountEmptied = false;      ///< --count-emptied: Long (2016)'s emptied-cell stop count
   std::string DischargeOutput;    ///< --discharge FILE (waterflow)
   std::string RiverOutput;        ///< --river FILE (waterflow)
 };
@@ -155,7 +155,7 @@ struct KMeansSettings
 {
   int Clusters = 5; ///< -k, --clusters K, 1..64 (run: 0 skips the stage)
   /// --features NAME[:WEIGHT],...: feature arrays and weights (weight 1 when left out); empty:
-  /// the seed's defaults (Slope, Temperature, IlluminationHours, WeightedSoilHumidity 0.1)
+  /// Long (2016)'s defaults (Slope, Temperature, IlluminationHours, WeightedSoilHumidity 0.1)
   std::vector<std::string> FeatureNames;
   std::vector<double> FeatureWeights;
   bool Standardize = false;         ///< --standardize: z-scores before weighting

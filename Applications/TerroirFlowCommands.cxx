@@ -84,7 +84,7 @@ vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
   flow->SetThinningFactor(s.Thinning);
   flow->SetWarmStart(s.WarmStart);
   flow->SetSettleIterations(static_cast<vtkIdType>(s.Settle));
-  flow->SetSeedCapacityRule(s.SeedCapacity);
+  flow->SetLongCapacityRule(s.LongCapacity);
   flow->SetCountEmptiedCells(s.CountEmptied);
   if (std::isfinite(s.RiverThreshold))
   {

@@ -195,7 +195,7 @@ public:
   ///@}
 
   ///@{
-  /// Infiltration (`InfiltrationRate`, mm/h), changed by the seed's three tools.
+  /// Infiltration (`InfiltrationRate`, mm/h), changed by Long (2016)'s three tools.
   /// Paint: BrushRate on every cell with data within BrushRadius cells of (i, j), or of the
   /// segment from (i0, j0) to (i1, j1) (a drag); returns the number of cells within reach.
   /// Between BeginStroke() and EndStroke() the dabs make one undo step; a dab outside a

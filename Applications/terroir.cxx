@@ -579,7 +579,7 @@ int CommandRun(const std::string& demArg,
     }
   }
 
-  // Ecological zones: k-means of the resources with the seed's features and weights.
+  // Ecological zones: k-means of the resources with Long (2016)'s features and weights.
   vtkNew<vtkTable> clusterTable;
   nlohmann::ordered_json clusterSummary;
   if (clusters > 0)

@@ -43,7 +43,7 @@
 //  11            double edges[4*N]          net flux sums, planes E, NE, N, NW (uEdges != 0)
 // Uniforms: uint uStride (nx + 2), uint uRows (ny + 2), uint uCount (N), uint uGroups (work
 // groups per dispatch, gx * gy), uint uSlot (partials slot of this iteration), uint uEdges (1:
-// accumulate edges[]), uint uSeedCapacity (1: the seed's literal capacity rule, givers), uint
+// accumulate edges[]), uint uLongCapacity (1: Long (2016)'s literal capacity rule, givers), uint
 // uRainField (1: rain[] per cell).
 // Work group LOCAL_X (define, a power of two, 256 by default); dispatch ceil(N / LOCAL_X)
 // groups, as gx x gy when that exceeds GL_MAX_COMPUTE_WORK_GROUP_COUNT[0] (group index
@@ -74,7 +74,7 @@ uniform uint uCount;
 uniform uint uGroups;
 uniform uint uSlot;
 uniform uint uEdges;
-uniform uint uSeedCapacity;
+uniform uint uLongCapacity;
 uniform uint uRainField;
 
 #ifndef WATERFLOW_GIVERS
@@ -134,10 +134,10 @@ void Givers(uint c, uint i, uint r)
   double water = waterIn[c];
   bool inner = r >= 1u && r + 1u < uRows && i >= 1u && i + 1u < uStride;
   bool gated = false;
-  if (inner && water > 0.0LF && uSeedCapacity != 0u)
+  if (inner && water > 0.0LF && uLongCapacity != 0u)
   {
-    // The seed's literal rule: no flow when WEC = sum c (T - H), higher neighbours included,
-    // is negative (WaterFlowSeedCapacity).
+    // Long (2016)'s literal rule: no flow when WEC = sum c (T - H), higher neighbours included,
+    // is negative (WaterFlowLongCapacity).
     double t = double(terrain[c]);
     precise double wec = 0.0LF;
     for (int k = 0; k < 8; ++k)

@@ -10,14 +10,14 @@
 // TerroirHydrologyCore): river cells are the crests of the flow measure (ChannelCells) at or above
 // the threshold that makes them as many as the reference cells inside the watershed
 // (LengthMatchingThreshold); precision, recall and F1 within 30 m and 60 m (ScoreRivers). The
-// result is the same as `terroir validate --mode pulse --max-iterations 150` (the seed's pulse;
+// result is the same as `terroir validate --mode pulse --max-iterations 150` (Long (2016)'s pulse;
 // validate and run use the river-forming mode). A map of the comparison at 60 m is saved
 // (RiverComparisonCategories).
 //
 // Run under an X display (or xvfb-run -a):
 //   build/bin/RiversFromRain --data Data --out example-output [--iterations N]
 // The simulation stops after 150 iterations here (a few seconds); --iterations 10000 lets the
-// seed's stop rule end it (371 iterations, F1@60 0.657 as in Documentation/validation.md).
+// Long (2016)'s stop rule end it (371 iterations, F1@60 0.657 as in Documentation/validation.md).
 
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"

@@ -4,7 +4,7 @@
 Pipeline: vtkTerroirDEMReader -> vtkTerroirSlope -> vtkTerroirTemperature ->
 vtkTerroirSolarIllumination (monthly hours of sun) -> vtkTerroirInfiltration ->
 vtkTerroirSoilHumidity -> vtkTerroirKMeans (K = 5 zones on slope, temperature, sun hours and
-weighted soil humidity, the seed system's features and weights).
+weighted soil humidity, Long (2016)'s features and weights).
 Prints the zone table (port 1 of vtkTerroirKMeans) and maps the zones.
 
 Run under an X display (or xvfb-run -a):

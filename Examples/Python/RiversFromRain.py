@@ -12,14 +12,14 @@ crests of the flow measure (a local maximum across one of the four axes through 
 above the threshold that makes them as many as the reference cells inside the watershed;
 precision, recall and F1 within 30 m and 60 m. The result is the same as `terroir validate
 --mode pulse --max-iterations 150` (the example's test checks it). A map of the comparison at
-60 m is saved. (This is the seed's single pulse; `terroir validate` and `terroir run` use the
+60 m is saved. (This is Long (2016)'s single pulse; `terroir validate` and `terroir run` use the
 river-forming mode, SetModeToRivers(): Documentation/validation.md.)
 
 Run under an X display (or xvfb-run -a):
   PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \
       Examples/Python/RiversFromRain.py --data Data --out example-output
 The simulation stops after 150 iterations here (a few seconds); --iterations 10000 lets the
-seed's stop rule end it (371 iterations, F1@60 0.657 as in validation.md).
+Long (2016)'s stop rule end it (371 iterations, F1@60 0.657 as in validation.md).
 """
 import argparse
 import os

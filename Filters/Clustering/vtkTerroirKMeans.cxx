@@ -33,7 +33,7 @@ namespace
 {
 namespace cl = terroir::clustering;
 
-/// The seed's features and weights (Long 2016, ch. 4), used when none is added.
+/// Long (2016)'s features and weights (Long (2016), ch. 4), used when none is added.
 const struct
 {
   const char* name;
@@ -451,7 +451,7 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
     std::vector<std::size_t> seeds;
     if (this->Seeding == Diagonal)
     {
-      vtkDebugMacro(<< "seeds: the seed system's diagonal cells (Long 2016)");
+      vtkDebugMacro(<< "seeds: Long (2016)'s diagonal cells (Long (2016))");
       for (std::size_t g : cl::KMeansDiagonalSeedCells(v.nx, v.ny, valid.data(), k))
       {
         seeds.push_back(static_cast<std::size_t>(

@@ -6,7 +6,7 @@
  * Input: a Terroir terrain (2-D vtkImageData, point array `Elevation`, optional
  * `vtkValidPointMask`) carrying the resource arrays to cluster on. Features are point arrays,
  * each with a weight (AddFeature); every component of a multi-component array is a feature.
- * With no feature added, the seed's defaults are used, those of them that exist: `Slope` (1),
+ * With no feature added, Long (2016)'s defaults are used, those of them that exist: `Slope` (1),
  * `Temperature` (12 months, 1), `IlluminationHours` (12, 1), `WeightedSoilHumidity` (12, 0.1).
  * The squared distance between two cells is sum_f w_f (x_f - y_f)^2 over the features' values,
  * or over their z-scores (mean 0, standard deviation 1 over the valid cells) when Standardize
@@ -23,14 +23,14 @@
  * "#rrggbb", the `Clusters` overlay colour), `Cells` (vtkIdType), `Share` (fraction of the
  * cells that take part), then the mean of every feature array component in its own units
  * (column `<Array>` for one component, `<Array>_<ComponentName>` such as `Temperature_Jan`, or
- * `<Array>_<index>` when the component has no name), the seed's cluster description table.
+ * `<Array>_<index>` when the component has no name), Long (2016)'s cluster description table.
  *
  * Algorithm (terroir::clustering, Filters/Clustering/Core/KMeans.h): Lloyd iterations from K
  * seeds until no cell changes cluster, or the centres move less than Tolerance (relative to
  * the mean feature variance, scikit-learn's definition), or MaximumIterations; empty clusters
- * are re-seeded from the cells farthest from their centre. Seeds: the seed system's
+ * are re-seeded from the cells farthest from their centre. Seeds: Long (2016)'s
  * deterministic choice (K valid cells equally spaced along the diagonal from the south-west
- * to the north-east corner) or k-means++ with RandomSeed. Storage trick (the seed's, for
+ * to the north-east corner) or k-means++ with RandomSeed. Storage trick (Long (2016)'s, for
  * Temperature): an array whose components differ by one constant each over every cell (up to
  * float rounding) is stored as one feature with its weight times its component count, which
  * gives the same distances (and Tolerance keeps its meaning: the mean variance is taken over
@@ -61,7 +61,7 @@
  * Arthur, D., Vassilvitskii, S. (2007). k-means++: the advantages of careful seeding. Proc.
  * 18th ACM-SIAM Symposium on Discrete Algorithms, 1027-1035.
  * Long, H. (2016). Using procedural methods to generate realistic virtual rural worlds. MSc
- * minor dissertation (the seed system), chapter 4.
+ * minor dissertation, chapter 4.
  *
  * @sa vtkTerroirImageAlgorithm vtkTerroirTemperature vtkTerroirSolarIllumination
  */
@@ -89,7 +89,7 @@ public:
   /// Seeding methods.
   enum SeedingType
   {
-    Diagonal = 0,       ///< the seed system's cells along the diagonal (default)
+    Diagonal = 0,       ///< Long (2016)'s cells along the diagonal (default)
     KMeansPlusPlus = 1, ///< k-means++ with RandomSeed
   };
 

@@ -105,7 +105,7 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CheckpointMemory: " << this->CheckpointMemory << " MiB\n";
   os << indent << "IterationEventInterval: " << this->IterationEventInterval << "\n";
   os << indent << "Mode: " << (this->Mode == Rivers ? "Rivers" : "Pulse") << "\n";
-  os << indent << "SeedCapacityRule: " << this->SeedCapacityRule << "\n";
+  os << indent << "LongCapacityRule: " << this->LongCapacityRule << "\n";
   os << indent << "CountEmptiedCells: " << this->CountEmptiedCells << "\n";
   os << indent << "RainRate: " << this->RainRate << " mm/h\n";
   os << indent << "BalanceTolerance: " << this->BalanceTolerance << "\n";
@@ -370,7 +370,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
         const hy::WaterFlowLevelRun runLevel =
           [&](hy::WaterFlowSimulation& level, const hy::WaterFlowStopRule& levelRule)
         {
-          level.SetSeedCapacityRule(this->SeedCapacityRule != 0);
+          level.SetLongCapacityRule(this->LongCapacityRule != 0);
           hy::UseSMPTools(level);
           if (gpuLevels && !failed)
           {
@@ -396,7 +396,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
         }
       }
       cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
-      cache.Sim->SetSeedCapacityRule(this->SeedCapacityRule != 0);
+      cache.Sim->SetLongCapacityRule(this->LongCapacityRule != 0);
       cache.Sim->SetCountEmptiedCells(this->CountEmptiedCells != 0);
       if (this->Mode == Rivers)
       {
@@ -507,7 +507,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     this->GetBackend() == vtkTerroirComputeContext::GPU)
   {
     vtkErrorMacro(<< this->SourcePrefix(input)
-                  << "CountEmptiedCells (the seed's stop count) runs on the CPU path only");
+                  << "CountEmptiedCells (Long (2016)'s stop count) runs on the CPU path only");
     return 0;
   }
   bool gpu = backend == vtkTerroirComputeContext::GPU && !(this->CountEmptiedCells && applyRules);

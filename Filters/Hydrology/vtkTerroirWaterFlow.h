@@ -1,6 +1,6 @@
 /**
  * @class   vtkTerroirWaterFlow
- * @brief   Lets the rain that the soil did not absorb run over the terrain: the seed's
+ * @brief   Lets the rain that the soil did not absorb run over the terrain: Long (2016)'s
  *          hydrostatic water flow, which forms rivers and lakes.
  *
  * Input: a Terroir terrain (2-D vtkImageData, point array `Elevation` in metres, optional
@@ -25,20 +25,20 @@
  * and `WaterFlowMovedVolume` (sum over iterations of the water that moved).
  *
  * The model (terroir::hydrology::WaterFlowSimulation, WaterFlow.h): each iteration every cell
- * hands water to its 8 neighbours according to its evacuation capacity (the seed's cases all /
+ * hands water to its 8 neighbours according to its evacuation capacity (Long (2016)'s cases all /
  * part / none): only to neighbours whose absolute height (terrain + water) is lower, never
  * lifting a receiver above the giver's new level, split in proportion to the drop weighted by
  * closeness (diagonals by distance); every iteration reads only the previous state; volume is
- * conserved apart from what leaves through the seed's one-cell border (heights continue the
+ * conserved apart from what leaves through Long (2016)'s one-cell border (heights continue the
  * slope) or into no-data cells, which count as outflow.
  *
  * Modes (Mode, default Pulse):
- * - Pulse: the seed's run: the source's water once, then the stop rules below.
+ * - Pulse: Long (2016)'s run: the source's water once, then the stop rules below.
  * - Rivers (river-forming): every depression first holds still water up to its spill level
  *   (Priority-Flood, Barnes et al. 2014: the state steady rain reaches), then RainRate mm/h
  *   (default 0.3) falls on every cell each iteration (RainRate x IterationDuration) until the
  *   outflow through the border reaches 1 - BalanceTolerance (default 0.02) of the rain (stop
- *   reason "Balanced"; the seed's auto-stop is off). With the StandingWater sources the rain
+ *   reason "Balanced"; Long (2016)'s auto-stop is off). With the StandingWater sources the rain
  *   is per cell instead: the month's (or the year's) `StandingWater` spread evenly over its
  *   hours (31 x 24 h for January, 365 x 24 h for the year). With WarmStart (default on) the
  *   initial water is the steady state of coarser grids refined (WaterFlowWarmStart.h: 2 x 2
@@ -52,7 +52,7 @@
  * - WaterSource: Constant (0, default; WaterDepth mm on every cell, default 100),
  *   StandingWaterMonth (1; component Month (1..12, default 1) of `StandingWater`),
  *   StandingWaterAnnual (2; the sum of the 12 months).
- * - Stopping: the seed's rule stops after the first iteration that moved less than
+ * - Stopping: Long (2016)'s rule stops after the first iteration that moved less than
  *   AutoStopRatio (default 0.001; 0 disables it) of all the water moved so far; also when
  *   nothing moved, after MaximumIterations (default 10000), or after MaximumSimulatedTime
  *   seconds (default 0: no limit) at IterationDuration seconds per iteration (default 10 s:
@@ -76,14 +76,15 @@
  * range.
  *
  * @par Correctness
- * Testing/Unit/TestWaterFlow.cxx (the model: the seed's 1-D cases, conservation, draining, one
+ * Testing/Unit/TestWaterFlow.cxx (the model: Long (2016)'s 1-D cases, conservation, draining, one
  * flat level in a bowl, symmetry, no uphill flow, the stop rule), Testing/Pipeline/
  * TestTerroirWaterFlow.cxx (arrays, units, sources, stop reasons, time steps against fresh
  * runs, errors), Testing/GPU/TestWaterFlowGPU.cxx, Testing/Pipeline/TestDeterminism.cxx.
  *
  * @par Reference
- * Long, H. (2016), the seed system's MSc dissertation, section 3.3 (hydrostatic water flow,
- * table 3.3, equations 3.8-3.12, the 1-D form generalised in WaterFlow.h).
+ * Long, H. (2016). Using procedural methods to generate realistic virtual rural worlds. MSc
+ * minor dissertation (Computer Science), supervised by J. Gain and M.-P. Cani; section 3.3
+ * (hydrostatic water flow, table 3.3, equations 3.8-3.12, the 1-D form generalised in WaterFlow.h).
  *
  * @sa vtkTerroirSoilHumidity vtkTerroirFlowAccumulation
  */
@@ -116,7 +117,7 @@ public:
 
   enum ModeType
   {
-    Pulse = 0, ///< the seed: the source's water once, the seed's stop rule
+    Pulse = 0, ///< Long (2016): the source's water once, Long (2016)'s stop rule
     Rivers = 1 ///< river-forming: rain every iteration until the outflow balances it
   };
 
@@ -129,16 +130,16 @@ public:
   ///@}
 
   ///@{
-  /// The seed's literal rules, off by default (measured in Documentation/validation.md):
-  /// SeedCapacityRule: no water leaves a cell whose signed capacity WEC = sum c (T - H) over all
-  /// 8 neighbours, higher ones included, is negative (the seed's eq. 3.8 and table 3.3;
-  /// WaterFlowSeedCapacity in WaterFlow.h). CountEmptiedCells: the auto-stop measures flow as
-  /// the number of cells an iteration emptied completely, as the seed does (its section 3.3.4),
+  /// Long (2016)'s literal rules, off by default (measured in Documentation/validation.md):
+  /// LongCapacityRule: no water leaves a cell whose signed capacity WEC = sum c (T - H) over all
+  /// 8 neighbours, higher ones included, is negative (Long (2016)'s eq. 3.8 and table 3.3;
+  /// WaterFlowLongCapacity in WaterFlow.h). CountEmptiedCells: the auto-stop measures flow as
+  /// the number of cells an iteration emptied completely, as Long (2016) does (its section 3.3.4),
   /// instead of the volume moved; the CPU path only (Auto runs the CPU, a GPU request is an
   /// error).
-  vtkSetMacro(SeedCapacityRule, vtkTypeBool);
-  vtkGetMacro(SeedCapacityRule, vtkTypeBool);
-  vtkBooleanMacro(SeedCapacityRule, vtkTypeBool);
+  vtkSetMacro(LongCapacityRule, vtkTypeBool);
+  vtkGetMacro(LongCapacityRule, vtkTypeBool);
+  vtkBooleanMacro(LongCapacityRule, vtkTypeBool);
   vtkSetMacro(CountEmptiedCells, vtkTypeBool);
   vtkGetMacro(CountEmptiedCells, vtkTypeBool);
   vtkBooleanMacro(CountEmptiedCells, vtkTypeBool);
@@ -212,7 +213,7 @@ public:
   vtkSetMacro(Month, int);
   vtkGetMacro(Month, int);
 
-  /// The seed's stop rule (fraction of the water moved so far); 0 disables. Default 0.001.
+  /// Long (2016)'s stop rule (fraction of the water moved so far); 0 disables. Default 0.001.
   vtkSetMacro(AutoStopRatio, double);
   vtkGetMacro(AutoStopRatio, double);
 
@@ -283,7 +284,7 @@ protected:
 #endif
 
   int Mode = Pulse;
-  vtkTypeBool SeedCapacityRule = 0;
+  vtkTypeBool LongCapacityRule = 0;
   vtkTypeBool CountEmptiedCells = 0;
   double RainRate = 0.3;
   double BalanceTolerance = 0.02;

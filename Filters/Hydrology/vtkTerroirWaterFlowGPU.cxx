@@ -277,7 +277,7 @@ WaterFlowGPUResult RunWaterFlowGPU(WaterFlowSimulation& sim,
         prog->SetUInt("uCount", static_cast<unsigned>(n));
         prog->SetUInt("uGroups", static_cast<unsigned>(dispatched));
         prog->SetUInt("uEdges", withEdges ? 1u : 0u);
-        prog->SetUInt("uSeedCapacity", sim.GetSeedCapacityRule() ? 1u : 0u);
+        prog->SetUInt("uLongCapacity", sim.GetLongCapacityRule() ? 1u : 0u);
         prog->SetUInt("uRainField", rainField ? 1u : 0u);
       }
       bTerrain->Bind(0);

@@ -8,7 +8,7 @@
  * writes it). Output: the input's arrays plus `InfiltrationRate`, float32, 1 component, mm/h
  * (UNITS_LABEL "mm/h"); NaN on no-data cells.
  *
- * The seed system's three infiltration tools (Long 2016, §3.2), as an ordered list of
+ * Long (2016)'s three infiltration tools (Long (2016), §3.2), as an ordered list of
  * operations; every cell starts at 0 mm/h and each operation overwrites the cells it covers:
  * - `AddFill(rate)`: every cell;
  * - `AddSlopeRule(threshold)`: 0 where the slope exceeds `threshold` degrees (cliffs shed the
@@ -38,7 +38,7 @@
  * @par References
  * FAO Irrigation Water Management Training Manual 5 (Brouwer, Prins, Kay, Heibloem 1988),
  * Annex 2: basic infiltration rates sand > 30, sandy loam 20-30, loam 10-20, clay loam 5-10,
- * clay 1-5 mm/h (defaults: the mid-points; sand 30, its bound). Long 2016 (seed tools).
+ * clay 1-5 mm/h (defaults: the mid-points; sand 30, its bound). Long (2016) (seed tools).
  *
  * @sa vtkTerroirSoilHumidity vtkTerroirSlope vtkTerroirVectorRasterizer
  */

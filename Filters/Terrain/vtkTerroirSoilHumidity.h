@@ -7,7 +7,7 @@
  * vtkTerroirInfiltration writes it; chosen with SetInputArrayToProcess(1, ...)). Output: the
  * input's arrays plus three float32 arrays of 12 components named Jan ... Dec, mm
  * (UNITS_LABEL "mm"), NaN on no-data cells (invalid elevation or NaN rate):
- * - `SoilHumidity`: S_h(m) = min(S_ir / R_i(m), 1) R_q(m), the seed's equation 3.5, capped
+ * - `SoilHumidity`: S_h(m) = min(S_ir / R_i(m), 1) R_q(m), Long (2016)'s equation 3.5, capped
  *   so that the soil never absorbs more rain than falls;
  * - `WeightedSoilHumidity`: S_wh(m) = S_h(m)/2 + S_h(m-1)/3 + S_h(m-2)/6, December and
  *   November before January;
@@ -30,7 +30,7 @@
  * Testing/GPU/TestSoilHumidityGPU.cxx, Testing/Python/TestTerrainPipeline.py.
  *
  * @par References
- * Long 2016, §3.2 (seed soil-water model, equation 3.5 and the weighted average).
+ * Long (2016), §3.2 (seed soil-water model, equation 3.5 and the weighted average).
  *
  * @sa vtkTerroirInfiltration terroir::terrain::SoilHumidityLong2016
  */

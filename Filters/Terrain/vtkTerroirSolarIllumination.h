@@ -159,7 +159,7 @@ public:
 
   ///@{
   /// Bearing of the grid's north (its +y axis) clockwise from true north, degrees, like the
-  /// seed system's compass. NaN (default): the meridian convergence of the georeference, or 0.
+  /// compass of Long (2016). NaN (default): the meridian convergence of the georeference, or 0.
   vtkSetMacro(Orientation, double);
   vtkGetMacro(Orientation, double);
   ///@}

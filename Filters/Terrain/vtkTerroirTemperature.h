@@ -7,7 +7,7 @@
  * `Temperature`, float32, 12 components named Jan ... Dec, °C (UNITS_LABEL "degC");
  * no-data cells get NaN.
  *
- * Model (the seed model of the Terroir issue, after Long 2016): a sea-level temperature per
+ * Model (Long (2016), section 3.2.2, eq. 3.4): a sea-level temperature per
  * month, lowered by a constant lapse rate,
  *   T(month, h) = T_sea(month) - LapseRate * h / 1000.
  * T_sea comes either from the 12 values of SetMonthlySeaLevelTemperatures (when
@@ -25,7 +25,7 @@
  * Testing/GPU/TestTemperatureGPU.cxx.
  *
  * @par References
- * Long 2016 (seed temperature model, as cited by the Terroir issue). Lapse rate: 6.4 °C/km
+ * Long (2016) (seed temperature model, as cited by the Terroir issue). Lapse rate: 6.4 °C/km
  * by default, close to the 6.5 K/km of the ICAO standard atmosphere (ISO 2533:1975).
  *
  * @sa vtkTerroirImageAlgorithm vtkTerroirSlope

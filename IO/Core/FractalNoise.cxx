@@ -32,7 +32,7 @@ double Fade(double t)
   return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
 }
 
-// The seed's part of HashLattice, hoisted out of the per-corner work.
+// Long (2016)'s part of HashLattice, hoisted out of the per-corner work.
 std::uint32_t SeedHash(std::uint32_t seed)
 {
   return Mix(seed + 0x68e31da4U);

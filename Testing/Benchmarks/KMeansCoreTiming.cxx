@@ -1,5 +1,5 @@
 // Timing of the k-means core's two heavy steps (Filters/Clustering/Core/KMeans.h) on 1024 x 1024
-// cells x 37 features (the size of the seed's resources: 12 illumination + 12 temperature + 12
+// cells x 37 features (the size of Long (2016)'s resources: 12 illumination + 12 temperature + 12
 // humidity + slope), K = 5 and 10, 1 and 2 threads (std::thread in a ParallelFor lambda).
 //   engine:   KMeansCPUEngine::Assign (which sums each block right after assigning it) and Sums
 //             (which then only adds the blocks);

@@ -5,7 +5,7 @@
       [--json out.json] [--vtk-cells 65536] [--repeat 5] [--ks 2,5,10,20] [--compare-ks 5,10]
 
 Input: a size x size vtkTerroirFractalTerrainSource terrain (seed 7) with 37 feature components
-per cell, the seed's default features: Slope (1, the filter), Temperature (12, the filter) and
+per cell, Long (2016)'s default features: Slope (1, the filter), Temperature (12, the filter) and
 two synthetic 12-month fields named IlluminationHours and WeightedSoilHumidity (numpy, the same
 formulas as `terroir bench`'s k-means stage; computing the real ones would dominate the run).
 Weights 1, 1, 1, 0.1; CollapseConstantOffsets off, so all 37 components are features (on, the

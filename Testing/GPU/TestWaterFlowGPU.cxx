@@ -368,23 +368,23 @@ TEST(TerroirWaterFlowGPU, WarmStartLevelsOnTheGPU)
             << std::endl;
 }
 
-// The seed's literal capacity rule (no flow where the signed WEC is negative): the same gate on
+// Long (2016)'s literal capacity rule (no flow where the signed WEC is negative): the same gate on
 // both paths, so the same stop and bits. The emptied-cell stop count is refused on the GPU.
-TEST(TerroirWaterFlowGPU, SeedCapacityRule)
+TEST(TerroirWaterFlowGPU, LongCapacityRule)
 {
   TERROIR_REQUIRE_GPU_OR_SKIP();
   Scene scene = RandomWalled(48, 40, 13);
   hy::WaterFlowSimulation cpu = scene.Make();
   hy::WaterFlowSimulation gpu = scene.Make();
-  cpu.SetSeedCapacityRule(true);
-  gpu.SetSeedCapacityRule(true);
+  cpu.SetLongCapacityRule(true);
+  gpu.SetLongCapacityRule(true);
   hy::WaterFlowStopRule rule;
   rule.maximumIterations = 3000;
   const hy::WaterFlowStopReason reason = cpu.Run(rule);
   const hy::WaterFlowGPUResult r = hy::RunWaterFlowGPU(gpu, 3000, true, rule, 16);
   EXPECT_EQ(
     hy::WaterFlowStopReasonName(r.reason), std::string(hy::WaterFlowStopReasonName(reason)));
-  CompareSimulations(cpu, gpu, "walled, seed's capacity rule");
+  CompareSimulations(cpu, gpu, "walled, Long (2016)'s capacity rule");
   // The gate changes the result (it is not a no-op on this terrain).
   hy::WaterFlowSimulation general = scene.Make();
   general.Run(rule);

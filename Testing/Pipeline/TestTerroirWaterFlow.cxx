@@ -158,7 +158,7 @@ TEST(TerroirWaterFlow, RiversModeBalancesTheRain)
   // The floor carries the most water of its row, more and more downstream, and never more
   // than the rain of the rows above (16 x 31 cells of 100 m^2 at 1e-5 m/s for row 5); the
   // side slopes (0.2) are not much steeper than the floor (0.1), so part of the water runs
-  // beside the floor for a while (the multiple-direction split of the seed's rule).
+  // beside the floor for a while (the multiple-direction split of Long (2016)'s rule).
   const double perCell = 100.0 * 36.0e-3 / 3600.0;
   for (int j = 1; j < 20; ++j)
   {
@@ -553,7 +553,7 @@ TEST(TerroirWaterFlow, BadInputsAreOneErrorAndAnEmptyOutput)
   }
 }
 
-// The bundled DEM with 100 mm everywhere, run to the seed's stop: volume is conserved, the
+// The bundled DEM with 100 mm everywhere, run to Long (2016)'s stop: volume is conserved, the
 // rivers are where the most water passed, and the time is printed for the filter's page.
 TEST(TerroirWaterFlow, SagehenConservation)
 {

@@ -55,7 +55,7 @@ a. The bundled Sagehen Creek DEM (786 x 720 cells, all valid): Slope, Temperatur
 b. Synthetic blobs: 200,000 points, 8 features in three arrays with weights 1, 2.5 and 0.3, six
    overlapping Gaussian blobs (numpy RandomState(20240611)), on a 500 x 400 grid, with a block of
    no-data cells (vtkValidPointMask = 0) and some NaN feature values, some of both on the
-   diagonal, so the seed rule's "valid cells of the diagonal" is exercised (the seeds differ from
+   diagonal, so Long (2016)'s seeding rule's "valid cells of the diagonal" is exercised (the seeds differ from
    the all-valid ones). K = 6; b1 with tolerance 1e-4, b2 with 0 (strict convergence), b3 with
    the second seed cell given the first one's values (two equal initial centres: the second
    cluster starts empty and is relocated to the farthest cell, scikit-learn's rule).
@@ -112,7 +112,7 @@ DATA = os.environ.get("TERROIR_DATA_DIR",
                       os.path.join(os.path.dirname(__file__), "..", "..", "Data"))
 DEM = os.path.join(DATA, "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
 
-# The seed's default features and weights (vtkTerroirKMeans.h), used when none is added.
+# Long (2016)'s default features and weights (vtkTerroirKMeans.h), used when none is added.
 DEFAULT_FEATURES = [("Slope", 1.0), ("Temperature", 1.0), ("IlluminationHours", 1.0),
                     ("WeightedSoilHumidity", 0.1)]
 # Labels: a differing cell must be a near tie, |d2(a) - d2(b)| <= NEAR_TIE * max(d2(a), d2(b))

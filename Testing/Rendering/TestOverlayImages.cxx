@@ -285,7 +285,7 @@ TEST(TerroirOverlayImages, LegendClustersRelief)
 }
 
 // The five ecological zones vtkTerroirKMeans finds on the bundled DEM's Slope and Temperature
-// (CPU, the seed's diagonal seeds), with each zone's share in the legend (field data
+// (CPU, Long (2016)'s diagonal seeds), with each zone's share in the legend (field data
 // KMeansClusterShare). Steep slopes (zones 0, 1) lie on the canyon walls in the south-west.
 TEST(TerroirOverlayImages, LegendKMeansZonesRelief)
 {

@@ -1,5 +1,5 @@
 // Unit tests of the hydrostatic water flow (terroir::hydrology::WaterFlowSimulation and
-// WaterFlowEvacuation). Expected values are worked out by hand in the comments (the seed's 1-D
+// WaterFlowEvacuation). Expected values are worked out by hand in the comments (Long (2016)'s 1-D
 // cases), or are properties that hold for any correct implementation (conservation, draining,
 // one flat level in a closed bowl, symmetry, no uphill flow, the stop rule, independence from
 // the row blocking that threads use).
@@ -66,14 +66,14 @@ struct Scene : terroir_test::WaterFlowGrid
 
 const double kOne[8] = { 1, 1, 1, 1, 1, 1, 1, 1 };
 
-/// Only the eastern neighbour at `h`, the others far above: the seed's 1-D situation.
+/// Only the eastern neighbour at `h`, the others far above: Long (2016)'s 1-D situation.
 hy::WaterFlowGiver OneD(double terrain, double water, double h)
 {
   const double heights[8] = { h, kHigh, kHigh, kHigh, kHigh, kHigh, kHigh, kHigh };
   return hy::WaterFlowEvacuation(terrain, water, heights, kOne);
 }
 
-// The seed's three cases of evacuation capacity (table 3.3), 1-D, one lower neighbour.
+// Long (2016)'s three cases of evacuation capacity (table 3.3), 1-D, one lower neighbour.
 TEST(WaterFlow, SeedCasesOneDimension)
 {
   // All: T = 10, W = 1, neighbour at 8: 8 + 1 <= 10, the whole metre leaves; the giver is left
@@ -411,7 +411,7 @@ TEST(WaterFlow, GridNeverMovesUphill)
   }
 }
 
-// The seed's rule: stop after the first iteration that moves less than 1/1000 of everything
+// Long (2016)'s rule: stop after the first iteration that moves less than 1/1000 of everything
 // moved so far. Replayed by hand on a second simulation with Step().
 TEST(WaterFlow, AutoStopRule)
 {
@@ -488,7 +488,7 @@ TEST(WaterFlow, RainOnATiltedPlaneBalancesTheOutflow)
 TEST(WaterFlow, VValleyThalwegCarriesTheRainOfItsUpstreamArea)
 {
   // A V valley: side slopes of 1 m per cell towards the thalweg (column 10), the floor falling
-  // 0.01 m per cell to the south; the seed's border continues the slopes, so water leaves only
+  // 0.01 m per cell to the south; Long (2016)'s border continues the slopes, so water leaves only
   // through the southern end. At steady state the thalweg cell of row j passes on, each
   // iteration, the rain of every cell north of it (rows > j) and part of its own row's (the
   // side cells next to it send some of their water diagonally into the row below): between
@@ -563,7 +563,7 @@ TEST(WaterFlow, NetFluxCountsOnlyWhatCrossed)
 {
   // A closed channel one cell wide (walls all round, interior cells 1..10 of row 1): 1 m of
   // water on cells 1..5, none on 6..10. It levels out at 0.5 m, so 2.5 m^3 must cross the edge
-  // between cells 5 and 6 and 0.5 m^3 leaves cell 1. The seed's rule hands half the difference
+  // between cells 5 and 6 and 0.5 m^3 leaves cell 1. Long (2016)'s rule hands half the difference
   // back and forth on the way, so the water that left cells (Discharge) is more than that; the
   // net flux through each edge is exactly what crossed it.
   Scene s(12, 3);
@@ -675,12 +675,12 @@ TEST(WaterFlow, DominantDirectionIsTheEdgeMostWaterLeftBy)
 
 TEST(WaterFlow, SeedLiteralCapacityRule)
 {
-  // The seed's eq. 3.8 in 1-D: WEC = 2 T - H(n-1) - H(n+1). T = 5, a lower neighbour at 3 and a
+  // Long (2016)'s eq. 3.8 in 1-D: WEC = 2 T - H(n-1) - H(n+1). T = 5, a lower neighbour at 3 and a
   // higher one at 8 (the others far above, as in OneD, are left out by closeness 0): WEC =
   // 2 + (-3) = -1 < 0: the literal rule moves nothing, the generalisation moves water down.
   const double h[8] = { 3, kHigh, kHigh, kHigh, 8, kHigh, kHigh, kHigh };
   const double c[8] = { 1, 0, 0, 0, 1, 0, 0, 0 };
-  EXPECT_DOUBLE_EQ(hy::WaterFlowSeedCapacity(5.0, h, c), -1.0);
+  EXPECT_DOUBLE_EQ(hy::WaterFlowLongCapacity(5.0, h, c), -1.0);
   EXPECT_EQ(hy::WaterFlowEvacuation(5.0, 0.5, h, c, true).out, 0.0);
   EXPECT_DOUBLE_EQ(hy::WaterFlowEvacuation(5.0, 0.5, h, c, false).out, 0.5);
   // On a tilted plane the signed sum over the 8 neighbours is 0 - (water around): negative,
@@ -695,7 +695,7 @@ TEST(WaterFlow, SeedLiteralCapacityRule)
     }
   }
   hy::WaterFlowSimulation literal(plane.view, plane.water.data());
-  literal.SetSeedCapacityRule(true);
+  literal.SetLongCapacityRule(true);
   EXPECT_EQ(literal.Step().moved, 0.0);
   hy::WaterFlowSimulation general(plane.view, plane.water.data());
   EXPECT_GT(general.Step().moved, 0.0);
@@ -709,7 +709,7 @@ TEST(WaterFlow, SeedLiteralCapacityRule)
   }
   cone.Water(2, 2) = 0.1;
   hy::WaterFlowSimulation apex(cone.view, cone.water.data());
-  apex.SetSeedCapacityRule(true);
+  apex.SetLongCapacityRule(true);
   EXPECT_NEAR(apex.Step().moved, 0.1, 1e-15); // all of it (all case: WEC 8 x ~0.85 >= 0.1)
 }
 

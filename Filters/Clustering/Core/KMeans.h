@@ -33,7 +33,7 @@
  * callback) and for the GPU in Filters/Clustering (Shaders/KMeansAssign.comp,
  * KMeansPartialSums.comp); KMeansLloyd drives either.
  *
- * Seeding: KMeansDiagonalSeedCells (the seed system's deterministic choice, Long 2016 ch. 4)
+ * Seeding: KMeansDiagonalSeedCells (Long (2016)'s deterministic choice, Long (2016) ch. 4)
  * and KMeansPlusPlusSeeds (Arthur & Vassilvitskii 2007) with a fixed random seed.
  *
  * References:
@@ -41,7 +41,8 @@
  *   doi:10.1109/TIT.1982.1056489.
  * - D. Arthur, S. Vassilvitskii, "k-means++: the advantages of careful seeding", SODA 2007.
  * - H. Long, "Using procedural methods to generate realistic virtual rural worlds", MSc
- *   minor dissertation (the seed), 2016, chapter 4.
+ *   minor dissertation (Computer Science), supervised by J. Gain and M.-P. Cani, February
+ *   2016, chapter 4.
  */
 #ifndef terroir_clustering_KMeans_h
 #define terroir_clustering_KMeans_h
@@ -100,7 +101,7 @@ struct KMeansPreparedArray
   /// Prepared features of this array: `components`, or 1 when collapsed, 0 when weight is 0.
   int features = 0;
   /// True when every component differed from component 0 by one constant per component over all
-  /// cells (the seed's storage trick), so the array became a single feature.
+  /// cells (Long (2016)'s storage trick), so the array became a single feature.
   bool collapsed = false;
   std::vector<double> mean;   ///< per component, over the packed cells (double, block order)
   std::vector<double> stddev; ///< per component (population), 0 when constant
@@ -114,7 +115,7 @@ struct KMeansPreparedArray
  * So the squared distance is sum_f w_f (x_f - m_f)^2 on the raw or z-scored values. A weight of
  * 0 drops the array.
  *
- * Storage trick (the seed's, for Temperature): when for every component j there is a constant
+ * Storage trick (Long (2016)'s, for Temperature): when for every component j there is a constant
  * c_j with x_j(c) - x_0(c) == c_j for all cells, up to float rounding of the stored values
  * (|x_j - x_0 - c_j| <= 4 ulp of max(|x_j|, |x_0|)), the array's components carry the same
  * distances as component 0 counted `components` times: it is stored as one feature scaled by
@@ -135,7 +136,7 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
   const KMeansParallelFor& parallelFor = {});
 
 /**
- * @brief The seed's deterministic seeds: K valid cells equally spaced along the diagonal from
+ * @brief Long (2016)'s deterministic seeds: K valid cells equally spaced along the diagonal from
  *        cell (0, 0) to (nx - 1, ny - 1).
  *
  * The diagonal is the L = max(nx, ny) cells (round(t (nx-1)/(L-1)), round(t (ny-1)/(L-1))),

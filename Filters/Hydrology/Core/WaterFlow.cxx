@@ -97,7 +97,7 @@ inline __attribute__((always_inline)) void GiverRowBody(TERROIR_GIVER_ROW_PARAME
     all += c6 * d6;
     all += c7 * d7;
     const double share = w / all;
-    // The seed's literal rule (WaterFlowSeedCapacity): no flow when the signed capacity, higher
+    // Long (2016)'s literal rule (WaterFlowLongCapacity): no flow when the signed capacity, higher
     // neighbours included, is negative.
     bool wet = w > 0.0;
     if (Literal)
@@ -894,7 +894,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     const double* hs = heightsOf(r - 1);
     const double* hm = heightsOf(r);
     const double* hn = heightsOf(r + 1);
-    (this->SeedCapacity ? kernels.giverLiteral : kernels.giver)(NX,
+    (this->LongCapacity ? kernels.giverLiteral : kernels.giver)(NX,
       T + row0,
       W + row0,
       hs,
@@ -922,7 +922,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
           hm[pi + 1], hn[pi + 1], hn[pi], hn[pi - 1], hm[pi - 1], hs[pi - 1], hs[pi], hs[pi + 1]
         };
         const WaterFlowGiver v =
-          WaterFlowEvacuation(T[row0 + pi], W[row0 + pi], h, close, this->SeedCapacity);
+          WaterFlowEvacuation(T[row0 + pi], W[row0 + pi], h, close, this->LongCapacity);
         g.out[pi + 1] = v.out;
         for (int k = 0; k < kWaterFlowNeighbours; ++k)
         {
@@ -1002,7 +1002,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
     outflow += RowSum(outletIn.data(), stride) * Area[r];
     if (this->CountEmptied)
     {
-      // Cells that gave all their water (the "all" case gives exactly W), for the seed's stop
+      // Cells that gave all their water (the "all" case gives exactly W), for Long (2016)'s stop
       // measure: cellOut holds what each cell gave.
       const double* w = W + row0;
       const std::uint8_t* cells = isCell + row0;

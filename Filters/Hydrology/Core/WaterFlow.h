@@ -1,12 +1,12 @@
 /**
  * @file WaterFlow.h
- * @brief The hydrostatic water-flow simulation (Long 2016, section 3.3) in its 8-neighbour form.
+ * @brief The hydrostatic water-flow simulation (Long (2016), section 3.3) in its 8-neighbour form.
  *
  * Plain C++ (no VTK, no GL): the CPU path of vtkTerroirWaterFlow, and the reference its GPU
  * kernel (Shaders/WaterFlow.comp) is tested against.
  *
  * State. Terrain height T (metres) and water depth W >= 0 (metres) per cell; the absolute
- * height of a cell is H = T + W. The grid is surrounded by the seed's one-cell border whose
+ * height of a cell is H = T + W. The grid is surrounded by Long (2016)'s one-cell border whose
  * heights continue the slope (2 T(edge) - T(next inward), T(edge) when the grid is one cell
  * thick); no-data cells get the lowest terrain height among their valid neighbours. Border and
  * no-data cells are outlets: they hold no water, and what flows onto them is counted as
@@ -20,7 +20,7 @@
  *
  * where c_ik = d_min / d_ik is the neighbour's closeness (d_ik the distance between cell
  * centres, d_min the smallest spacing of the grid: 1 for the nearest neighbours of a square
- * grid, 1/sqrt(2) for its diagonals), and the giver's new level L_i and scale s_i are the seed's
+ * grid, 1/sqrt(2) for its diagonals), and the giver's new level L_i and scale s_i are Long (2016)'s
  * three cases of water evacuation capacity (its table 3.3), generalised from 1-D to 8
  * neighbours:
  * - none: no neighbour is lower (H_k >= H_i for all k) or W_i = 0: nothing moves;
@@ -30,7 +30,7 @@
  * - part: otherwise the giver and its lower neighbours level out: L_i is the root of
  *   sum_k c_ik max(0, L - H_k) = H_i - L (water lost = water received) on (T_i, H_i), s_i = 1.
  *   A receiver rises to H_k + c_ik (L_i - H_k) <= L_i: never above the giver's new level.
- * Restricted to 1-D with one lower neighbour (c = 1) these are the seed's equations: all the
+ * Restricted to 1-D with one lower neighbour (c = 1) these are Long (2016)'s equations: all the
  * water when H_k + W_i <= T_i, half the difference (H_i - H_k) / 2 otherwise, nothing when the
  * neighbour is not lower. Water only moves down (to H_k < L_i <= H_i), in proportion to the
  * drop to the giver's new level weighted by closeness.
@@ -43,7 +43,7 @@
  * double). The cell area of row j is DxAt(j) * DyAt(j); between rows j and j + 1 the spacing is
  * the mean of the two rows' spacings, so a giver and its receiver always use the same c_ik.
  *
- * Stopping (WaterFlowStopRule): the seed's rule stops after the first iteration whose moved
+ * Stopping (WaterFlowStopRule): Long (2016)'s rule stops after the first iteration whose moved
  * volume is below `autoStopRatio` (1/1000) of the volume moved in all iterations so far; also
  * when nothing moved, or after `maximumIterations`.
  *
@@ -61,7 +61,7 @@
  * the GPU kernel.
  *
  * @par Correctness
- * Testing/Unit/TestWaterFlow.cxx: the seed's three 1-D cases on worked examples; conservation on
+ * Testing/Unit/TestWaterFlow.cxx: Long (2016)'s three 1-D cases on worked examples; conservation on
  * closed and open terrains (1e-6 relative, double sums); a tilted plane drains completely; a
  * closed bowl fills to one flat level; symmetric terrain gives a symmetric result; water never
  * moves uphill; the auto-stop rule; thread count independence; the same bits on every
@@ -70,7 +70,7 @@
  *
  * @par Reference
  * Long, H. (2016). Using procedural methods to generate realistic virtual rural worlds. MSc
- * minor dissertation (the seed system, the issue tracker's "Long 2016"), section 3.3,
+ * minor dissertation (Computer Science), supervised by J. Gain and M.-P. Cani, section 3.3,
  * hydrostatic water flow, table 3.3 and equations 3.8-3.12 (the 1-D form generalised here).
  */
 #ifndef terroir_hydrology_WaterFlow_h
@@ -95,13 +95,13 @@ namespace hydrology
 constexpr int kWaterFlowNeighbours = 8;
 
 /**
- * The seed's water evacuation capacity in its literal form (its eq. 3.8, 2 T_n - H_(n-1) -
+ * Long (2016)'s water evacuation capacity in its literal form (its eq. 3.8, 2 T_n - H_(n-1) -
  * H_(n+1) in 1-D): WEC = sum_k c_ik (T_i - H_k) over all 8 neighbours, higher ones included
- * (they count negatively). The seed moves no water when WEC < 0, even towards a lower
- * neighbour; with `seedCapacity` (WaterFlowSimulation::SetSeedCapacityRule) the model does the
+ * (they count negatively). Long (2016) moves no water when WEC < 0, even towards a lower
+ * neighbour; with `longCapacity` (WaterFlowSimulation::SetLongCapacityRule) the model does the
  * same. Summed in neighbour order, no FMA (the kernels' order).
  */
-inline double WaterFlowSeedCapacity(double terrain,
+inline double WaterFlowLongCapacity(double terrain,
   const double height[kWaterFlowNeighbours],
   const double closeness[kWaterFlowNeighbours])
 {
@@ -132,7 +132,7 @@ inline WaterFlowGiver WaterFlowEvacuation(double terrain,
   double water,
   const double height[kWaterFlowNeighbours],
   const double closeness[kWaterFlowNeighbours],
-  bool seedCapacity = false)
+  bool longCapacity = false)
 {
   WaterFlowGiver g;
   g.level = terrain + water;
@@ -140,9 +140,9 @@ inline WaterFlowGiver WaterFlowEvacuation(double terrain,
   {
     return g;
   }
-  if (seedCapacity && WaterFlowSeedCapacity(terrain, height, closeness) < 0.0)
+  if (longCapacity && WaterFlowLongCapacity(terrain, height, closeness) < 0.0)
   {
-    return g; // the seed's literal rule: no water moves when WEC < 0
+    return g; // Long (2016)'s literal rule: no water moves when WEC < 0
   }
   const double h = terrain + water;
   double all = 0.0;
@@ -217,7 +217,7 @@ inline WaterFlowGiver WaterFlowEvacuation(double terrain,
 struct WaterFlowStopRule
 {
   /// Stop after an iteration that moved less than this fraction of all the water moved so far
-  /// (the seed's 1/1000); 0 disables the rule.
+  /// (Long (2016)'s 1/1000); 0 disables the rule.
   double autoStopRatio = 1e-3;
   /// Stop after this many iterations in all (counting earlier runs); must be >= 0.
   long long maximumIterations = 10000;
@@ -228,7 +228,7 @@ struct WaterFlowStopRule
   /// The balance rule fires only after an iteration numbered at least this (counting from 1):
   /// a warm-started run (WaterFlowWarmStart.h) first settles its finer channels. Must be >= 0.
   long long balanceAfter = 0;
-  /// The seed's own measure of flow for the auto-stop: the number of cells an iteration
+  /// Long (2016)'s own measure of flow for the auto-stop: the number of cells an iteration
   /// emptied completely (its section 3.3.4), instead of the volume moved. CPU only.
   bool countEmptiedCells = false;
 };
@@ -246,7 +246,7 @@ enum class WaterFlowStopReason
 const char* WaterFlowStopReasonName(WaterFlowStopReason reason);
 
 /// True when an iteration that moved `moved` after `movedBefore` in all earlier iterations ends
-/// the run under the seed's rule (ratio > 0).
+/// the run under Long (2016)'s rule (ratio > 0).
 inline bool WaterFlowAutoStop(double moved, double movedBefore, double ratio)
 {
   return ratio > 0.0 && moved < ratio * (movedBefore + moved);
@@ -317,7 +317,7 @@ public:
   /**
    * The river-forming source: `metres` of water added to every cell after the flows of each
    * iteration (W' = max(0, W - out + in) + rain), so that channels keep carrying water. Must be
-   * finite and >= 0 (else std::invalid_argument); default 0 (the seed's single pulse).
+   * finite and >= 0 (else std::invalid_argument); default 0 (Long (2016)'s single pulse).
    */
   void SetRain(double metres);
   /**
@@ -344,12 +344,12 @@ public:
    */
   void SetNetFlux(bool on);
 
-  /// The seed's literal capacity rule (WaterFlowSeedCapacity): no water moves from a cell whose
+  /// Long (2016)'s literal capacity rule (WaterFlowLongCapacity): no water moves from a cell whose
   /// WEC is negative. Default off (the 8-neighbour generalisation above).
-  void SetSeedCapacityRule(bool on) { this->SeedCapacity = on; }
-  bool GetSeedCapacityRule() const { return this->SeedCapacity; }
+  void SetLongCapacityRule(bool on) { this->LongCapacity = on; }
+  bool GetLongCapacityRule() const { return this->LongCapacity; }
 
-  /// Count the cells each iteration empties (WaterFlowIteration::emptied, the seed's stop
+  /// Count the cells each iteration empties (WaterFlowIteration::emptied, Long (2016)'s stop
   /// measure); off by default (the count is 0), on after a Run with rule.countEmptiedCells.
   void SetCountEmptiedCells(bool on) { this->CountEmptied = on; }
   bool GetCountEmptiedCells() const { return this->CountEmptied; }
@@ -443,8 +443,8 @@ public:
 
   /**
    * The stop rules after one iteration `it`, the `iteration`-th (counting from 1; movedBefore:
-   * the volume moved by the iterations before it): no movement, the seed's auto-stop, the balance
-   * of outflow and rain, in that order; true with the reason when one fires (with
+   * the volume moved by the iterations before it): no movement, Long (2016)'s auto-stop, the
+   * balance of outflow and rain, in that order; true with the reason when one fires (with
    * rule.countEmptiedCells the auto-stop compares it.emptied with emptiedBefore, the cells emptied
    * by the earlier iterations). Every path (Run, FindStop, the filter's loop, the GPU path) asks
    * this one function.
@@ -488,7 +488,7 @@ private:
   std::vector<double> RainField;   ///< per padded cell, or empty (uniform)
   std::vector<double> RainRowData; ///< one padded row of the uniform rain
   double CellAreaTotal = 0.0;
-  bool SeedCapacity = false;
+  bool LongCapacity = false;
   bool CountEmptied = false;
   double EmptiedTotal = 0.0;
   std::vector<double> Emptied;

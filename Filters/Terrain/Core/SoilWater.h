@@ -1,15 +1,15 @@
 /**
  * @file SoilWater.h
- * @brief The seed system's soil-water model: infiltration rates, absorbed rain (soil humidity),
+ * @brief Long (2016)'s soil-water model: infiltration rates, absorbed rain (soil humidity),
  * its moving weighted average, standing water.
  *
  * Plain C++ (no VTK, no GL): the reference for vtkTerroirInfiltration, vtkTerroirSoilHumidity's
  * CPU kernel and Shaders/SoilHumidity.comp.
  *
- * Model (Long 2016, §3.2, as the Terroir issue states it). Month m brings R_q(m) mm of rain at a
+ * Model (Long (2016), §3.2, as the Terroir issue states it). Month m brings R_q(m) mm of rain at a
  * mean intensity R_i(m) mm/h; a soil that absorbs S_ir mm/h takes in
  * \f[ S_h(m) = \min\left(\frac{S_{ir}}{R_i(m)}, 1\right) R_q(m) \f]
- * (the seed's equation 3.5, capped so that the soil never absorbs more rain than falls); the
+ * (Long (2016)'s equation 3.5, capped so that the soil never absorbs more rain than falls); the
  * rest, \f$R_q(m) - S_h(m)\f$, stands on the surface and feeds the water-flow simulation. Plants
  * feel the recent months too:
  * \f[ S_{wh}(m) = \tfrac12 S_h(m) + \tfrac13 S_h(m-1) + \tfrac16 S_h(m-2) \f]
@@ -53,7 +53,7 @@ enum class SoilType : int
 double FAOInfiltrationRate(int soilType);
 
 /**
- * @brief Rain a soil absorbs in a month, mm (the seed's equation 3.5, capped):
+ * @brief Rain a soil absorbs in a month, mm (Long (2016)'s equation 3.5, capped):
  * min(infiltration / intensity, 1) * quantity. A month without rain (quantity 0) absorbs 0
  * whatever its intensity.
  * @pre infiltration >= 0, quantity >= 0, intensity > 0 when quantity > 0

@@ -5,7 +5,7 @@
  * Plain C++ (no VTK, no GL): the reference for vtkTerroirTemperature's CPU kernel and
  * Shaders/Temperature.comp.
  *
- * Model (the seed model the Terroir issue attributes to Long 2016): the sea-level
+ * Model (Long (2016), eq. 3.4): the sea-level
  * temperature of each month is either given (12 values) or built from the temperatures of
  * the coldest and warmest months, interpolated linearly around the year (coldest -> warmest
  * -> coldest). At elevation h (metres) the temperature of month m is
