@@ -21,7 +21,8 @@ target_compile_definitions(terroir PRIVATE
   "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\""
   "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
 target_compile_options(terroir PRIVATE -Wall -Wextra)
-set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersTerrain
+set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersCore
+  Terroir::FiltersTerrain
   Terroir::FiltersHydrology Terroir::FiltersClustering
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc VTK::IOXML)
 target_link_libraries(terroir PRIVATE TerroirCommandLine ${_terroir_app_modules}
@@ -48,7 +49,8 @@ target_include_directories(TerroirViewerSession PUBLIC "${CMAKE_CURRENT_SOURCE_D
 target_compile_options(TerroirViewerSession PRIVATE -Wall -Wextra)
 find_package(Threads REQUIRED)
 target_link_libraries(TerroirViewerSession PUBLIC TerroirCommandLine VTK::CommonCore
-  VTK::CommonDataModel VTK::CommonExecutionModel Terroir::Common Terroir::FiltersTerrain
+  VTK::CommonDataModel VTK::CommonExecutionModel Terroir::Common Terroir::FiltersCore
+  Terroir::FiltersTerrain
   Terroir::FiltersHydrology Terroir::FiltersClustering
   PRIVATE TerroirTerrainCore Threads::Threads)
 set_target_properties(TerroirCommandLine PROPERTIES POSITION_INDEPENDENT_CODE ON)

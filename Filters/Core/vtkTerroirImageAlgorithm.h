@@ -32,7 +32,7 @@
 #define vtkTerroirImageAlgorithm_h
 
 #include "vtkImageAlgorithm.h"
-#include "vtkTerroirFiltersTerrainModule.h" // For export macro
+#include "vtkTerroirFiltersCoreModule.h" // For export macro
 
 #include <functional> // For std::function
 #include <string>     // For std::string
@@ -42,7 +42,7 @@ namespace terroir
 struct TerrainInput;
 }
 
-class VTKTERROIRFILTERSTERRAIN_EXPORT vtkTerroirImageAlgorithm : public vtkImageAlgorithm
+class VTKTERROIRFILTERSCORE_EXPORT vtkTerroirImageAlgorithm : public vtkImageAlgorithm
 {
 public:
   vtkAbstractTypeMacro(vtkTerroirImageAlgorithm, vtkImageAlgorithm);
