@@ -13,20 +13,30 @@ target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore)
 target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 
-add_executable(terroir terroir.cxx TerroirApp.cxx TerroirAppCore.cxx TerroirApp.h
-  TerroirBench.cxx TerroirBench.h TerroirOverlayPlugin.h
+# The commands (Commands/: one file per command, the registry TerroirCommands.h) as a static
+# library, so that the pipeline tests can check the registry against the parser's commands.
+file(GLOB _terroir_command_files CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*.cxx"
+  "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*.h")
+add_library(TerroirCommands STATIC ${_terroir_command_files} TerroirApp.cxx TerroirAppCore.cxx
+  TerroirApp.h TerroirBench.cxx TerroirBench.h TerroirOverlayPlugin.h
   TerroirWaterCommands.cxx TerroirWaterCommands.h TerroirFlowCommands.cxx TerroirFlowCommands.h
   TerroirClusterCommands.cxx TerroirClusterCommands.h)
-target_compile_definitions(terroir PRIVATE
+target_include_directories(TerroirCommands PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
+  "${CMAKE_CURRENT_SOURCE_DIR}/Commands")
+target_compile_definitions(TerroirCommands PRIVATE
   "TERROIR_DATA_DIR=\"${PROJECT_SOURCE_DIR}/Data\""
   "TERROIR_INSTALL_LIBDIR=\"${CMAKE_INSTALL_LIBDIR}\"")
+target_compile_options(TerroirCommands PRIVATE -Wall -Wextra)
+
+add_executable(terroir terroir.cxx)
 target_compile_options(terroir PRIVATE -Wall -Wextra)
 set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersCore
   Terroir::FiltersTerrain
   Terroir::FiltersHydrology Terroir::FiltersClustering
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc VTK::IOXML)
-target_link_libraries(terroir PRIVATE TerroirCommandLine ${_terroir_app_modules}
+target_link_libraries(TerroirCommands PUBLIC TerroirCommandLine ${_terroir_app_modules}
   TerroirTerrainCore TerroirIOCore TerroirHydrologyCore nlohmann_json::nlohmann_json ${CMAKE_DL_LIBS})
+target_link_libraries(terroir PRIVATE TerroirCommands)
 vtk_module_autoinit(TARGETS terroir MODULES ${_terroir_app_modules})
 install(TARGETS terroir RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 

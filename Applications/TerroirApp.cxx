@@ -1,9 +1,12 @@
 // The parts of TerroirApp.h that read and write DEMs (GDAL); TerroirAppCore.cxx has the rest.
 #include "TerroirApp.h"
 
+#include "vtkDataArray.h"
 #include "vtkErrorCode.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkXMLImageDataReader.h"
 #include "vtkXMLImageDataWriter.h"
 
 #include "vtkTerroirDEMReader.h"
@@ -43,7 +46,45 @@ vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path,
   vtkSmartPointer<vtkAlgorithm> reader;
   std::string error;
   TakeLastVTKError();
-  if (HasExtension(path, ".ter"))
+  if (HasExtension(path, ".vti"))
+  {
+    // A terrain Terroir wrote (terroir run's terrain.vti, any command's .vti output): every
+    // array, the georeference in field data, Elevation in metres.
+    if (zUnit != "auto")
+    {
+      throw Failure(path + ": --z-unit applies to GDAL rasters; a .vti holds metres");
+    }
+    vtkNew<vtkXMLImageDataReader> vti;
+    if (!vti->CanReadFile(path.c_str()))
+    {
+      throw Failure(path + ": not a VTK XML image data file (.vti) this program can read");
+    }
+    vti->SetFileName(path.c_str());
+    WatchProgress(vti, "read");
+    vti->Update();
+    reader = vti;
+    int dims[3] = { 0, 0, 0 };
+    const std::string xmlError = TakeLastVTKError();
+    if (!xmlError.empty() || vti->GetErrorCode() != 0)
+    {
+      error = path + ": " + (xmlError.empty() ? "could not be read" : xmlError);
+    }
+    else if (vtkImageData* image = vti->GetOutput())
+    {
+      image->GetDimensions(dims);
+      vtkDataArray* z = image->GetPointData()->GetArray("Elevation");
+      if (dims[2] != 1 || dims[0] < 1 || dims[1] < 1)
+      {
+        error = path + ": not a 2-D grid (" + std::to_string(dims[0]) + " x " +
+          std::to_string(dims[1]) + " x " + std::to_string(dims[2]) + " points)";
+      }
+      else if (!z || z->GetNumberOfComponents() != 1)
+      {
+        error = path + ": no one-component point array named Elevation (a terrain of terroir)";
+      }
+    }
+  }
+  else if (HasExtension(path, ".ter"))
   {
     if (zUnit != "auto")
     {

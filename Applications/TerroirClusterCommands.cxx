@@ -178,8 +178,9 @@ nlohmann::ordered_json ClusterTableJSON(vtkTable* table, vtkImageData* image)
 }
 
 //------------------------------------------------------------------------------
-int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverlay)
+int CommandKMeans(const CommandLine& c)
 {
+  const OverlayWriterFunction writeOverlay = CommandOverlayWriter(c);
   const KMeansSettings& s = c.KMeans;
   std::vector<std::string> outs = { c.Output };
   for (const std::string* extra : { &s.Csv, &s.Json, &s.Png })

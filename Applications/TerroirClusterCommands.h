@@ -38,7 +38,7 @@ std::string ClusterTableCSV(vtkTable* table);
  */
 nlohmann::ordered_json ClusterTableJSON(vtkTable* table, vtkImageData* image);
 
-int CommandKMeans(const CommandLine& c, const OverlayWriterFunction& writeOverlay);
+int CommandKMeans(const CommandLine& c);
 
 } // namespace app
 } // namespace terroir

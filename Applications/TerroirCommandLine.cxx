@@ -792,6 +792,47 @@ std::string OneLine(std::string text)
 }
 } // namespace
 
+//------------------------------------------------------------------------------
+const std::vector<CommandDescription>& CommandDescriptions()
+{
+  static const std::vector<CommandDescription> commands = {
+    { "run", "Run every filter on a DEM (default: bundled Sagehen DEM)" },
+    { "slope", "Slope in degrees (Horn 1981, as gdaldem slope)" },
+    { "temperature", "Monthly temperature from a lapse rate" },
+    { "illumination", "Cast shadows, hours of direct sun and clear-sky insolation" },
+    { "infiltration", "Infiltration rate map (mm/h) from fill, slope-rule and paint operations" },
+    { "humidity", "Monthly soil humidity, its weighted average and standing water (mm)" },
+    { "floodfill", "Lakes: flood fill from seeds, or every closed depression (priority-flood)" },
+    { "waterflow", "Rivers and lakes: the hydrostatic water-flow simulation of Long (2016)" },
+    { "flowacc",
+      "Flow accumulation after priority-flood filling: D8, MFD or D-infinity (the classic "
+      "baselines)" },
+    { "validate",
+      "Score simulated rivers against mapped ones (precision, recall, F1 at 30 and 60 m)" },
+    { "kmeans",
+      "Ecological zones: k-means clustering of terrain resources, after Long (2016), ch. 4" },
+    { "view",
+      "Interactive window: relief, overlays, sliders, lakes (default: bundled Sagehen DEM)" },
+    { "bench", "Time each stage per backend on a synthetic DEM" },
+    { "info", "Grid and georeference of a DEM" },
+    { "fractal", "Write a seeded synthetic DEM (benchmarks, tests)" },
+  };
+  return commands;
+}
+
+//------------------------------------------------------------------------------
+const char* CommandSummary(const std::string& name)
+{
+  for (const CommandDescription& c : CommandDescriptions())
+  {
+    if (name == c.Name)
+    {
+      return c.Summary;
+    }
+  }
+  throw std::logic_error("no command named " + name);
+}
+
 const std::vector<std::string>& BenchStageNames()
 {
   static const std::vector<std::string> names{ "slope",
@@ -982,8 +1023,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   const std::vector<std::string> rasterOut{ ".tif", ".tiff", ".vti" };
 
   // run
-  CLI::App* run =
-    app.add_subcommand("run", "Run every filter on a DEM (default: bundled Sagehen DEM)");
+  CLI::App* run = app.add_subcommand("run", CommandSummary("run"));
   std::string runMonthly;
   line.Output = "terroir-out";
   run->add_option("DEM", line.Input, "DEM file (GeoTIFF, .img, USGS .dem, Terragen .ter, ...)");
@@ -999,7 +1039,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
     ->capture_default_str();
 
   // slope
-  CLI::App* slope = app.add_subcommand("slope", "Slope in degrees (Horn 1981, as gdaldem slope)");
+  CLI::App* slope = app.add_subcommand("slope", CommandSummary("slope"));
   slope->add_option("IN", line.Input, "Input DEM")->required();
   slope->add_option("OUT", line.Output, "Output .tif (Slope band) or .vti (all arrays)")
     ->required()
@@ -1014,7 +1054,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(slope);
 
   // temperature
-  CLI::App* temp = app.add_subcommand("temperature", "Monthly temperature from a lapse rate");
+  CLI::App* temp = app.add_subcommand("temperature", CommandSummary("temperature"));
   std::string tempMonthly;
   temp->add_option("IN", line.Input, "Input DEM")->required();
   temp->add_option("OUT", line.Output, "Output .tif (12 bands, Jan..Dec) or .vti")
@@ -1024,8 +1064,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(temp);
 
   // illumination
-  CLI::App* illum = app.add_subcommand(
-    "illumination", "Cast shadows, hours of direct sun and clear-sky insolation");
+  CLI::App* illum = app.add_subcommand("illumination", CommandSummary("illumination"));
   IlluminationText illumText;
   illum->add_option("IN", line.Input, "Input DEM")->required();
   illum
@@ -1039,8 +1078,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(illum);
 
   // infiltration
-  CLI::App* infil = app.add_subcommand(
-    "infiltration", "Infiltration rate map (mm/h) from fill, slope-rule and paint operations");
+  CLI::App* infil = app.add_subcommand("infiltration", CommandSummary("infiltration"));
   SoilWaterText infilText;
   infil->add_option("IN", line.Input, "Input DEM")->required();
   infil->add_option("OUT", line.Output, "Output .tif (InfiltrationRate) or .vti (all arrays)")
@@ -1050,8 +1088,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(infil);
 
   // humidity
-  CLI::App* humid = app.add_subcommand(
-    "humidity", "Monthly soil humidity, its weighted average and standing water (mm)");
+  CLI::App* humid = app.add_subcommand("humidity", CommandSummary("humidity"));
   SoilWaterText humidText;
   humid->add_option("IN", line.Input, "Input DEM")->required();
   humid
@@ -1073,8 +1110,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(humid);
 
   // floodfill
-  CLI::App* flood = app.add_subcommand(
-    "floodfill", "Lakes: flood fill from seeds, or every closed depression (priority-flood)");
+  CLI::App* flood = app.add_subcommand("floodfill", CommandSummary("floodfill"));
   std::vector<std::string> floodSeeds, floodCells;
   flood->add_option("IN", line.Input, "Input DEM")->required();
   flood->add_option("OUT", line.Output, "Output .tif (WaterDepth, m; 0 dry) or .vti (all arrays)")
@@ -1086,8 +1122,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(flood);
 
   // waterflow
-  CLI::App* flow = app.add_subcommand(
-    "waterflow", "Rivers and lakes: the hydrostatic water-flow simulation (Long (2016))");
+  CLI::App* flow = app.add_subcommand("waterflow", CommandSummary("waterflow"));
   flow->add_option("IN", line.Input, "Input DEM")->required();
   flow->add_option("OUT", line.Output, "Output .tif (WaterHeight, m) or .vti (all arrays)")
     ->required()
@@ -1100,9 +1135,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(flow);
 
   // flowacc
-  CLI::App* flowacc = app.add_subcommand("flowacc",
-    "Flow accumulation after priority-flood filling: D8, MFD or D-infinity (the classic "
-    "baselines)");
+  CLI::App* flowacc = app.add_subcommand("flowacc", CommandSummary("flowacc"));
   flowacc->add_option("IN", line.Input, "Input DEM")->required();
   flowacc->add_option("OUT", line.Output, "Output .tif (ContributingArea, m2) or .vti (all arrays)")
     ->required()
@@ -1123,8 +1156,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(flowacc);
 
   // validate
-  CLI::App* validate = app.add_subcommand("validate",
-    "Score simulated rivers against mapped ones (precision, recall, F1 at 30 and 60 m)");
+  CLI::App* validate = app.add_subcommand("validate", CommandSummary("validate"));
   validate->add_option("DEM", line.Input, "Input DEM (default: the bundled Sagehen DEM)");
   validate->add_option("--reference",
     line.Validate.Reference,
@@ -1145,8 +1177,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(validate);
 
   // kmeans
-  CLI::App* kmeans = app.add_subcommand(
-    "kmeans", "Ecological zones: k-means clustering of terrain resources (Long (2016), ch. 4)");
+  CLI::App* kmeans = app.add_subcommand("kmeans", CommandSummary("kmeans"));
   std::string kmeansFeatures;
   kmeans
     ->add_option("IN", line.Input, "Terrain with resource arrays (.vti of terroir run), or a DEM")
@@ -1185,8 +1216,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addCommon(kmeans);
 
   // view
-  CLI::App* view = app.add_subcommand(
-    "view", "Interactive window: relief, overlays, sliders, lakes (default: bundled Sagehen DEM)");
+  CLI::App* view = app.add_subcommand("view", CommandSummary("view"));
   std::string viewSize;
   view->add_option("DEM", line.Input, "DEM file (default: the bundled Sagehen Creek DEM)");
   view->add_option("--script", line.View.Script, "Replay the actions of FILE (one per line)");
@@ -1240,7 +1270,7 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   addZUnit(view);
 
   // bench
-  CLI::App* bench = app.add_subcommand("bench", "Time each stage per backend on a synthetic DEM");
+  CLI::App* bench = app.add_subcommand("bench", CommandSummary("bench"));
   std::string backends = "cpu,gpu";
   bench->add_option("-s,--size", line.BenchSize, "DEM is SIZE x SIZE cells")
     ->check(CLI::Range(16, 32768))
@@ -1270,15 +1300,14 @@ ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& li
   }
 
   // info
-  CLI::App* info = app.add_subcommand("info", "Grid and georeference of a DEM");
+  CLI::App* info = app.add_subcommand("info", CommandSummary("info"));
   info->add_option("IN", line.Input, "Input DEM")->required();
   info->add_flag(
     "--allow-network-paths", line.AllowNetwork, "Allow GDAL network and archive paths");
   addZUnit(info);
 
   // fractal
-  CLI::App* fractal =
-    app.add_subcommand("fractal", "Write a seeded synthetic DEM (benchmarks, tests)");
+  CLI::App* fractal = app.add_subcommand("fractal", CommandSummary("fractal"));
   fractal->add_option("OUT", line.Output, "Output .tif or .vti")
     ->required()
     ->check(EndsWith(rasterOut));

@@ -249,6 +249,20 @@ struct ParseOutcome
 /// Parses `argv` (argv[0] is the program name). See the file comment.
 ParseOutcome ParseCommandLine(int argc, const char* const* argv, CommandLine& line);
 
+/// One command of `terroir`: its name and the one-line summary --help shows.
+struct CommandDescription
+{
+  const char* Name;
+  const char* Summary;
+};
+
+/// Every command, in the order --help lists them. The program binds each name to its code in
+/// Applications/Commands/TerroirCommands.cxx (a unit test checks that both lists agree).
+const std::vector<CommandDescription>& CommandDescriptions();
+
+/// The summary of the command `name`; throws std::logic_error for an unknown name.
+const char* CommandSummary(const std::string& name);
+
 /// The stages `terroir bench` knows, in the order it runs them (the default is all of them).
 const std::vector<std::string>& BenchStageNames();
 

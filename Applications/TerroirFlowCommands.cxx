@@ -424,8 +424,9 @@ int CommandFlowAccumulation(const CommandLine& c)
 }
 
 //------------------------------------------------------------------------------
-int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOverlay)
+int CommandValidate(const CommandLine& c)
 {
+  const OverlayWriterFunction writeOverlay = CommandOverlayWriter(c);
   const ValidateSettings& v = c.Validate;
   const bool bundled = c.Input.empty();
   const std::string dem = bundled ? DefaultDEM() : c.Input;

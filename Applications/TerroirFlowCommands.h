@@ -7,6 +7,7 @@
 #define TerroirFlowCommands_h
 
 #include "TerroirCommandLine.h"
+#include "TerroirCommandSupport.h" // For OverlayWriterFunction
 
 #include "GridView.h"
 #include "RiverValidation.h"
@@ -25,15 +26,6 @@ namespace terroir
 {
 namespace app
 {
-
-/// Writes a PNG overlay: (image, array, preset, title, path, map: top-down instead of relief).
-/// Throws Failure.
-using OverlayWriterFunction = std::function<void(vtkImageData*,
-  const std::string&,
-  const std::string&,
-  const std::string&,
-  const std::string&,
-  bool)>;
 
 /// Mapped rivers rasterised on a DEM's grid, and the area they are scored in.
 struct RiverReference
@@ -88,7 +80,7 @@ std::vector<double> PointArrayValues(vtkImageData* image, const char* name);
 
 int CommandWaterFlow(const CommandLine& c);
 int CommandFlowAccumulation(const CommandLine& c);
-int CommandValidate(const CommandLine& c, const OverlayWriterFunction& writeOverlay);
+int CommandValidate(const CommandLine& c);
 
 } // namespace app
 } // namespace terroir

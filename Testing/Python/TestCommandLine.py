@@ -238,6 +238,27 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertAlmostEqual(b["within_cluster_sum_of_squares"],
                                4.0 * a["within_cluster_sum_of_squares"],
                                delta=1e-5 * b["within_cluster_sum_of_squares"])
+        # The .vti it wrote is a terrain with Slope and Temperature: read back as the input,
+        # it gives the zones of the first run (same arrays, same features) without computing
+        # them again.
+        again = os.path.join(self.work, "again.json")
+        r = terroir("kmeans", four, os.path.join(self.work, "again.tif"), "-k", "3",
+                    "--features", "Slope", "--json", again, "--backend", "cpu")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("has no resource arrays", r.stdout)
+        with open(again) as f:
+            c = json.load(f)
+        self.assertEqual([z["Cells"] for z in a["clusters"]], [z["Cells"] for z in c["clusters"]])
+        # A file named .vti that is not one: one line naming it, exit 1, no output.
+        bad = os.path.join(self.work, "bad.vti")
+        with open(bad, "w") as f:
+            f.write("not xml\n")
+        out = os.path.join(self.work, "never.tif")
+        r = terroir("kmeans", bad, out, "-k", "3")
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn(bad, r.stderr)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertFalse(os.path.exists(out))
         with open(csv) as f:
             rows = [line.strip().split(",") for line in f]
         self.assertEqual(rows[0], ["ClusterId", "Color", "Cells", "Share", "Slope", "Temperature_Jan",

@@ -1,0 +1,234 @@
+#include "TerroirCommandSupport.h"
+
+#include "TerroirApp.h"
+#include "TerroirOverlayPlugin.h"
+
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkTerroirSolarIllumination.h"
+#include "vtkTerroirTemperature.h"
+
+#include "ClimateTable.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <dlfcn.h>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace terroir
+{
+namespace app
+{
+
+/// Reads the climate table of --climate (before any other work) into the 12 monthly sea-level
+/// temperatures.
+void LoadClimate(terroir::app::TemperatureSettings& t, terroir::app::SoilWaterSettings* soil)
+{
+  if (t.ClimateFile.empty())
+  {
+    return;
+  }
+  terroir::io::ClimateTable table;
+  std::string error;
+  if (!terroir::io::ReadClimateTableFile(t.ClimateFile, table, error))
+  {
+    throw Failure(error);
+  }
+  if (!table.hasTemperature)
+  {
+    throw Failure(t.ClimateFile + ": no temperature_c values (needed by the temperature model)");
+  }
+  t.Monthly.assign(table.temperatureC.begin(), table.temperatureC.end());
+  // `run`: the same file's rain, when it has both series, feeds the soil-water model (unless
+  // --precip or --intensity say otherwise).
+  if (soil && table.hasPrecipitation && table.hasIntensity && soil->Precipitation.empty() &&
+    soil->Intensity.empty())
+  {
+    soil->Precipitation.assign(table.precipitationMm.begin(), table.precipitationMm.end());
+    soil->Intensity.assign(table.intensityMmPerHour.begin(), table.intensityMmPerHour.end());
+  }
+}
+
+/// Sets the temperature filter from the command line's temperature settings.
+void ApplyTemperature(const terroir::app::TemperatureSettings& t, vtkTerroirTemperature* filter)
+{
+  filter->SetSeaLevelTemperatureColdest(t.Coldest);
+  filter->SetSeaLevelTemperatureWarmest(t.Warmest);
+  if (t.ColdestMonth > 0)
+  {
+    filter->SetColdestMonth(t.ColdestMonth);
+  }
+  if (t.WarmestMonth > 0)
+  {
+    filter->SetWarmestMonth(t.WarmestMonth);
+  }
+  filter->SetLapseRate(t.LapseRate);
+  filter->SetHemisphere(t.Hemisphere == "north" ? vtkTerroirTemperature::North
+      : t.Hemisphere == "south"                 ? vtkTerroirTemperature::South
+                                                : vtkTerroirTemperature::AutoHemisphere);
+  if (!t.Monthly.empty())
+  {
+    filter->SetMonthlySeaLevelTemperatures(t.Monthly.data());
+    filter->SetUseMonthlyTemperatures(true);
+  }
+}
+
+/// Sets the illumination filter from the command line's illumination settings.
+void ApplyIllumination(const terroir::app::IlluminationSettings& s,
+  vtkTerroirSolarIllumination* filter)
+{
+  filter->SetMode(s.Mode == "instant" ? vtkTerroirSolarIllumination::Instant
+      : s.Mode == "daily"             ? vtkTerroirSolarIllumination::Daily
+                                      : vtkTerroirSolarIllumination::Monthly);
+  filter->SetYear(s.Year);
+  filter->SetMonth(s.Month);
+  filter->SetDay(s.Day);
+  filter->SetTime(s.Time);
+  filter->SetUTCOffset(s.UTCOffset);
+  filter->SetUseSunDirection(s.UseSun);
+  filter->SetSunDirection(s.SunAzimuth, s.SunElevation);
+  filter->SetMonthlyDay(s.MonthlyDay);
+  filter->SetTimeStep(s.TimeStep);
+  filter->SetLatitude(s.Latitude);
+  filter->SetLongitude(s.Longitude);
+  filter->SetOrientation(s.Orientation);
+  filter->SetShadowMethod(s.Method == "raymarch" ? vtkTerroirSolarIllumination::RayMarching
+                                                 : vtkTerroirSolarIllumination::HorizonMap);
+  filter->SetHorizonSectors(s.Sectors);
+  filter->SetEarthCurvature(s.Curvature);
+  filter->SetTransmittance(s.Transmittance);
+}
+
+Statistics ArrayStatistics(vtkDataArray* array, int component)
+{
+  Statistics s;
+  double sum = 0;
+  s.Min = INFINITY;
+  s.Max = -INFINITY;
+  for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
+  {
+    const double v = array->GetComponent(i, component);
+    if (std::isnan(v))
+    {
+      continue;
+    }
+    s.Min = std::min(s.Min, v);
+    s.Max = std::max(s.Max, v);
+    sum += v;
+    ++s.Valid;
+  }
+  s.Mean = s.Valid ? sum / static_cast<double>(s.Valid) : NAN;
+  if (!s.Valid)
+  {
+    s.Min = s.Max = NAN;
+  }
+  return s;
+}
+
+json StatisticsJSON(const Statistics& s)
+{
+  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  return json{ { "min", num(s.Min) },
+    { "max", num(s.Max) },
+    { "mean", num(s.Mean) },
+    { "valid_cells", s.Valid } };
+}
+
+bool HaveDisplay()
+{
+  const char* d = std::getenv("DISPLAY");
+  return d && *d;
+}
+
+/// Loads `symbol` of the module `name` (beside the program's libraries, or
+/// TERROIR_<envName>_PLUGIN); throws naming `what` when it cannot.
+void* LoadPluginSymbol(const char* name, const char* symbol, const char* envName, const char* what)
+{
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv(envName))
+  {
+    candidates.emplace_back(env);
+  }
+  std::error_code ec;
+  const fs::path exeDir = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  if (!ec)
+  {
+    for (const char* rel : { "../lib", "../" TERROIR_INSTALL_LIBDIR })
+    {
+      candidates.push_back((exeDir / rel / name).string());
+    }
+  }
+  std::string failures;
+  for (const auto& path : candidates)
+  {
+    if (void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL))
+    {
+      if (void* found = ::dlsym(handle, symbol))
+      {
+        return found;
+      }
+    }
+    const char* why = ::dlerror();
+    failures += (failures.empty() ? "" : "; ") + (why ? std::string(why) : path);
+  }
+  throw Failure(std::string(what) + " unavailable: cannot load " + name + " (" + failures + ")");
+}
+
+/// Loads the overlay module (see TerroirOverlayPlugin.cxx) once; throws when it is missing.
+TerroirWriteOverlayFunction OverlayWriter()
+{
+  static TerroirWriteOverlayFunction writer = nullptr;
+  if (!writer)
+  {
+    writer =
+      reinterpret_cast<TerroirWriteOverlayFunction>(LoadPluginSymbol(TERROIR_OVERLAY_PLUGIN_NAME,
+        TERROIR_OVERLAY_PLUGIN_SYMBOL,
+        "TERROIR_OVERLAY_PLUGIN",
+        "PNG overlays"));
+  }
+  return writer;
+}
+
+void WriteOverlay(vtkImageData* image,
+  const std::string& array,
+  int component,
+  const std::string& preset,
+  const std::string& title,
+  const std::string& path,
+  bool overwrite,
+  bool map)
+{
+  terroir::app::CheckWritable({ path }, overwrite);
+  if (const char* error = OverlayWriter()(
+        image, array.c_str(), component, preset.c_str(), title.c_str(), path.c_str(), map ? 1 : 0))
+  {
+    throw Failure(path + ": " + error);
+  }
+}
+
+OverlayWriterFunction CommandOverlayWriter(const CommandLine& c)
+{
+  const bool overwrite = c.Overwrite;
+  return [overwrite](vtkImageData* image,
+           const std::string& array,
+           const std::string& preset,
+           const std::string& title,
+           const std::string& path,
+           bool map)
+  {
+    if (!HaveDisplay())
+    {
+      throw Failure(path + ": PNG overlays need an X display: run under 'xvfb-run -a'");
+    }
+    WriteOverlay(image, array, 0, preset, title, path, overwrite, map);
+  };
+}
+
+} // namespace app
+} // namespace terroir

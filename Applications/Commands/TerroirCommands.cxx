@@ -1,0 +1,55 @@
+#include "TerroirCommands.h"
+
+#include "TerroirApp.h"
+#include "TerroirBench.h"
+#include "TerroirClusterCommands.h"
+#include "TerroirCommandSupport.h"
+#include "TerroirFlowCommands.h"
+#include "TerroirWaterCommands.h"
+
+#include <string>
+
+namespace terroir
+{
+namespace app
+{
+
+//------------------------------------------------------------------------------
+const std::vector<Command>& Commands()
+{
+  static const std::vector<Command> commands = {
+    { "run", CommandRun },
+    { "slope", CommandSlope },
+    { "temperature", CommandTemperature },
+    { "illumination", CommandIllumination },
+    { "infiltration", CommandInfiltration },
+    { "humidity", CommandHumidity },
+    { "floodfill", CommandFloodFill },
+    { "waterflow", CommandWaterFlow },
+    { "flowacc", CommandFlowAccumulation },
+    { "validate", CommandValidate },
+    { "kmeans", CommandKMeans },
+    { "view", CommandView },
+    { "bench", [](const CommandLine& c) { return CommandBench(c); } },
+    { "info", CommandInfo },
+    { "fractal", CommandFractal },
+  };
+  return commands;
+}
+
+//------------------------------------------------------------------------------
+int RunCommand(CommandLine& line)
+{
+  LoadClimate(line.Temperature, line.Command == "run" ? &line.SoilWater : nullptr);
+  for (const Command& command : Commands())
+  {
+    if (line.Command == command.Name)
+    {
+      return command.Run(line);
+    }
+  }
+  throw Failure("no command named '" + line.Command + "' (see terroir --help)");
+}
+
+} // namespace app
+} // namespace terroir

@@ -1,0 +1,51 @@
+/**
+ * @file TerroirCommands.h
+ * @brief The commands of the `terroir` program: one function per command, each in its own
+ * file of Applications/Commands/ (or, for the soil-water, flow and cluster commands, beside the
+ * helpers `terroir run` shares with them), and the registry that dispatches to them.
+ *
+ * Every command takes the parsed command line (TerroirCommandLine.h: its options, defaults and
+ * checks) and returns the exit code; it throws Failure (TerroirApp.h) for a one-line error.
+ * The names and summaries are TerroirCommandLine's CommandDescriptions(); Commands() binds each to
+ * its function, and TestCommandLine checks that the two lists agree.
+ */
+#ifndef TerroirCommands_h
+#define TerroirCommands_h
+
+#include "TerroirCommandLine.h"
+
+#include <vector>
+
+namespace terroir
+{
+namespace app
+{
+
+using CommandFunction = int (*)(const CommandLine&);
+
+/// A command's name (as CommandDescriptions() spells it) and its code.
+struct Command
+{
+  const char* Name;
+  CommandFunction Run;
+};
+
+/// Every command of the program.
+const std::vector<Command>& Commands();
+
+/// Runs `line.Command`: reads --climate first (its temperatures, and for `run` its rain, join
+/// the settings), then calls the command. Throws Failure on an unknown name.
+int RunCommand(CommandLine& line);
+
+int CommandRun(const CommandLine& c);          // Run.cxx
+int CommandSlope(const CommandLine& c);        // Slope.cxx
+int CommandTemperature(const CommandLine& c);  // Temperature.cxx
+int CommandIllumination(const CommandLine& c); // Illumination.cxx
+int CommandInfo(const CommandLine& c);         // Info.cxx
+int CommandFractal(const CommandLine& c);      // Fractal.cxx
+int CommandView(const CommandLine& c);         // View.cxx
+
+} // namespace app
+} // namespace terroir
+
+#endif

@@ -1,0 +1,59 @@
+// The registry of the `terroir` program (Applications/Commands/TerroirCommands.h) against the
+// command-line parser's list (TerroirCommandLine.h): a command the parser accepts but the
+// program cannot run, or code no command line reaches, fails here instead of at a user's prompt.
+#include "TerroirApp.h"
+#include "TerroirCommandLine.h"
+#include "TerroirCommands.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+using namespace terroir::app;
+
+TEST(CommandRegistry, EveryParsedCommandRunsAndNoOther)
+{
+  std::vector<std::string> parsed, registered;
+  for (const CommandDescription& info : CommandDescriptions())
+  {
+    parsed.emplace_back(info.Name);
+  }
+  for (const Command& command : Commands())
+  {
+    registered.emplace_back(command.Name);
+    EXPECT_NE(command.Run, nullptr) << command.Name;
+  }
+  EXPECT_EQ(parsed, registered); // same names, in the order --help lists them
+  EXPECT_EQ(std::set<std::string>(parsed.begin(), parsed.end()).size(), parsed.size());
+  EXPECT_EQ(parsed.size(), 15u); // run .. fractal (CLI.md's table)
+}
+
+TEST(CommandRegistry, EveryCommandParsesItsHelp)
+{
+  for (const CommandDescription& info : CommandDescriptions())
+  {
+    const char* argv[] = { "terroir", info.Name, "--help" };
+    CommandLine line;
+    const ParseOutcome outcome = ParseCommandLine(3, argv, line);
+    EXPECT_FALSE(outcome.Run) << info.Name;
+    EXPECT_EQ(outcome.ExitCode, 0) << info.Name;
+    EXPECT_NE(outcome.Stdout.find(info.Summary), std::string::npos) << info.Name;
+  }
+}
+
+TEST(CommandRegistry, AnUnknownCommandIsAFailureNamingIt)
+{
+  CommandLine line;
+  line.Command = "no-such-command";
+  try
+  {
+    RunCommand(line);
+    FAIL() << "no Failure";
+  }
+  catch (const Failure& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("no-such-command"), std::string::npos) << e.what();
+  }
+}
