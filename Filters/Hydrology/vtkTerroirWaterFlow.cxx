@@ -21,6 +21,7 @@
 #include "PriorityFlood.h"
 #include "RiverValidation.h"
 #include "WaterFlow.h"
+#include "WaterFlowRun.h"
 #include "WaterFlowWarmStart.h"
 #include "vtkTerroirWaterFlowGPU.h"
 
@@ -44,19 +45,42 @@ struct vtkTerroirWaterFlow::Cache
   vtkMTimeType InputTime = 0;
   vtkMTimeType FilterTime = 0;
   vtkImageData* Input = nullptr;
-  struct Checkpoint
-  {
-    std::vector<double> Water;
-    std::vector<double> Discharge;
-    std::vector<double> Edges; ///< net flux sums (Rivers mode)
-  };
-  std::map<long long, Checkpoint> Checkpoints;
+  hy::WaterFlowCheckpoints Checkpoints;
   std::vector<std::uint8_t> Lake;                ///< Rivers mode: 1 on the lakes (LakeMask)
   std::vector<hy::WaterFlowWarmStartLevel> Warm; ///< Rivers mode: the warm start's levels
 };
 
 namespace
 {
+/// Advances on the GPU (`runGPU`: the filter's RunGPUPath) while `gpu`; a fallback to the CPU
+/// clears it and goes on from where the state stood; a failed GPU request (reported) sets
+/// `failed` and stops.
+hy::WaterFlowAdvance BackendAdvance(const std::function<int(const std::function<void()>&)>& runGPU,
+  bool& gpu,
+  bool& failed)
+{
+  return [runGPU, &gpu, &failed](hy::WaterFlowSimulation& sim,
+           long long until,
+           bool applyRules,
+           const hy::WaterFlowStopRule& rule,
+           hy::WaterFlowStopReason& reason)
+  {
+    if (gpu && !failed)
+    {
+      hy::WaterFlowGPUResult result;
+      const int ran = runGPU([&] { result = hy::RunWaterFlowGPU(sim, until, applyRules, rule); });
+      failed = ran < 0;
+      if (ran == vtkTerroirComputeContext::GPU)
+      {
+        reason = result.reason;
+        return result.stopped;
+      }
+      gpu = false;
+    }
+    return failed || hy::WaterFlowAdvanceCPU(sim, until, applyRules, rule, reason);
+  };
+}
+
 std::string Num(double v)
 {
   std::ostringstream os;
@@ -255,6 +279,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   const terroir::TerrainInput& terrain,
   vtkImageData* output)
 {
+  const auto runGPU = [this](const std::function<void()>& job) { return this->RunGPUPath(job); };
   const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
   const int backend = this->SelectBackend(this->HasGPUPath());
@@ -367,26 +392,15 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
         warm.rule.maximumIterations = this->MaximumIterations;
         bool gpuLevels = backend == vtkTerroirComputeContext::GPU;
         bool failed = false;
+        const hy::WaterFlowAdvance advanceLevel = BackendAdvance(runGPU, gpuLevels, failed);
         const hy::WaterFlowLevelRun runLevel =
           [&](hy::WaterFlowSimulation& level, const hy::WaterFlowStopRule& levelRule)
         {
           level.SetLongCapacityRule(this->LongCapacityRule != 0);
           hy::UseSMPTools(level);
-          if (gpuLevels && !failed)
-          {
-            hy::WaterFlowGPUResult result;
-            const int ran = this->RunGPUPath(
-              [&] {
-                result = hy::RunWaterFlowGPU(level, levelRule.maximumIterations, true, levelRule);
-              });
-            if (ran == vtkTerroirComputeContext::GPU)
-            {
-              return result.stopped ? result.reason : hy::WaterFlowStopReason::MaximumIterations;
-            }
-            failed = ran < 0;
-            gpuLevels = false;
-          }
-          return failed ? hy::WaterFlowStopReason::MaximumIterations : level.Run(levelRule);
+          hy::WaterFlowStopReason why = hy::WaterFlowStopReason::MaximumIterations;
+          advanceLevel(level, levelRule.maximumIterations, true, levelRule, why);
+          return why;
         };
         cache.Warm = hy::WaterFlowWarmStart(
           v, water.data(), uniformRain, rain.empty() ? nullptr : rain.data(), warm, runLevel);
@@ -416,7 +430,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
       vtkErrorMacro(<< this->SourcePrefix(input) << e.what());
       return 0;
     }
-    cache.Checkpoints.clear();
+    cache.Checkpoints.Clear();
     cache.Input = input;
     cache.InputTime = input->GetMTime();
     cache.FilterTime = this->GetMTime();
@@ -473,35 +487,13 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   }
 
   // Go back to the nearest checkpoint when the cache is past the target.
-  if (sim.Iterations() > target)
+  if (sim.Iterations() > target && !cache.Checkpoints.Restore(sim, target))
   {
-    auto it = cache.Checkpoints.upper_bound(target);
-    long long from = 0;
-    if (it != cache.Checkpoints.begin())
-    {
-      --it;
-      from = it->first;
-      sim.PaddedWater() = it->second.Water;
-      sim.PaddedDischarge() = it->second.Discharge;
-      sim.PaddedEdges() = it->second.Edges;
-    }
-    else
-    {
-      // Iteration 0: the initial state, rebuilt from the input.
-      cache.Sim.reset();
-      return this->RequestTerrainData(input, terrain, output);
-    }
-    sim.TruncateHistory(from);
+    // Iteration 0: the initial state, rebuilt from the input.
+    cache.Sim.reset();
+    return this->RequestTerrainData(input, terrain, output);
   }
 
-  // Advance, pausing at checkpoint iterations.
-  const double bytesPerCheckpoint =
-    16.0 * static_cast<double>(sim.PaddedWater().size()) + 8.0 * sim.PaddedEdges().size();
-  const std::size_t maxCheckpoints = static_cast<std::size_t>(
-    std::floor(this->CheckpointMemory * 1048576.0 / std::max(bytesPerCheckpoint, 1.0)));
-  const long long first = sim.Iterations();
-  bool stopped = false;
-  hy::WaterFlowStopReason stopReason = hy::WaterFlowStopReason::MaximumIterations;
   // The emptied-cell stop count runs on the CPU only: Auto uses the CPU, a GPU request fails.
   if (backend == vtkTerroirComputeContext::GPU && this->CountEmptiedCells && applyRules &&
     this->GetBackend() == vtkTerroirComputeContext::GPU)
@@ -510,69 +502,39 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
                   << "CountEmptiedCells (Long (2016)'s stop count) runs on the CPU path only");
     return 0;
   }
+  // Advance (WaterFlowRun.h), pausing at checkpoint and event iterations; the GPU path falls
+  // back to the CPU from where it stood when the GPU is lost.
   bool gpu = backend == vtkTerroirComputeContext::GPU && !(this->CountEmptiedCells && applyRules);
-  while (!stopped && sim.Iterations() < target)
+  bool gpuFailed = false;
+  const hy::WaterFlowAdvance advance = BackendAdvance(runGPU, gpu, gpuFailed);
+  hy::WaterFlowAdvancePlan plan;
+  plan.target = target;
+  plan.applyRules = applyRules;
+  plan.rule = rule;
+  plan.checkpointInterval = this->CheckpointInterval;
+  plan.eventInterval = this->IterationEventInterval;
+  cache.Checkpoints.SetBudget(this->CheckpointMemory, sim);
+  const long long first = sim.Iterations();
+  const hy::WaterFlowAdvanceOutcome outcome = hy::WaterFlowAdvanceTo(sim,
+    plan,
+    advance,
+    &cache.Checkpoints,
+    [&](long long iterations, bool event)
+    {
+      this->UpdateProgress(
+        0.05 + 0.9 * static_cast<double>(iterations) / static_cast<double>(std::max(target, 1LL)));
+      if (event)
+      {
+        vtkIdType done = static_cast<vtkIdType>(iterations);
+        this->InvokeEvent(IterationEvent, &done);
+      }
+    });
+  if (gpuFailed)
   {
-    const long long interval = this->CheckpointInterval;
-    long long next = std::min(target, (sim.Iterations() / interval + 1) * interval);
-    const long long watch = this->IterationEventInterval;
-    if (watch > 0)
-    {
-      next = std::min(next, (sim.Iterations() / watch + 1) * watch);
-    }
-    if (gpu)
-    {
-      hy::WaterFlowGPUResult result;
-      const int ran =
-        this->RunGPUPath([&] { result = hy::RunWaterFlowGPU(sim, next, applyRules, rule); });
-      if (ran < 0)
-      {
-        return 0;
-      }
-      if (ran == vtkTerroirComputeContext::CPU)
-      {
-        gpu = false; // fell back; the state in sim is unchanged
-        continue;
-      }
-      stopped = result.stopped;
-      stopReason = result.reason;
-    }
-    else
-    {
-      while (sim.Iterations() < next)
-      {
-        const double before = sim.TotalMoved();
-        const double emptiedBefore = sim.TotalEmptied();
-        const hy::WaterFlowIteration it = sim.Step();
-        if (it.moved <= 0.0 && sim.GetRain() <= 0.0)
-        {
-          stopped = true;
-          stopReason = hy::WaterFlowStopReason::NoMovement;
-          break;
-        }
-        if (applyRules &&
-          sim.StopsAfter(it, sim.Iterations(), before, rule, stopReason, emptiedBefore))
-        {
-          stopped = true;
-          break;
-        }
-      }
-    }
-    this->UpdateProgress(0.05 +
-      0.9 * static_cast<double>(sim.Iterations()) / static_cast<double>(std::max(target, 1LL)));
-    if (sim.Iterations() % interval == 0 && cache.Checkpoints.size() < maxCheckpoints &&
-      !cache.Checkpoints.count(sim.Iterations()))
-    {
-      cache.Checkpoints[sim.Iterations()] = {
-        sim.PaddedWater(), sim.PaddedDischarge(), sim.PaddedEdges()
-      };
-    }
-    if (watch > 0 && sim.Iterations() % watch == 0 && sim.Iterations() > first)
-    {
-      vtkIdType done = static_cast<vtkIdType>(sim.Iterations());
-      this->InvokeEvent(IterationEvent, &done);
-    }
+    return 0;
   }
+  const bool stopped = outcome.stopped;
+  const hy::WaterFlowStopReason stopReason = outcome.reason;
   this->LastComputedIterations = static_cast<vtkIdType>(sim.Iterations() - first);
   if (reasonName.empty() || stopped)
   {
@@ -601,27 +563,17 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   vtkSmartPointer<vtkUnsignedCharArray> body;
   if (this->Mode == Rivers)
   {
-    const std::vector<double> water = sim.PaddedWater();
-    const std::vector<double> before = sim.PaddedDischarge();
-    const std::vector<double> edges = sim.PaddedEdges();
-    const long long stop = sim.Iterations();
-    std::fill(sim.PaddedEdges().begin(), sim.PaddedEdges().end(), 0.0);
-    for (vtkIdType k = 0; k < this->RateIterations; ++k)
-    {
-      sim.Step();
-    }
     rate = vtkSmartPointer<vtkDoubleArray>::New();
     rate->SetName(DischargeRateName());
     rate->SetNumberOfTuples(static_cast<vtkIdType>(n));
     rate->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m3/s");
     double* qr = rate->GetPointer(0);
     std::vector<std::int8_t> dominant(n);
-    sim.GetNetDischarge(qr, dominant.data());
-    const double seconds = static_cast<double>(this->RateIterations) * this->IterationDuration;
-    for (std::size_t c = 0; c < n; ++c)
-    {
-      qr[c] /= seconds; // NaN on no data stays NaN
-    }
+    hy::WaterFlowDischargeRate(sim,
+      this->RateIterations,
+      static_cast<double>(this->RateIterations) * this->IterationDuration,
+      qr,
+      dominant.data());
     strength = vtkSmartPointer<vtkDoubleArray>::New();
     strength->SetName(RiverStrengthName());
     strength->SetNumberOfTuples(static_cast<vtkIdType>(n));
@@ -631,10 +583,6 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     qv.nx = v.nx;
     qv.ny = v.ny;
     hy::ThinAcrossFlow(qv, dominant.data(), this->ThinningFactor, strength->GetPointer(0));
-    sim.PaddedWater() = water;
-    sim.PaddedDischarge() = before;
-    sim.PaddedEdges() = edges;
-    sim.TruncateHistory(stop);
     body = vtkSmartPointer<vtkUnsignedCharArray>::New();
     body->SetName(LakeMaskName());
     body->SetNumberOfTuples(static_cast<vtkIdType>(n));

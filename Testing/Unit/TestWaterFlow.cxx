@@ -74,7 +74,7 @@ hy::WaterFlowGiver OneD(double terrain, double water, double h)
 }
 
 // Long (2016)'s three cases of evacuation capacity (table 3.3), 1-D, one lower neighbour.
-TEST(WaterFlow, SeedCasesOneDimension)
+TEST(WaterFlow, Long2016CasesOneDimension)
 {
   // All: T = 10, W = 1, neighbour at 8: 8 + 1 <= 10, the whole metre leaves; the giver is left
   // at its terrain (10), the receiver rises to 9.
@@ -673,7 +673,7 @@ TEST(WaterFlow, DominantDirectionIsTheEdgeMostWaterLeftBy)
   }
 }
 
-TEST(WaterFlow, SeedLiteralCapacityRule)
+TEST(WaterFlow, Long2016LiteralCapacityRule)
 {
   // Long (2016)'s eq. 3.8 in 1-D: WEC = 2 T - H(n-1) - H(n+1). T = 5, a lower neighbour at 3 and a
   // higher one at 8 (the others far above, as in OneD, are left out by closeness 0): WEC =
@@ -713,7 +713,7 @@ TEST(WaterFlow, SeedLiteralCapacityRule)
   EXPECT_NEAR(apex.Step().moved, 0.1, 1e-15); // all of it (all case: WEC 8 x ~0.85 >= 0.1)
 }
 
-TEST(WaterFlow, SeedStopRuleCountsEmptiedCells)
+TEST(WaterFlow, Long2016StopRuleCountsEmptiedCells)
 {
   // Thin water on a steep plane: every cell gives all it has, so the first iteration empties
   // every wet cell (96); the auto-stop on counts is replayed by hand from the steps' counts.

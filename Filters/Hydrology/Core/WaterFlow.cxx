@@ -1,4 +1,5 @@
 #include "WaterFlow.h"
+#include "WaterFlowRun.h"
 
 #include <algorithm>
 #include <atomic>
@@ -1273,25 +1274,11 @@ bool WaterFlowSimulation::StopsAfter(const WaterFlowIteration& it,
 //------------------------------------------------------------------------------
 WaterFlowStopReason WaterFlowSimulation::Run(const WaterFlowStopRule& rule)
 {
-  if (rule.maximumIterations < 0 || !(rule.autoStopRatio >= 0.0) ||
-    !(rule.balanceTolerance >= 0.0 && rule.balanceTolerance < 1.0) || rule.balanceAfter < 0)
-  {
-    throw std::invalid_argument("water flow: negative iteration limit, stop ratio or settling "
-                                "count, or balance tolerance not in [0, 1)");
-  }
+  CheckWaterFlowStopRule(rule);
   this->CountEmptied = this->CountEmptied || rule.countEmptiedCells;
-  while (this->IterationCount < rule.maximumIterations)
-  {
-    const double before = this->MovedTotal;
-    const double emptiedBefore = this->EmptiedTotal;
-    const WaterFlowIteration it = this->Step();
-    WaterFlowStopReason reason;
-    if (this->StopsAfter(it, this->IterationCount, before, rule, reason, emptiedBefore))
-    {
-      return reason;
-    }
-  }
-  return WaterFlowStopReason::MaximumIterations;
+  WaterFlowStopReason reason = WaterFlowStopReason::MaximumIterations;
+  WaterFlowAdvanceCPU(*this, rule.maximumIterations, true, rule, reason);
+  return reason;
 }
 
 //------------------------------------------------------------------------------
