@@ -275,166 +275,182 @@ int vtkTerroirWaterFlow::RequestInformation(vtkInformation* request,
 }
 
 //------------------------------------------------------------------------------
-int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::InitialWater(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  std::vector<double>& water,
+  std::vector<double>& rain)
+{
+  const std::size_t n = v.Size();
+  Cache& cache = *this->State;
+  // Initial water, metres, every check before the simulation exists.
+  water.assign(n, 0.0);
+  vtkDataArray* standing = nullptr;
+  if (this->WaterSource != Constant)
+  {
+    standing = this->GetInputArrayToProcess(1, input);
+    if (!standing || standing->GetNumberOfComponents() != 12 ||
+      standing->GetNumberOfTuples() != static_cast<vtkIdType>(n))
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input)
+                    << "the StandingWater sources need a point array `StandingWater` with 12 "
+                       "components (mm, from vtkTerroirSoilHumidity)");
+      return false;
+    }
+  }
+  std::vector<float> spill;
+  rain.assign(this->Mode == Rivers && this->WaterSource != Constant ? n : 0, 0.0);
+  if (this->Mode == Rivers)
+  {
+    // Still water first: every depression full to its spill level (Priority-Flood), the
+    // state rain alone reaches at steady state; the run then only has to form the flow.
+    spill.resize(n);
+    hy::PriorityFloodBarnes2014(v, spill.data());
+    // Lakes: the filled depressions and the flat water surfaces (hydro-flattened lakes) of
+    // at least LakeArea, as vtkTerroirFloodFill's FillDepressions finds them.
+    hy::DepressionWaterBodyOptions lakeOptions;
+    lakeOptions.minimumArea = this->LakeArea;
+    std::vector<std::int32_t> ids(n, 0);
+    std::vector<float> depth(n, 0.0f);
+    hy::DepressionWaterBodies(v, spill.data(), lakeOptions, ids.data(), depth.data());
+    cache.Lake.assign(n, 0);
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      cache.Lake[c] = ids[c] > 0 ? 1 : 0;
+    }
+  }
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    const bool valid = (!v.valid || v.valid[c]) && std::isfinite(v.data[c]);
+    if (!valid)
+    {
+      continue;
+    }
+    if (this->Mode == Rivers)
+    {
+      water[c] = std::max(0.0, static_cast<double>(spill[c]) - static_cast<double>(v.data[c]));
+      if (this->WaterSource == Constant)
+      {
+        continue; // uniform rain, RainRate
+      }
+    }
+    double mm = this->WaterDepth;
+    if (this->WaterSource == StandingWaterMonth)
+    {
+      mm = standing->GetComponent(static_cast<vtkIdType>(c), this->Month - 1);
+    }
+    else if (this->WaterSource == StandingWaterAnnual)
+    {
+      mm = 0.0;
+      for (int m = 0; m < 12; ++m)
+      {
+        mm += standing->GetComponent(static_cast<vtkIdType>(c), m);
+      }
+    }
+    if (!(std::isfinite(mm) && mm >= 0.0))
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << "water " << Num(mm) << " mm at cell ("
+                    << c % v.nx << ", " << c / v.nx
+                    << ") is negative or not a number: water depths must be >= 0");
+      return false;
+    }
+    if (this->Mode == Rivers)
+    {
+      // The month's (or the year's) standing water spread evenly over its hours, as rain per
+      // iteration, metres.
+      static const double kDays[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
+      const double hours =
+        24.0 * (this->WaterSource == StandingWaterMonth ? kDays[this->Month - 1] : 365.0);
+      rain[c] = mm / hours / 1000.0 / 3600.0 * this->IterationDuration;
+      continue;
+    }
+    water[c] = mm / 1000.0;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::NewSimulation(vtkImageData* input,
   const terroir::TerrainInput& terrain,
-  vtkImageData* output)
+  int backend)
 {
   const auto runGPU = [this](const std::function<void()>& job) { return this->RunGPUPath(job); };
   const terroir::GridView<float>& v = terrain.view;
-  const std::size_t n = v.Size();
-  const int backend = this->SelectBackend(this->HasGPUPath());
-  if (backend < 0)
-  {
-    return 0;
-  }
-  this->LastComputedIterations = 0;
   Cache& cache = *this->State;
-
-  // A new input or new parameters start from scratch.
-  if (!cache.Sim || cache.Input != input || cache.InputTime != input->GetMTime() ||
-    cache.FilterTime != this->GetMTime())
+  // Initial water, metres, every check before the simulation exists.
+  std::vector<double> water, rain;
+  if (!this->InitialWater(input, v, water, rain))
   {
-    // Initial water, metres, every check before the simulation exists.
-    std::vector<double> water(n, 0.0);
-    vtkDataArray* standing = nullptr;
-    if (this->WaterSource != Constant)
+    return false;
+  }
+  const double uniformRain = this->RainRate / 1000.0 / 3600.0 * this->IterationDuration;
+  cache.Warm.clear();
+  try
+  {
+    if (this->Mode == Rivers && this->WarmStart)
     {
-      standing = this->GetInputArrayToProcess(1, input);
-      if (!standing || standing->GetNumberOfComponents() != 12 ||
-        standing->GetNumberOfTuples() != static_cast<vtkIdType>(n))
+      // Coarse-to-fine: each coarser level run to the balance on the chosen path.
+      hy::WaterFlowWarmStartOptions warm;
+      warm.coarsestSide = this->WarmStartSide;
+      warm.settleIterations = this->SettleIterations;
+      warm.rule.autoStopRatio = 0.0;
+      warm.rule.balanceTolerance = this->BalanceTolerance;
+      warm.rule.maximumIterations = this->MaximumIterations;
+      bool gpuLevels = backend == vtkTerroirComputeContext::GPU;
+      bool failed = false;
+      const hy::WaterFlowAdvance advanceLevel = BackendAdvance(runGPU, gpuLevels, failed);
+      const hy::WaterFlowLevelRun runLevel =
+        [&](hy::WaterFlowSimulation& level, const hy::WaterFlowStopRule& levelRule)
       {
-        vtkErrorMacro(<< this->SourcePrefix(input)
-                      << "the StandingWater sources need a point array `StandingWater` with 12 "
-                         "components (mm, from vtkTerroirSoilHumidity)");
-        return 0;
+        level.SetLongCapacityRule(this->LongCapacityRule != 0);
+        hy::UseSMPTools(level);
+        hy::WaterFlowStopReason why = hy::WaterFlowStopReason::MaximumIterations;
+        advanceLevel(level, levelRule.maximumIterations, true, levelRule, why);
+        return why;
+      };
+      cache.Warm = hy::WaterFlowWarmStart(
+        v, water.data(), uniformRain, rain.empty() ? nullptr : rain.data(), warm, runLevel);
+      if (failed)
+      {
+        return false; // the GPU request failed (reported)
       }
     }
-    std::vector<float> spill;
-    std::vector<double> rain(this->Mode == Rivers && this->WaterSource != Constant ? n : 0, 0.0);
+    cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
+    cache.Sim->SetLongCapacityRule(this->LongCapacityRule != 0);
+    cache.Sim->SetCountEmptiedCells(this->CountEmptiedCells != 0);
     if (this->Mode == Rivers)
     {
-      // Still water first: every depression full to its spill level (Priority-Flood), the
-      // state rain alone reaches at steady state; the run then only has to form the flow.
-      spill.resize(n);
-      hy::PriorityFloodBarnes2014(v, spill.data());
-      // Lakes: the filled depressions and the flat water surfaces (hydro-flattened lakes) of
-      // at least LakeArea, as vtkTerroirFloodFill's FillDepressions finds them.
-      hy::DepressionWaterBodyOptions lakeOptions;
-      lakeOptions.minimumArea = this->LakeArea;
-      std::vector<std::int32_t> ids(n, 0);
-      std::vector<float> depth(n, 0.0f);
-      hy::DepressionWaterBodies(v, spill.data(), lakeOptions, ids.data(), depth.data());
-      cache.Lake.assign(n, 0);
-      for (std::size_t c = 0; c < n; ++c)
+      if (rain.empty())
       {
-        cache.Lake[c] = ids[c] > 0 ? 1 : 0;
+        cache.Sim->SetRain(uniformRain);
       }
+      else
+      {
+        cache.Sim->SetRainField(rain.data());
+      }
+      cache.Sim->SetNetFlux(true);
     }
-    for (std::size_t c = 0; c < n; ++c)
-    {
-      const bool valid = (!v.valid || v.valid[c]) && std::isfinite(v.data[c]);
-      if (!valid)
-      {
-        continue;
-      }
-      if (this->Mode == Rivers)
-      {
-        water[c] = std::max(0.0, static_cast<double>(spill[c]) - static_cast<double>(v.data[c]));
-        if (this->WaterSource == Constant)
-        {
-          continue; // uniform rain, RainRate
-        }
-      }
-      double mm = this->WaterDepth;
-      if (this->WaterSource == StandingWaterMonth)
-      {
-        mm = standing->GetComponent(static_cast<vtkIdType>(c), this->Month - 1);
-      }
-      else if (this->WaterSource == StandingWaterAnnual)
-      {
-        mm = 0.0;
-        for (int m = 0; m < 12; ++m)
-        {
-          mm += standing->GetComponent(static_cast<vtkIdType>(c), m);
-        }
-      }
-      if (!(std::isfinite(mm) && mm >= 0.0))
-      {
-        vtkErrorMacro(<< this->SourcePrefix(input) << "water " << Num(mm) << " mm at cell ("
-                      << c % v.nx << ", " << c / v.nx
-                      << ") is negative or not a number: water depths must be >= 0");
-        return 0;
-      }
-      if (this->Mode == Rivers)
-      {
-        // The month's (or the year's) standing water spread evenly over its hours, as rain per
-        // iteration, metres.
-        static const double kDays[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
-        const double hours =
-          24.0 * (this->WaterSource == StandingWaterMonth ? kDays[this->Month - 1] : 365.0);
-        rain[c] = mm / hours / 1000.0 / 3600.0 * this->IterationDuration;
-        continue;
-      }
-      water[c] = mm / 1000.0;
-    }
-    const double uniformRain = this->RainRate / 1000.0 / 3600.0 * this->IterationDuration;
-    cache.Warm.clear();
-    try
-    {
-      if (this->Mode == Rivers && this->WarmStart)
-      {
-        // Coarse-to-fine: each coarser level run to the balance on the chosen path.
-        hy::WaterFlowWarmStartOptions warm;
-        warm.coarsestSide = this->WarmStartSide;
-        warm.settleIterations = this->SettleIterations;
-        warm.rule.autoStopRatio = 0.0;
-        warm.rule.balanceTolerance = this->BalanceTolerance;
-        warm.rule.maximumIterations = this->MaximumIterations;
-        bool gpuLevels = backend == vtkTerroirComputeContext::GPU;
-        bool failed = false;
-        const hy::WaterFlowAdvance advanceLevel = BackendAdvance(runGPU, gpuLevels, failed);
-        const hy::WaterFlowLevelRun runLevel =
-          [&](hy::WaterFlowSimulation& level, const hy::WaterFlowStopRule& levelRule)
-        {
-          level.SetLongCapacityRule(this->LongCapacityRule != 0);
-          hy::UseSMPTools(level);
-          hy::WaterFlowStopReason why = hy::WaterFlowStopReason::MaximumIterations;
-          advanceLevel(level, levelRule.maximumIterations, true, levelRule, why);
-          return why;
-        };
-        cache.Warm = hy::WaterFlowWarmStart(
-          v, water.data(), uniformRain, rain.empty() ? nullptr : rain.data(), warm, runLevel);
-        if (failed)
-        {
-          return 0; // the GPU request failed (reported)
-        }
-      }
-      cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
-      cache.Sim->SetLongCapacityRule(this->LongCapacityRule != 0);
-      cache.Sim->SetCountEmptiedCells(this->CountEmptiedCells != 0);
-      if (this->Mode == Rivers)
-      {
-        if (rain.empty())
-        {
-          cache.Sim->SetRain(uniformRain);
-        }
-        else
-        {
-          cache.Sim->SetRainField(rain.data());
-        }
-        cache.Sim->SetNetFlux(true);
-      }
-    }
-    catch (const std::invalid_argument& e)
-    {
-      vtkErrorMacro(<< this->SourcePrefix(input) << e.what());
-      return 0;
-    }
-    cache.Checkpoints.Clear();
-    cache.Input = input;
-    cache.InputTime = input->GetMTime();
-    cache.FilterTime = this->GetMTime();
   }
+  catch (const std::invalid_argument& e)
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << e.what());
+    return false;
+  }
+  cache.Checkpoints.Clear();
+  cache.Input = input;
+  cache.InputTime = input->GetMTime();
+  cache.FilterTime = this->GetMTime();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::Simulate(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  int backend,
+  RunInfo& run)
+{
+  const auto runGPU = [this](const std::function<void()>& job) { return this->RunGPUPath(job); };
+  Cache& cache = *this->State;
   hy::WaterFlowSimulation& sim = *cache.Sim;
   hy::UseSMPTools(sim);
 
@@ -491,7 +507,8 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   {
     // Iteration 0: the initial state, rebuilt from the input.
     cache.Sim.reset();
-    return this->RequestTerrainData(input, terrain, output);
+    return this->NewSimulation(input, terrain, backend) &&
+      this->Simulate(input, terrain, backend, run);
   }
 
   // The emptied-cell stop count runs on the CPU only: Auto uses the CPU, a GPU request fails.
@@ -500,7 +517,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   {
     vtkErrorMacro(<< this->SourcePrefix(input)
                   << "CountEmptiedCells (Long (2016)'s stop count) runs on the CPU path only");
-    return 0;
+    return false;
   }
   // Advance (WaterFlowRun.h), pausing at checkpoint and event iterations; the GPU path falls
   // back to the CPU from where it stood when the GPU is lost.
@@ -531,7 +548,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
     });
   if (gpuFailed)
   {
-    return 0;
+    return false;
   }
   const bool stopped = outcome.stopped;
   const hy::WaterFlowStopReason stopReason = outcome.reason;
@@ -555,7 +572,20 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   {
     reasonName = "SimulatedTime";
   }
+  run.ReasonName = reasonName;
+  run.Timed = timed;
+  run.Requested = requested;
+  return true;
+}
 
+//------------------------------------------------------------------------------
+void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
+  const terroir::GridView<float>& v,
+  const RunInfo& run)
+{
+  const std::size_t n = v.Size();
+  Cache& cache = *this->State;
+  hy::WaterFlowSimulation& sim = *cache.Sim;
   // Rivers mode: the discharge rate, averaged over RateIterations more iterations of the
   // steady state (then the state goes back to where the run stopped).
   vtkSmartPointer<vtkDoubleArray> rate;
@@ -655,7 +685,7 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   fd->AddArray(iterations);
   auto reason = vtkSmartPointer<vtkStringArray>::New();
   reason->SetName(StopReasonName());
-  reason->InsertNextValue(reasonName);
+  reason->InsertNextValue(run.ReasonName);
   fd->AddArray(reason);
   fd->AddArray(Scalar("WaterFlowSimulatedTime",
     static_cast<double>(sim.Iterations()) * this->IterationDuration,
@@ -679,9 +709,36 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   fd->AddArray(Scalar("WaterFlowStoredVolume", sim.StoredVolume(), "m3"));
   fd->AddArray(Scalar("WaterFlowOutflowVolume", sim.TotalOutflow(), "m3"));
   fd->AddArray(Scalar("WaterFlowMovedVolume", sim.TotalMoved(), "m3"));
-  if (timed)
+  if (run.Timed)
   {
-    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), requested);
+    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), run.Requested);
   }
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  const int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
+  }
+  this->LastComputedIterations = 0;
+  Cache& cache = *this->State;
+  // A new input or new parameters start from scratch.
+  if ((!cache.Sim || cache.Input != input || cache.InputTime != input->GetMTime() ||
+        cache.FilterTime != this->GetMTime()) &&
+    !this->NewSimulation(input, terrain, backend))
+  {
+    return 0;
+  }
+  RunInfo run;
+  if (!this->Simulate(input, terrain, backend, run))
+  {
+    return 0;
+  }
+  this->AddOutputs(output, terrain.view, run);
   return 1;
 }

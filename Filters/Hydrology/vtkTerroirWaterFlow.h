@@ -96,6 +96,14 @@
 #include "vtkTerroirImageAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
+#include <string> // For std::string
+#include <vector> // For std::vector
+
+namespace terroir
+{
+template<typename T>
+struct GridView;
+}
 
 class vtkFloatArray;
 
@@ -315,6 +323,27 @@ private:
 
   struct Cache;
   std::unique_ptr<Cache> State;
+
+#ifndef __VTK_WRAP__
+  // RequestTerrainData in steps: a new simulation in the cache (its initial water, rain and
+  // lakes first), the run to a time step or a stop rule, the output arrays and field data.
+  struct RunInfo
+  {
+    std::string ReasonName; ///< StopReason's value
+    bool Timed = false;     ///< a time step was requested
+    double Requested = 0.0; ///< that time step
+  };
+  bool InitialWater(vtkImageData* input,
+    const terroir::GridView<float>& v,
+    std::vector<double>& water,
+    std::vector<double>& rain);
+  bool NewSimulation(vtkImageData* input, const terroir::TerrainInput& terrain, int backend);
+  bool Simulate(vtkImageData* input,
+    const terroir::TerrainInput& terrain,
+    int backend,
+    RunInfo& run);
+  void AddOutputs(vtkImageData* output, const terroir::GridView<float>& v, const RunInfo& run);
+#endif
 };
 
 #endif
