@@ -17,6 +17,8 @@
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirTemperature.h"
 
+#include "NumberText.h"
+
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -28,15 +30,6 @@ namespace app
 {
 namespace
 {
-/// A number with up to 9 significant digits ("nan" for NaN).
-std::string Number(double v)
-{
-  std::ostringstream os;
-  os.precision(9);
-  os << v;
-  return os.str();
-}
-
 /// A CSV field: quoted when it holds a comma, a quote or a line break.
 std::string CsvField(const std::string& text)
 {
@@ -110,7 +103,7 @@ std::string ClusterTableCSV(vtkTable* table)
       os << (c ? "," : "");
       if (vtkDataArray::SafeDownCast(column))
       {
-        os << Number(v.ToDouble());
+        os << terroir::NumberText(v.ToDouble(), 9);
       }
       else
       {

@@ -1,5 +1,7 @@
 #include "TerroirViewerScript.h"
 
+#include "NumberText.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -100,12 +102,6 @@ bool ToNumber(const std::string& token, double& value)
   return end == token.c_str() + token.size() && errno == 0 && std::isfinite(value);
 }
 
-std::string FormatNumber(double v)
-{
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
 } // namespace
 
 const char* OverlayName(ViewerOverlay overlay)
@@ -262,7 +258,7 @@ bool ParseViewerScript(const std::string& text,
         if (v < lo || v > top)
         {
           return fail("'" + a.Verb + "': " + what + " " + w[k] + " is outside [" +
-            FormatNumber(lo) + ", " + FormatNumber(top) + "]");
+            terroir::NumberText(lo, 6) + ", " + terroir::NumberText(top, 6) + "]");
         }
         a.Numbers.push_back(v);
       }

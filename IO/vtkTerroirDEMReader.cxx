@@ -446,10 +446,9 @@ DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& erro
   }
   const std::string path = fileName;
   const bool remote = IsNetworkOrArchivePath(path);
-  if (remote && !allowNetwork)
+  error = terroir::io::detail::RefuseNetworkPath(path, allowNetwork);
+  if (!error.empty())
   {
-    error = "network and archive paths (/vsicurl/, /vsizip/, http://, ...) are refused; "
-            "turn AllowNetworkPaths on to read them";
     return DatasetPtr();
   }
   if (!remote && path.rfind("/vsimem/", 0) != 0 &&
@@ -474,23 +473,16 @@ DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& erro
   }
   auto dataset = static_cast<GDALDatasetH>(ds.get());
   const char* driver = GDALGetDriverShortName(GDALGetDatasetDriver(dataset));
-  if (driver && terroir::io::detail::IsServerDriver(driver))
-  {
-    error = std::string("the ") + driver +
-      " driver reads from a server: network access is refused; turn AllowNetworkPaths on";
-    return DatasetPtr();
-  }
-  char** files = GDALGetFileList(dataset);
+  // A server driver is refused before anything else is asked of it.
+  const bool server = driver && terroir::io::detail::IsServerDriver(driver);
+  std::vector<std::string> named;
+  char** files = server ? nullptr : GDALGetFileList(dataset);
   for (char** f = files; f && *f; ++f)
   {
-    if (IsNetworkOrArchivePath(*f))
-    {
-      error = std::string("refers to '") + *f +
-        "', a network or archive path: refused; turn AllowNetworkPaths on to read it";
-      break;
-    }
+    named.emplace_back(*f);
   }
   CSLDestroy(files);
+  error = terroir::io::detail::RefuseNetworkDataset(driver, server, named);
   return error.empty() ? std::move(ds) : DatasetPtr();
 }
 } // namespace

@@ -150,6 +150,60 @@ bool IsServerDriver(const std::string& shortName)
     std::begin(servers), std::end(servers), [&](const char* s) { return lower == s; });
 }
 
+bool IsVectorServerDriver(const std::string& shortName)
+{
+  static const char* const servers[] = { "wfs",
+    "oapif",
+    "carto",
+    "elasticsearch",
+    "postgresql",
+    "mysql",
+    "mssqlspatial",
+    "oci",
+    "odbc",
+    "pgeo",
+    "mongodbv3",
+    "hana",
+    "ngw",
+    "amigocloud",
+    "csw",
+    "plscenes",
+    "eeda" };
+  const std::string lower = ToLower(shortName);
+  return IsServerDriver(shortName) ||
+    std::any_of(std::begin(servers), std::end(servers), [&](const char* s) { return lower == s; });
+}
+
+std::string RefuseNetworkPath(const std::string& path, bool allowNetwork)
+{
+  if (!allowNetwork && IsNetworkOrArchivePath(path))
+  {
+    return "network and archive paths (/vsicurl/, /vsizip/, http://, ...) are refused; "
+           "turn AllowNetworkPaths on to read them";
+  }
+  return std::string();
+}
+
+std::string RefuseNetworkDataset(const char* driver,
+  bool serverDriver,
+  const std::vector<std::string>& files)
+{
+  if (driver && serverDriver)
+  {
+    return std::string("the ") + driver +
+      " driver reads from a server: network access is refused; turn AllowNetworkPaths on";
+  }
+  for (const std::string& f : files)
+  {
+    if (IsNetworkOrArchivePath(f))
+    {
+      return "refers to '" + f +
+        "', a network or archive path: refused; turn AllowNetworkPaths on to read it";
+    }
+  }
+  return std::string();
+}
+
 } // namespace detail
 } // namespace io
 } // namespace terroir

@@ -89,6 +89,22 @@ bool IsNetworkOrArchivePath(const std::string& path);
 /// Short names of the GDAL raster drivers that read from servers by design (WMS, WCS, ...).
 bool IsServerDriver(const std::string& shortName);
 
+/// IsServerDriver, and the OGR drivers that read from servers or databases by design (WFS,
+/// PostgreSQL, ...).
+bool IsVectorServerDriver(const std::string& shortName);
+
+/// The network rule before a file is opened (the one place it is written, for rasters and
+/// vectors alike): a remote or archive path is refused unless `allowNetwork`. Returns the
+/// one-line reason, or "" when the path may be opened.
+std::string RefuseNetworkPath(const std::string& path, bool allowNetwork);
+
+/// The network rule after a dataset opened without network access: refused when its driver
+/// reads from a server (`serverDriver`: IsServerDriver or the vector list) or when one of the
+/// files it names is a network or archive path. Returns the one-line reason, or "".
+std::string RefuseNetworkDataset(const char* driver,
+  bool serverDriver,
+  const std::vector<std::string>& files);
+
 } // namespace detail
 } // namespace io
 } // namespace terroir

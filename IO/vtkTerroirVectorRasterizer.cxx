@@ -229,31 +229,6 @@ GeometryPtr ClipLines(OGRGeometryH geometry, const ClipBox& box)
   return out;
 }
 
-/// Short names of the OGR drivers that read from servers or databases by design.
-bool IsVectorServerDriver(const std::string& shortName)
-{
-  static const char* const servers[] = { "wfs",
-    "oapif",
-    "carto",
-    "elasticsearch",
-    "postgresql",
-    "mysql",
-    "mssqlspatial",
-    "oci",
-    "odbc",
-    "pgeo",
-    "mongodbv3",
-    "hana",
-    "ngw",
-    "amigocloud",
-    "csw",
-    "plscenes",
-    "eeda" };
-  const std::string lower = terroir::io::detail::ToLower(shortName);
-  return terroir::io::detail::IsServerDriver(shortName) ||
-    std::any_of(std::begin(servers), std::end(servers), [&](const char* s) { return lower == s; });
-}
-
 /// Text of every <SrcDataSource> element under `node` (OGR VRT files, unions included).
 void CollectVRTSources(const CPLXMLNode* node, std::vector<std::string>& out)
 {
@@ -299,10 +274,9 @@ DatasetPtr OpenVector(const char* fileName,
   }
   const std::string path = fileName;
   const bool remote = IsNetworkOrArchivePath(path);
-  if (remote && !allowNetwork)
+  error = terroir::io::detail::RefuseNetworkPath(path, allowNetwork);
+  if (!error.empty())
   {
-    error = "network and archive paths (/vsicurl/, /vsizip/, http://, ...) are refused; "
-            "turn AllowNetworkPaths on to read them";
     return DatasetPtr();
   }
   // A folder is a vector dataset too (shapefiles, FileGDB); anything else must be a regular,
@@ -340,36 +314,24 @@ DatasetPtr OpenVector(const char* fileName,
   }
   auto dataset = static_cast<GDALDatasetH>(ds.get());
   const char* driver = GDALGetDriverShortName(GDALGetDatasetDriver(dataset));
-  if (driver && IsVectorServerDriver(driver))
-  {
-    error = std::string("the ") + driver +
-      " driver reads from a server: network access is refused; turn AllowNetworkPaths on";
-    return DatasetPtr();
-  }
+  // A server driver is refused before anything else is asked of it.
+  const bool server = driver && terroir::io::detail::IsVectorServerDriver(driver);
   std::vector<std::string> named;
-  char** files = GDALGetFileList(dataset);
+  char** files = server ? nullptr : GDALGetFileList(dataset);
   for (char** f = files; f && *f; ++f)
   {
     named.emplace_back(*f);
   }
   CSLDestroy(files);
   // An OGR VRT opens its sources lazily and lists only itself: read them from the XML.
-  if (driver && EQUAL(driver, "OGR_VRT") && !folder)
+  if (!server && driver && EQUAL(driver, "OGR_VRT") && !folder)
   {
     CPLXMLNode* xml = CPLParseXMLFile(fileName);
     CollectVRTSources(xml, named);
     CPLDestroyXMLNode(xml);
   }
-  for (const std::string& f : named)
-  {
-    if (IsNetworkOrArchivePath(f))
-    {
-      error = "refers to '" + f +
-        "', a network or archive path: refused; turn AllowNetworkPaths on to read it";
-      return DatasetPtr();
-    }
-  }
-  return ds;
+  error = terroir::io::detail::RefuseNetworkDataset(driver, server, named);
+  return error.empty() ? std::move(ds) : DatasetPtr();
 }
 
 std::string LayerList(GDALDatasetH ds)

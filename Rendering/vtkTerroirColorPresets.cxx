@@ -6,6 +6,8 @@
 #include "vtkObjectFactory.h"
 #include "vtkVariant.h"
 
+#include "ClusterPalette.h"
+
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -47,22 +49,6 @@ const PresetInfo Presets[] = {
   { "Rivers", "RiverNetwork", "", "Rivers and lakes", true, { 0.0, 2.0 } },
 };
 constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
-
-// Categorical palette: Tableau 10, then two more distinct colours. Cluster i gets entry i mod 12.
-const double ClusterPalette[12][3] = {
-  { 0.122, 0.467, 0.706 }, // blue
-  { 1.000, 0.498, 0.055 }, // orange
-  { 0.173, 0.627, 0.173 }, // green
-  { 0.839, 0.153, 0.157 }, // red
-  { 0.580, 0.404, 0.741 }, // purple
-  { 0.549, 0.337, 0.294 }, // brown
-  { 0.890, 0.467, 0.761 }, // pink
-  { 0.498, 0.498, 0.498 }, // grey
-  { 0.737, 0.741, 0.133 }, // olive
-  { 0.090, 0.745, 0.812 }, // cyan
-  { 0.000, 0.000, 0.502 }, // navy
-  { 0.000, 0.000, 0.000 }, // black
-};
 
 // RiverComparison classes 1..3 (terroir::hydrology::RiverComparisonCategories), colours of the
 // Okabe-Ito palette (Okabe & Ito 2008, "Color Universal Design"), told apart with every common
@@ -317,8 +303,8 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     for (int i = 0; i < n; ++i)
     {
       const int id = first + i;
-      const double* c = ClusterPalette[((id % 12) + 12) % 12];
-      lut->SetTableValue(i, c[0], c[1], c[2], 1.0);
+      const unsigned char* c = terroir::ClusterColorRGB(id); // ClusterPalette.h
+      lut->SetTableValue(i, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0, 1.0);
       lut->SetAnnotation(vtkVariant(id), "Cluster " + std::to_string(id));
     }
     lut->SetIndexedLookup(1);

@@ -20,6 +20,8 @@
 
 #include "KMeans.h"
 
+#include "NumberText.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -44,15 +46,6 @@ const struct
   { "IlluminationHours", 1.0 },
   { "WeightedSoilHumidity", 0.1 },
 };
-
-/// A number as people write it: up to 10 significant digits.
-std::string Num(double v)
-{
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
 
 /// vtkSMPTools over [begin, end); the ranges are disjoint, their order and count free.
 cl::KMeansParallelFor SMPParallelFor()
@@ -220,7 +213,7 @@ std::string vtkTerroirKMeans::CheckParameters()
     }
     if (!(f.weight >= 0.0) || !std::isfinite(f.weight))
     {
-      return "feature '" + f.name + "' has weight " + Num(f.weight) +
+      return "feature '" + f.name + "' has weight " + terroir::NumberText(f.weight) +
         "; weights must be finite and >= 0";
     }
     anyPositive = anyPositive || f.weight > 0.0;
@@ -231,7 +224,7 @@ std::string vtkTerroirKMeans::CheckParameters()
   }
   if (!(this->Tolerance >= 0.0) || !std::isfinite(this->Tolerance))
   {
-    return "Tolerance " + Num(this->Tolerance) + " must be a finite number >= 0";
+    return "Tolerance " + terroir::NumberText(this->Tolerance) + " must be a finite number >= 0";
   }
   return std::string();
 }

@@ -17,6 +17,8 @@
 #include "FloodFill.h"
 #include "PriorityFlood.h"
 
+#include "NumberText.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -27,15 +29,6 @@ vtkStandardNewMacro(vtkTerroirFloodFill);
 
 namespace
 {
-/// A number as people write it: up to 10 significant digits, no trailing zeros.
-std::string Num(double v)
-{
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
-
 vtkSmartPointer<vtkDoubleArray> BodyArray(const char* name,
   const char* units,
   const std::vector<terroir::hydrology::WaterBodyStats>& bodies,
@@ -69,7 +62,7 @@ void vtkTerroirFloodFill::PrintSelf(ostream& os, vtkIndent indent)
   {
     const Seed& seed = this->SeedList[s];
     os << indent.GetNextIndent() << this->DescribeSeed(s) << ", level "
-       << (seed.HasLevel ? Num(seed.Level) + " m" : std::string("terrain")) << "\n";
+       << (seed.HasLevel ? terroir::NumberText(seed.Level) + " m" : std::string("terrain")) << "\n";
   }
   os << indent << "MinimumArea: " << this->MinimumArea << "\n";
   os << indent << "IncludeFlatSurfaces: " << (this->IncludeFlatSurfaces ? "On" : "Off") << "\n";
@@ -127,8 +120,9 @@ std::string vtkTerroirFloodFill::DescribeSeed(std::size_t s) const
 {
   const Seed& seed = this->SeedList[s];
   return "seed " + std::to_string(s + 1) +
-    (seed.IsCell ? " at cell (" + std::to_string(seed.I) + ", " + std::to_string(seed.J) + ")"
-                 : " at (" + Num(seed.X) + ", " + Num(seed.Y) + ")");
+    (seed.IsCell
+        ? " at cell (" + std::to_string(seed.I) + ", " + std::to_string(seed.J) + ")"
+        : " at (" + terroir::NumberText(seed.X) + ", " + terroir::NumberText(seed.Y) + ")");
 }
 
 //------------------------------------------------------------------------------
@@ -148,7 +142,8 @@ std::string vtkTerroirFloodFill::CheckParameters()
 {
   if (!(this->MinimumArea >= 0.0) || !std::isfinite(this->MinimumArea))
   {
-    return "MinimumArea " + Num(this->MinimumArea) + " m2 must be a finite number >= 0";
+    return "MinimumArea " + terroir::NumberText(this->MinimumArea) +
+      " m2 must be a finite number >= 0";
   }
   if (this->Mode != Seeds)
   {
@@ -167,7 +162,7 @@ std::string vtkTerroirFloodFill::CheckParameters()
     }
     if (seed.HasLevel && !std::isfinite(seed.Level))
     {
-      return this->DescribeSeed(s) + " has a non-finite level " + Num(seed.Level);
+      return this->DescribeSeed(s) + " has a non-finite level " + terroir::NumberText(seed.Level);
     }
   }
   return std::string();
@@ -219,8 +214,9 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
           const double x1 = origin[0] + (ext[1] + 0.5) * spacing[0];
           const double y0 = origin[1] + (ext[2] - 0.5) * spacing[1];
           const double y1 = origin[1] + (ext[3] + 0.5) * spacing[1];
-          where = "the terrain, which covers x " + Num(std::min(x0, x1)) + " .. " +
-            Num(std::max(x0, x1)) + ", y " + Num(std::min(y0, y1)) + " .. " + Num(std::max(y0, y1));
+          where = "the terrain, which covers x " + terroir::NumberText(std::min(x0, x1)) + " .. " +
+            terroir::NumberText(std::max(x0, x1)) + ", y " + terroir::NumberText(std::min(y0, y1)) +
+            " .. " + terroir::NumberText(std::max(y0, y1));
         }
         vtkErrorMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << " lies outside "
                       << where);
@@ -238,8 +234,8 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
       if (seed.HasLevel && seed.Level < v.data[k])
       {
         vtkWarningMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << ": level "
-                        << Num(seed.Level) << " m is below the terrain there (" << Num(v.data[k])
-                        << " m); its water body is empty");
+                        << terroir::NumberText(seed.Level) << " m is below the terrain there ("
+                        << terroir::NumberText(v.data[k]) << " m); its water body is empty");
       }
       hy::FloodSeed fs;
       fs.cell = k;

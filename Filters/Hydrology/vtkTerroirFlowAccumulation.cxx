@@ -16,6 +16,8 @@
 #include "MultipleFlow.h"
 #include "PriorityFlood.h"
 
+#include "NumberText.h"
+
 #include <cmath>
 #include <cstdint>
 #include <new>
@@ -26,15 +28,6 @@ vtkStandardNewMacro(vtkTerroirFlowAccumulation);
 
 namespace
 {
-/// A number as people write it: up to 10 significant digits, no trailing zeros.
-std::string Num(double v)
-{
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
-
 /// A new array of `n` tuples named `name` with UNITS_LABEL `units` (none when null).
 template<typename ArrayT>
 vtkSmartPointer<ArrayT> NewArray(const char* name, std::size_t n, const char* units)
@@ -115,19 +108,22 @@ std::string vtkTerroirFlowAccumulation::CheckParameters()
 {
   if (!(this->RiverThreshold >= 0.0) || !std::isfinite(this->RiverThreshold))
   {
-    return "RiverThreshold " + Num(this->RiverThreshold) + " m2 must be a finite number >= 0";
+    return "RiverThreshold " + terroir::NumberText(this->RiverThreshold) +
+      " m2 must be a finite number >= 0";
   }
   if (!(this->MFDExponent > 0.0) || !std::isfinite(this->MFDExponent))
   {
-    return "MFDExponent " + Num(this->MFDExponent) + " must be a finite number > 0";
+    return "MFDExponent " + terroir::NumberText(this->MFDExponent) + " must be a finite number > 0";
   }
   if (!(this->SlopeExponent >= 0.0) || !std::isfinite(this->SlopeExponent))
   {
-    return "SlopeExponent " + Num(this->SlopeExponent) + " must be a finite number >= 0";
+    return "SlopeExponent " + terroir::NumberText(this->SlopeExponent) +
+      " must be a finite number >= 0";
   }
   if (!(this->MinimumSlope >= 0.0) || !std::isfinite(this->MinimumSlope))
   {
-    return "MinimumSlope " + Num(this->MinimumSlope) + " must be a finite number >= 0";
+    return "MinimumSlope " + terroir::NumberText(this->MinimumSlope) +
+      " must be a finite number >= 0";
   }
   return std::string();
 }

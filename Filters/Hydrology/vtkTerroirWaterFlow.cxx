@@ -25,6 +25,8 @@
 #include "WaterFlowWarmStart.h"
 #include "vtkTerroirWaterFlowGPU.h"
 
+#include "NumberText.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -79,14 +81,6 @@ hy::WaterFlowAdvance BackendAdvance(const std::function<int(const std::function<
     }
     return failed || hy::WaterFlowAdvanceCPU(sim, until, applyRules, rule, reason);
   };
-}
-
-std::string Num(double v)
-{
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
 }
 
 vtkSmartPointer<vtkDoubleArray> Scalar(const char* name, double value, const char* units)
@@ -182,7 +176,8 @@ std::string vtkTerroirWaterFlow::CheckParameters()
 {
   if (!(std::isfinite(this->WaterDepth) && this->WaterDepth >= 0.0))
   {
-    return "WaterDepth " + Num(this->WaterDepth) + " mm must be a finite number >= 0";
+    return "WaterDepth " + terroir::NumberText(this->WaterDepth) +
+      " mm must be a finite number >= 0";
   }
   if (this->Month < 1 || this->Month > 12)
   {
@@ -190,7 +185,7 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   }
   if (!(this->AutoStopRatio >= 0.0 && this->AutoStopRatio < 1.0))
   {
-    return "AutoStopRatio " + Num(this->AutoStopRatio) + " must be in [0, 1)";
+    return "AutoStopRatio " + terroir::NumberText(this->AutoStopRatio) + " must be in [0, 1)";
   }
   if (this->MaximumIterations < 0)
   {
@@ -198,24 +193,25 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   }
   if (!(std::isfinite(this->MaximumSimulatedTime) && this->MaximumSimulatedTime >= 0.0))
   {
-    return "MaximumSimulatedTime " + Num(this->MaximumSimulatedTime) +
+    return "MaximumSimulatedTime " + terroir::NumberText(this->MaximumSimulatedTime) +
       " s must be a finite number >= 0";
   }
   if (!(std::isfinite(this->IterationDuration) && this->IterationDuration > 0.0))
   {
-    return "IterationDuration " + Num(this->IterationDuration) + " s must be a finite number > 0";
+    return "IterationDuration " + terroir::NumberText(this->IterationDuration) +
+      " s must be a finite number > 0";
   }
   if (!(this->RiverThreshold >= 0.0) || std::isnan(this->RiverThreshold))
   {
-    return "RiverThreshold " + Num(this->RiverThreshold) + " m3 must be >= 0";
+    return "RiverThreshold " + terroir::NumberText(this->RiverThreshold) + " m3 must be >= 0";
   }
   if (!(std::isfinite(this->RainRate) && this->RainRate > 0.0))
   {
-    return "RainRate " + Num(this->RainRate) + " mm/h must be a finite number > 0";
+    return "RainRate " + terroir::NumberText(this->RainRate) + " mm/h must be a finite number > 0";
   }
   if (!(this->BalanceTolerance > 0.0 && this->BalanceTolerance < 1.0))
   {
-    return "BalanceTolerance " + Num(this->BalanceTolerance) + " must be in (0, 1)";
+    return "BalanceTolerance " + terroir::NumberText(this->BalanceTolerance) + " must be in (0, 1)";
   }
   if (this->RateIterations < 1)
   {
@@ -223,11 +219,11 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   }
   if (!(std::isfinite(this->LakeArea) && this->LakeArea >= 0.0))
   {
-    return "LakeArea " + Num(this->LakeArea) + " m2 must be a finite number >= 0";
+    return "LakeArea " + terroir::NumberText(this->LakeArea) + " m2 must be a finite number >= 0";
   }
   if (!(this->ThinningFactor >= 0.0 && this->ThinningFactor <= 1.0))
   {
-    return "ThinningFactor " + Num(this->ThinningFactor) + " must be in [0, 1]";
+    return "ThinningFactor " + terroir::NumberText(this->ThinningFactor) + " must be in [0, 1]";
   }
   if (this->WarmStartSide < 2 || this->SettleIterations < 0)
   {
@@ -236,7 +232,7 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   }
   if (!(std::isfinite(this->RiverArea) && this->RiverArea >= 0.0))
   {
-    return "RiverArea " + Num(this->RiverArea) + " m2 must be a finite number >= 0";
+    return "RiverArea " + terroir::NumberText(this->RiverArea) + " m2 must be a finite number >= 0";
   }
   if (this->TimeStepStride < 1 || this->CheckpointInterval < 1)
   {
@@ -244,7 +240,7 @@ std::string vtkTerroirWaterFlow::CheckParameters()
   }
   if (!(std::isfinite(this->CheckpointMemory) && this->CheckpointMemory >= 0.0))
   {
-    return "CheckpointMemory " + Num(this->CheckpointMemory) + " MiB must be >= 0";
+    return "CheckpointMemory " + terroir::NumberText(this->CheckpointMemory) + " MiB must be >= 0";
   }
   return std::string();
 }
@@ -349,8 +345,8 @@ bool vtkTerroirWaterFlow::InitialWater(vtkImageData* input,
     }
     if (!(std::isfinite(mm) && mm >= 0.0))
     {
-      vtkErrorMacro(<< this->SourcePrefix(input) << "water " << Num(mm) << " mm at cell ("
-                    << c % v.nx << ", " << c / v.nx
+      vtkErrorMacro(<< this->SourcePrefix(input) << "water " << terroir::NumberText(mm)
+                    << " mm at cell (" << c % v.nx << ", " << c / v.nx
                     << ") is negative or not a number: water depths must be >= 0");
       return false;
     }

@@ -53,16 +53,15 @@ void RunSlopeGPU(const terroir::TerrainInput& terrain,
 {
   const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
-  // Per-row coefficients, as the core computes them (double, then float).
+  // Per-row coefficients, the core's own.
   std::vector<float> coef(4 * static_cast<std::size_t>(v.ny));
   for (int j = 0; j < v.ny; ++j)
   {
-    const int jn = std::min(j + 1, v.ny - 1);
-    const int js = std::max(j - 1, 0);
-    coef[4 * j + 0] = static_cast<float>(params.zFactor / (8.0 * v.DxAt(jn)));
-    coef[4 * j + 1] = static_cast<float>(params.zFactor / (8.0 * v.DxAt(j)));
-    coef[4 * j + 2] = static_cast<float>(params.zFactor / (8.0 * v.DxAt(js)));
-    coef[4 * j + 3] = static_cast<float>(params.zFactor / (8.0 * v.DyAt(j)));
+    const auto c = terroir::terrain::SlopeHorn1981RowCoefficients(v, j, params.zFactor);
+    coef[4 * j + 0] = c.cN;
+    coef[4 * j + 1] = c.cC;
+    coef[4 * j + 2] = c.cS;
+    coef[4 * j + 3] = c.cY;
   }
   auto& ctx = terroir::gpu::Context::Global();
   const long long maxBlock = ctx.GetLimits().MaxShaderStorageBlockSize;

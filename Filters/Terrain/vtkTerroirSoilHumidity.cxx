@@ -112,17 +112,11 @@ void RunSoilHumidityGPU(const terroir::TerrainInput& terrain,
       terroir::gpu::StorageBuffer bw(weighted ? outBytes : 16, undefined);
       terroir::gpu::StorageBuffer bs(standing ? outBytes : 16, undefined);
       auto& prog = ctx.GetProgram("SoilHumidity.comp", vtkTerroirSoilHumidityCS, defines);
-      // The same per-month constants as terroir::terrain::SoilHumidityLong2016.
-      float q[12];
-      float inverse[12];
-      for (int m = 0; m < 12; ++m)
-      {
-        const bool rains = rain.quantityMm[m] > 0.0f;
-        q[m] = rains ? rain.quantityMm[m] : 0.0f;
-        inverse[m] = rains ? 1.0f / rain.intensityMmPerHour[m] : 0.0f;
-      }
-      prog.SetFloatArray("uQuantity", q, 12);
-      prog.SetFloatArray("uInverseIntensity", inverse, 12);
+      // The per-month constants of the core's kernel.
+      const terroir::terrain::SoilHumidityMonthConstants constants =
+        terroir::terrain::SoilHumidityLong2016Constants(rain);
+      prog.SetFloatArray("uQuantity", constants.quantity, 12);
+      prog.SetFloatArray("uInverseIntensity", constants.inverseIntensity, 12);
       brate->Bind(0);
       bmask->Bind(1);
       bh.Bind(2);

@@ -1,5 +1,7 @@
 #include "KMeans.h"
 
+#include "ClusterPalette.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -1378,30 +1380,13 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
 }
 
 //------------------------------------------------------------------------------
-namespace
-{
-constexpr unsigned char kPalette[12][3] = {
-  { 0x1f, 0x77, 0xb4 },
-  { 0xff, 0x7f, 0x0e },
-  { 0x2c, 0xa0, 0x2c },
-  { 0xd6, 0x27, 0x28 },
-  { 0x94, 0x67, 0xbd },
-  { 0x8c, 0x56, 0x4b },
-  { 0xe3, 0x77, 0xc2 },
-  { 0x7f, 0x7f, 0x7f },
-  { 0xbc, 0xbd, 0x22 },
-  { 0x17, 0xbe, 0xcf },
-  { 0x00, 0x00, 0x80 },
-  { 0x00, 0x00, 0x00 },
-};
-} // namespace
 
 void KMeansClusterColorRGB(int id, unsigned char rgb[3])
 {
-  const int i = ((id % 12) + 12) % 12;
-  rgb[0] = kPalette[i][0];
-  rgb[1] = kPalette[i][1];
-  rgb[2] = kPalette[i][2];
+  const unsigned char* c = terroir::ClusterColorRGB(id);
+  rgb[0] = c[0];
+  rgb[1] = c[1];
+  rgb[2] = c[2];
 }
 
 std::string KMeansClusterColor(int id)

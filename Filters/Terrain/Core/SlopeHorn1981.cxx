@@ -20,26 +20,6 @@ namespace terrain
 namespace
 {
 
-/// Per-row constants: 1/(8 dx) of the north, centre and south rows and 1/(8 dy), times zFactor.
-template<typename T>
-struct RowCoefficients
-{
-  T cN, cC, cS, cY;
-};
-
-template<typename T>
-RowCoefficients<T> MakeRowCoefficients(const GridView<T>& view, int j, double zFactor)
-{
-  const int jn = std::min(j + 1, view.ny - 1);
-  const int js = std::max(j - 1, 0);
-  RowCoefficients<T> c;
-  c.cN = static_cast<T>(zFactor / (8.0 * view.DxAt(jn)));
-  c.cC = static_cast<T>(zFactor / (8.0 * view.DxAt(j)));
-  c.cS = static_cast<T>(zFactor / (8.0 * view.DxAt(js)));
-  c.cY = static_cast<T>(zFactor / (8.0 * view.DyAt(j)));
-  return c;
-}
-
 /// Everything a cell needs once its window is known.
 template<typename T>
 struct CellOutput
@@ -60,7 +40,7 @@ inline void ComputeCell(T w0,
   T w6,
   T w7,
   T w8,
-  const RowCoefficients<T>& c,
+  const SlopeRowCoefficients<T>& c,
   const CellOutput<T>& out,
   std::size_t idx)
 {
@@ -195,7 +175,7 @@ TERROIR_ALWAYS_INLINE void InteriorRowFloat(const float* __restrict rn,
   const float* __restrict rc,
   const float* __restrict rs,
   int nx,
-  const RowCoefficients<float>& c,
+  const SlopeRowCoefficients<float>& c,
   bool percent,
   float convergence,
   float* __restrict slope,
@@ -244,7 +224,7 @@ TERROIR_CLONES void InteriorRowDispatch(int flags,
   const float* rc,
   const float* rs,
   int nx,
-  const RowCoefficients<float>& c,
+  const SlopeRowCoefficients<float>& c,
   bool percent,
   float convergence,
   float* slope,
@@ -285,7 +265,10 @@ TERROIR_CLONES void InteriorRowDispatch(int flags,
 
 /// Float uses the vectorized row; double (the reference) the plain per-cell code.
 template<typename T>
-bool InteriorRowVectorized(const GridView<T>&, int, const RowCoefficients<T>&, const CellOutput<T>&)
+bool InteriorRowVectorized(const GridView<T>&,
+  int,
+  const SlopeRowCoefficients<T>&,
+  const CellOutput<T>&)
 {
   return false;
 }
@@ -293,7 +276,7 @@ bool InteriorRowVectorized(const GridView<T>&, int, const RowCoefficients<T>&, c
 template<>
 bool InteriorRowVectorized<float>(const GridView<float>& v,
   int j,
-  const RowCoefficients<float>& c,
+  const SlopeRowCoefficients<float>& c,
   const CellOutput<float>& out)
 {
   const std::size_t row = v.Index(0, j);
@@ -386,7 +369,7 @@ void SlopeHorn1981Rows(const GridView<T>& view,
   T w[9];
   for (int j = row0; j < row1; ++j)
   {
-    const RowCoefficients<T> c = MakeRowCoefficients(view, j, params.zFactor);
+    const SlopeRowCoefficients<T> c = SlopeHorn1981RowCoefficients(view, j, params.zFactor);
     const std::size_t rowStart = view.Index(0, j);
     // Border cells (and every cell of the first and last rows) take the general path.
     const bool borderRow = (j == 0 || j == ny - 1);

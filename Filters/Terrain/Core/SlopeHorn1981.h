@@ -64,6 +64,29 @@ struct SlopeParams
   double convergenceDeg = 0.0;            ///< added to the grid aspect (meridian convergence)
 };
 
+/// Per-row constants of Horn's kernel: 1/(8 dx) of the north, centre and south rows and
+/// 1/(8 dy), times the z factor (computed in double, stored as T).
+template<typename T>
+struct SlopeRowCoefficients
+{
+  T cN, cC, cS, cY;
+};
+
+/// The constants of row j (its neighbours clamped at the edges); the CPU kernel and
+/// Shaders/Slope.comp (through vtkTerroirSlope) both use these.
+template<typename T>
+SlopeRowCoefficients<T> SlopeHorn1981RowCoefficients(const GridView<T>& view, int j, double zFactor)
+{
+  const int jn = j + 1 < view.ny ? j + 1 : view.ny - 1;
+  const int js = j > 0 ? j - 1 : 0;
+  SlopeRowCoefficients<T> c;
+  c.cN = static_cast<T>(zFactor / (8.0 * view.DxAt(jn)));
+  c.cC = static_cast<T>(zFactor / (8.0 * view.DxAt(j)));
+  c.cS = static_cast<T>(zFactor / (8.0 * view.DxAt(js)));
+  c.cY = static_cast<T>(zFactor / (8.0 * view.DyAt(j)));
+  return c;
+}
+
 /**
  * @brief Horn (1981) slope, aspect and normals for rows [row0, row1) of `view`.
  * @param[in] view    the grid (nx, ny >= 2), optional per-row spacing and validity mask

@@ -27,6 +27,18 @@ double FAOInfiltrationRate(int soilType)
   }
 }
 
+SoilHumidityMonthConstants SoilHumidityLong2016Constants(const MonthlyRain& rain)
+{
+  SoilHumidityMonthConstants c;
+  for (int m = 0; m < 12; ++m)
+  {
+    const bool rains = rain.quantityMm[m] > 0.0f;
+    c.quantity[m] = rains ? rain.quantityMm[m] : 0.0f;
+    c.inverseIntensity[m] = rains ? 1.0f / rain.intensityMmPerHour[m] : 0.0f;
+  }
+  return c;
+}
+
 void SoilHumidityLong2016(const float* infiltration,
   const std::uint8_t* valid,
   const MonthlyRain& rain,
@@ -40,14 +52,9 @@ void SoilHumidityLong2016(const float* infiltration,
   // Branch-free form of AbsorbedRainLong2016, so that the month loops vectorise: a dry month
   // gets q = 0 and a zero reciprocal intensity (0 whatever the rate); a no-data cell a NaN rate,
   // which every output carries ((NaN > 1) is false). Shaders/SoilHumidity.comp does the same.
-  float q[12];
-  float inverse[12];
-  for (int m = 0; m < 12; ++m)
-  {
-    const bool rains = rain.quantityMm[m] > 0.0f;
-    q[m] = rains ? rain.quantityMm[m] : 0.0f;
-    inverse[m] = rains ? 1.0f / rain.intensityMmPerHour[m] : 0.0f;
-  }
+  const SoilHumidityMonthConstants constants = SoilHumidityLong2016Constants(rain);
+  const float* q = constants.quantity;
+  const float* inverse = constants.inverseIntensity;
   for (std::size_t k = begin; k < end; ++k)
   {
     const float rate = (!valid || valid[k] != 0) ? infiltration[k] : nan;

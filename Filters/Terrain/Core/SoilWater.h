@@ -75,6 +75,16 @@ struct MonthlyRain
   float intensityMmPerHour[12]; ///< R_i, mm/h, > 0 where R_q > 0
 };
 
+/// The per-month constants of SoilHumidityLong2016: a dry month gets quantity 0 and a zero
+/// reciprocal intensity (0 whatever the rate), so that the month loops need no branch. The CPU
+/// kernel and Shaders/SoilHumidity.comp (through vtkTerroirSoilHumidity) both use these.
+struct SoilHumidityMonthConstants
+{
+  float quantity[12];
+  float inverseIntensity[12];
+};
+SoilHumidityMonthConstants SoilHumidityLong2016Constants(const MonthlyRain& rain);
+
 /**
  * @brief Soil humidity, its weighted average and standing water of cells [begin, end).
  * @param[in] infiltration  S_ir per cell, mm/h; NaN marks a no-data cell
