@@ -384,7 +384,7 @@ vtkSmartPointer<vtkImageData> SyntheticTerrain(int size)
 
 int CommandBench(int size,
   int repeat,
-  const std::string& backends,
+  const std::vector<std::string>& backends,
   const std::vector<std::string>& stages,
   bool bandwidth,
   bool gpuBreakdown,
@@ -398,9 +398,7 @@ int CommandBench(int size,
   const double mcells = static_cast<double>(size) * size / 1e6;
 
   std::vector<int> backendList;
-  std::stringstream ss(backends);
-  std::string item;
-  while (std::getline(ss, item, ','))
+  for (const std::string& item : backends)
   {
     const int b = ParseBackend(item);
     if (b == vtkTerroirComputeContext::GPU && !vtkTerroirComputeContext::IsAvailable())
@@ -867,14 +865,9 @@ int CommandBench(int size,
 
 int CommandBench(const CommandLine& line)
 {
-  std::string backends;
-  for (const std::string& b : line.BenchBackends)
-  {
-    backends += (backends.empty() ? "" : ",") + b;
-  }
   return CommandBench(line.BenchSize,
     line.BenchRepeat,
-    backends,
+    line.BenchBackends,
     line.BenchStages.empty() ? BenchStageNames() : line.BenchStages,
     line.BenchBandwidth,
     line.BenchGPUBreakdown,

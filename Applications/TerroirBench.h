@@ -18,14 +18,14 @@ struct CommandLine;
 
 /**
  * Runs the benchmark on a SIZE x SIZE synthetic terrain (vtkTerroirFractalTerrainSource's, seed
- * 1) and prints one line per stage and backend; `backends` is comma-separated (auto, cpu,
- * gpu); `bandwidth` adds the memory bandwidth and the kernels' share of it; `gpuBreakdown` runs
- * each GPU stage once more with profiling and prints where its time goes; `jsonPath` (may be
- * empty) receives everything as JSON. Returns the exit code; throws Failure.
+ * 1) and prints one line per stage and backend; `backends`: auto, cpu or gpu, in order; `bandwidth`
+ * adds the memory bandwidth and the kernels' share of it; `gpuBreakdown` runs each GPU stage once
+ * more with profiling and prints where its time goes; `jsonPath` (may be empty) receives everything
+ * as JSON. Returns the exit code; throws Failure.
  */
 int CommandBench(int size,
   int repeat,
-  const std::string& backends,
+  const std::vector<std::string>& backends,
   const std::vector<std::string>& stages,
   bool bandwidth,
   bool gpuBreakdown,

@@ -1,4 +1,5 @@
 #include "vtkTerroirKMeans.h"
+#include "vtkTerroirComputeContext.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -470,7 +471,7 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
     vtkDebugMacro(<< "Lloyd (1982) iterations, K = " << k << ", " << total << " features, " << m
                   << " cells");
     int ran = backend;
-    if (backend == 2)
+    if (backend == vtkTerroirComputeContext::GPU)
     {
       ran = this->RunGPUPath(
         [&] { result = cl::RunKMeansGPU(x, centres, k, options, labels, distances); });

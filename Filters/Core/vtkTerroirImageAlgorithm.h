@@ -32,6 +32,7 @@
 #define vtkTerroirImageAlgorithm_h
 
 #include "vtkImageAlgorithm.h"
+#include "vtkTerroirComputeContext.h"    // For the backend values
 #include "vtkTerroirFiltersCoreModule.h" // For export macro
 
 #include <functional> // For std::function
@@ -57,9 +58,9 @@ public:
    */
   vtkSetClampMacro(Backend, int, 0, 2);
   vtkGetMacro(Backend, int);
-  void SetBackendToAuto() { this->SetBackend(0); }
-  void SetBackendToCPU() { this->SetBackend(1); }
-  void SetBackendToGPU() { this->SetBackend(2); }
+  void SetBackendToAuto() { this->SetBackend(vtkTerroirComputeContext::Auto); }
+  void SetBackendToCPU() { this->SetBackend(vtkTerroirComputeContext::CPU); }
+  void SetBackendToGPU() { this->SetBackend(vtkTerroirComputeContext::GPU); }
   ///@}
 
   /// Backend of the last run: 1 CPU, 2 GPU, -1 before the first run or after a failed one.

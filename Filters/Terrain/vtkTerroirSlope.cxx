@@ -1,4 +1,5 @@
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirComputeContext.h"
 
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -180,7 +181,8 @@ double vtkTerroirSlope::EstimateMemory(double nx, double ny)
   // Outputs (Slope 4 B, Aspect 4 B, Normals 12 B per cell); the GPU path adds a packed mask
   // (1 B) and, on a software rasterizer, elevation and mask storage buffers in host memory.
   const double perCell = 4.0 + (this->ComputeAspect ? 4.0 : 0.0) +
-    (this->ComputeNormals ? 12.0 : 0.0) + (this->Backend == 1 ? 0.0 : 6.0);
+    (this->ComputeNormals ? 12.0 : 0.0) +
+    (this->Backend == vtkTerroirComputeContext::CPU ? 0.0 : 6.0);
   return nx * ny * perCell;
 }
 
@@ -231,7 +233,7 @@ int vtkTerroirSlope::RequestTerrainData(vtkImageData* input,
   {
     return 0;
   }
-  if (backend == 2)
+  if (backend == vtkTerroirComputeContext::GPU)
   {
     backend = this->RunGPUPath([&] { RunSlopeGPU(terrain, params, pSlope, pAspect, pNormals); });
     if (backend < 0)
@@ -240,7 +242,7 @@ int vtkTerroirSlope::RequestTerrainData(vtkImageData* input,
     }
     this->UpdateProgress(0.9);
   }
-  if (backend == 1)
+  if (backend == vtkTerroirComputeContext::CPU)
   {
     SlopeFunctor functor{ &v, &params, pSlope, pAspect, pNormals };
     // Ten slices on this thread (for progress), each split over the SMP threads.

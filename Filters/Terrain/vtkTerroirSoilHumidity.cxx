@@ -1,4 +1,5 @@
 #include "vtkTerroirSoilHumidity.h"
+#include "vtkTerroirComputeContext.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -231,7 +232,7 @@ double vtkTerroirSoilHumidity::EstimateMemory(double nx, double ny)
   // 48 B per output per cell, a float copy of a non-float rate (4 B); the GPU path adds its
   // packed mask and, on a software rasterizer, one slice of buffers in host memory.
   double bytes = nx * ny * (48.0 * outputs + 4.0);
-  if (this->Backend != 1)
+  if (this->Backend != vtkTerroirComputeContext::CPU)
   {
     bytes += nx * ny * 1.0 + static_cast<double>(kGPUSliceCells) * (4.0 + 48.0 * outputs);
   }
@@ -353,7 +354,7 @@ int vtkTerroirSoilHumidity::RequestTerrainData(vtkImageData* input,
   {
     return 0;
   }
-  if (backend == 2)
+  if (backend == vtkTerroirComputeContext::GPU)
   {
     backend = this->RunGPUPath(
       [&] { RunSoilHumidityGPU(terrain, rate, rateArray, rateArray->GetMTime(), rain, h, w, s); });
@@ -362,7 +363,7 @@ int vtkTerroirSoilHumidity::RequestTerrainData(vtkImageData* input,
       return 0;
     }
   }
-  if (backend == 1)
+  if (backend == vtkTerroirComputeContext::CPU)
   {
     SoilHumidityFunctor functor{ rate, v.valid, &rain, h, w, s };
     const int slices = static_cast<int>(std::min<std::size_t>(10, n));

@@ -1,4 +1,5 @@
 #include "vtkTerroirSolarIllumination.h"
+#include "vtkTerroirComputeContext.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -569,7 +570,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
       static std::atomic<unsigned long long> mapStamps{ 0 };
       const unsigned long long mapStamp = ++mapStamps;
       cache.Stamp = mapStamp;
-      if (backend == 2)
+      if (backend == vtkTerroirComputeContext::GPU)
       {
         backend =
           this->RunGPUPath([&] { HorizonMapGPU(terrain, sectors, curvature, map, mapStamp); });
@@ -578,7 +579,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
           return 0;
         }
       }
-      if (backend == 1)
+      if (backend == vtkTerroirComputeContext::CPU)
       {
         vtkSMPTools::For(0,
           sectors,
@@ -653,7 +654,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
   source.curvature = curvature;
   source.zMax = zMax;
 
-  if (backend == 2)
+  if (backend == vtkTerroirComputeContext::GPU)
   {
     backend = this->RunGPUPath(
       [&]
@@ -672,13 +673,13 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
     {
       return 0;
     }
-    if (backend == 1)
+    if (backend == vtkTerroirComputeContext::CPU)
     {
       std::fill(hours, hours + slots * n, 0.0f);
       std::fill(energy, energy + slots * n, 0.0f);
     }
   }
-  if (backend == 1)
+  if (backend == vtkTerroirComputeContext::CPU)
   {
     const int stepCount = static_cast<int>(steps.size());
     // Ten slices on this thread (for progress), each split over the SMP threads.

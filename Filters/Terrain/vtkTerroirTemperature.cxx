@@ -1,4 +1,5 @@
 #include "vtkTerroirTemperature.h"
+#include "vtkTerroirComputeContext.h"
 
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -181,7 +182,7 @@ double vtkTerroirTemperature::EstimateMemory(double nx, double ny)
 {
   // Temperature (12 x 4 B per cell); the GPU path adds a packed mask (1 B) and, on a software
   // rasterizer, its mask storage buffer in host memory.
-  return nx * ny * (48.0 + (this->Backend == 1 ? 0.0 : 2.0));
+  return nx * ny * (48.0 + (this->Backend == vtkTerroirComputeContext::CPU ? 0.0 : 2.0));
 }
 
 //------------------------------------------------------------------------------
@@ -250,7 +251,7 @@ int vtkTerroirTemperature::RequestTerrainData(vtkImageData* input,
   {
     return 0;
   }
-  if (backend == 2)
+  if (backend == vtkTerroirComputeContext::GPU)
   {
     backend = this->RunGPUPath([&] { RunTemperatureGPU(terrain, sea, this->LapseRate, out); });
     if (backend < 0)
@@ -258,7 +259,7 @@ int vtkTerroirTemperature::RequestTerrainData(vtkImageData* input,
       return 0;
     }
   }
-  if (backend == 1)
+  if (backend == vtkTerroirComputeContext::CPU)
   {
     TemperatureFunctor functor{ &v, sea, this->LapseRate, out };
     const int slices = std::min(10, v.ny);
