@@ -11,11 +11,14 @@
 //   alternates <name>_1.png, <name>_2.png, ... are tried in turn). On
 //   failure the rendered image and <name>.diff.png (the differing pixels in red) stay in
 //   TERROIR_TEMP_DIR and their paths are printed; a missing baseline fails with the path of the
-//   rendered image to review and copy in.
+//   rendered image to review and copy in. Map views are probed too: the pixels under cells of
+//   uniform colour show the colour table's colour, lit by the view's model
+//   (TerroirOverlayProbes.h).
 #ifndef TerroirRenderingTestHelpers_h
 #define TerroirRenderingTestHelpers_h
 
 #include "TerroirImageCompare.h"
+#include "TerroirOverlayProbes.h"
 
 #include "vtkImageData.h"
 #include "vtkNew.h"
@@ -121,6 +124,10 @@ inline void CompareWithBaseline(vtkTerroirOverlayView* view)
   image->GetDimensions(dims);
   ASSERT_EQ(dims[0], 400);
   ASSERT_EQ(dims[1], 400);
+  if (view->GetMode() == vtkTerroirOverlayView::Map)
+  {
+    ExpectMapPixelsShowTheirCells(view, image); // TerroirOverlayProbes.h
+  }
 
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(rendered.c_str());
