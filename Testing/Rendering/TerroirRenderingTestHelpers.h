@@ -124,10 +124,7 @@ inline void CompareWithBaseline(vtkTerroirOverlayView* view)
   image->GetDimensions(dims);
   ASSERT_EQ(dims[0], 400);
   ASSERT_EQ(dims[1], 400);
-  if (view->GetMode() == vtkTerroirOverlayView::Map)
-  {
-    ExpectMapPixelsShowTheirCells(view, image); // TerroirOverlayProbes.h
-  }
+  ExpectPixelsShowTheirCells(view, image); // TerroirOverlayProbes.h
 
   vtkNew<vtkPNGWriter> writer;
   writer->SetFileName(rendered.c_str());
