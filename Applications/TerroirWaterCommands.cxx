@@ -12,6 +12,7 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 
+#include "vtkTerroirClimateReader.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirInfiltration.h"
@@ -152,7 +153,22 @@ void ApplyClimate(const SoilWaterSettings& s, vtkTerroirSoilHumidity* filter)
 {
   if (!s.ClimateFile.empty())
   {
-    filter->SetClimateFileName(s.ClimateFile.c_str());
+    vtkNew<vtkTerroirClimateReader> climate;
+    climate->SetFileName(s.ClimateFile.c_str());
+    TakeLastVTKError();
+    const bool ok = climate->Read();
+    TakeLastVTKError(); // reported below, once
+    if (!ok)
+    {
+      throw Failure(climate->GetErrorMessage());
+    }
+    if (!climate->HasPrecipitation() || !climate->HasPrecipitationIntensity())
+    {
+      throw Failure(s.ClimateFile +
+        ": needs both precipitation_mm and intensity_mm_per_h for the soil-water model");
+    }
+    filter->SetPrecipitation(climate->GetPrecipitation());
+    filter->SetPrecipitationIntensity(climate->GetPrecipitationIntensity());
     return;
   }
   if (s.Precipitation.size() == 12)

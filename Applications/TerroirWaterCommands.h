@@ -30,7 +30,7 @@ void ApplyInfiltration(const SoilWaterSettings& s,
   bool allowNetwork);
 
 /// Sets the soil-humidity filter's climate: --precip / --intensity (each replacing the
-/// filter's default), or --climate (read by the filter).
+/// filter's default), or --climate (read with vtkTerroirClimateReader).
 void ApplyClimate(const SoilWaterSettings& s, vtkTerroirSoilHumidity* filter);
 
 /// Adds the seeds of `s` to `filter` (or sets FillDepressions mode) and its parameters.

@@ -16,7 +16,6 @@
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirTerrainInput.h"
 
-#include "ClimateTable.h"
 #include "SoilWater.h"
 
 #include <algorithm>
@@ -196,10 +195,7 @@ vtkTerroirSoilHumidity::vtkTerroirSoilHumidity()
 }
 
 //------------------------------------------------------------------------------
-vtkTerroirSoilHumidity::~vtkTerroirSoilHumidity()
-{
-  this->SetClimateFileName(nullptr);
-}
+vtkTerroirSoilHumidity::~vtkTerroirSoilHumidity() {}
 
 //------------------------------------------------------------------------------
 void vtkTerroirSoilHumidity::PrintSelf(ostream& os, vtkIndent indent)
@@ -216,8 +212,6 @@ void vtkTerroirSoilHumidity::PrintSelf(ostream& os, vtkIndent indent)
     os << " " << i;
   }
   os << "\n";
-  os << indent << "ClimateFileName: " << (this->ClimateFileName ? this->ClimateFileName : "(none)")
-     << "\n";
   os << indent
      << "ComputeWeightedSoilHumidity: " << (this->ComputeWeightedSoilHumidity ? "On" : "Off")
      << "\n";
@@ -242,10 +236,6 @@ double vtkTerroirSoilHumidity::EstimateMemory(double nx, double ny)
 //------------------------------------------------------------------------------
 std::string vtkTerroirSoilHumidity::CheckParameters()
 {
-  if (this->ClimateFileName && *this->ClimateFileName)
-  {
-    return std::string(); // checked when the file is read
-  }
   return CheckClimate(this->Precipitation, this->PrecipitationIntensity);
 }
 
@@ -259,30 +249,6 @@ int vtkTerroirSoilHumidity::RequestTerrainData(vtkImageData* input,
   double intensity[12];
   std::copy(this->Precipitation, this->Precipitation + 12, q);
   std::copy(this->PrecipitationIntensity, this->PrecipitationIntensity + 12, intensity);
-  if (this->ClimateFileName && *this->ClimateFileName)
-  {
-    terroir::io::ClimateTable table;
-    std::string error;
-    if (!terroir::io::ReadClimateTableFile(this->ClimateFileName, table, error))
-    {
-      vtkErrorMacro(<< error);
-      return 0;
-    }
-    if (!table.hasPrecipitation || !table.hasIntensity)
-    {
-      vtkErrorMacro(<< this->ClimateFileName << ": needs both precipitation_mm and "
-                    << "intensity_mm_per_h for the soil-water model");
-      return 0;
-    }
-    std::copy(table.precipitationMm.begin(), table.precipitationMm.end(), q);
-    std::copy(table.intensityMmPerHour.begin(), table.intensityMmPerHour.end(), intensity);
-    const std::string bad = CheckClimate(q, intensity);
-    if (!bad.empty())
-    {
-      vtkErrorMacro(<< this->ClimateFileName << ": " << bad);
-      return 0;
-    }
-  }
 
   const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();

@@ -16,9 +16,8 @@
  * the climate used.
  *
  * Climate: `Precipitation` R_q (12 values, mm per month, January first, >= 0) and
- * `PrecipitationIntensity` R_i (12 values, mm/h, > 0 where R_q > 0), or a climate file
- * (`ClimateFileName`, CSV or JSON, see Documentation/IO/ClimateFile.md) whose
- * `precipitation_mm` and `intensity_mm_per_h` replace them. Defaults: an illustrative
+ * `PrecipitationIntensity` R_i (12 values, mm/h, > 0 where R_q > 0); a climate file is read
+ * by vtkTerroirClimateReader (Terroir::IO), whose values are set here. Defaults: an illustrative
  * temperate (Köppen Cfb) year of 715 mm, 50-65 mm a month, falling at 2 mm/h in winter
  * (frontal rain) to 6 mm/h in July (showers).
  *
@@ -69,10 +68,6 @@ public:
   ///@}
 
   ///@{
-  /// Climate file (CSV or JSON) whose precipitation_mm and intensity_mm_per_h replace the
-  /// two parameters above; empty (default) = use the parameters.
-  vtkSetStringMacro(ClimateFileName);
-  vtkGetStringMacro(ClimateFileName);
   ///@}
 
   ///@{
@@ -101,7 +96,6 @@ protected:
 
   double Precipitation[12] = { 60, 50, 55, 55, 65, 60, 60, 60, 55, 65, 65, 65 };
   double PrecipitationIntensity[12] = { 2, 2, 2.5, 3, 4, 5, 6, 5, 4, 3, 2.5, 2 };
-  char* ClimateFileName = nullptr;
   bool ComputeWeightedSoilHumidity = true;
   bool ComputeStandingWater = true;
 

@@ -7,7 +7,9 @@
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkTerroirClimateReader.h"
 #include "vtkTerroirDEMReader.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirSlope.h"
@@ -127,8 +129,14 @@ TEST(TerroirSoilHumidity, ClimateFileReplacesTheParameters)
       out << m << "," << 10 * m << ",8\n";
     }
   }
+  vtkNew<vtkTerroirClimateReader> climate;
+  climate->SetFileName(path.c_str());
+  ASSERT_TRUE(climate->Read()) << climate->GetErrorMessage();
+  ASSERT_TRUE(climate->HasPrecipitation() && climate->HasPrecipitationIntensity());
+  EXPECT_FALSE(climate->HasTemperature());
   auto f = vtkSmartPointer<vtkTerroirSoilHumidity>::New();
-  f->SetClimateFileName(path.c_str());
+  f->SetPrecipitation(climate->GetPrecipitation());
+  f->SetPrecipitationIntensity(climate->GetPrecipitationIntensity());
   auto out = RunHumidity(ThreeSoils(), f);
   vtkDataArray* sh = out->GetPointData()->GetArray("SoilHumidity");
   ASSERT_NE(sh, nullptr);
@@ -201,15 +209,6 @@ TEST(TerroirSoilHumidity, NoDataAndNaNRatesGiveNaN)
 
 TEST(TerroirSoilHumidity, BadClimateAndInputsGiveOneErrorAndNoOutput)
 {
-  const std::string noIntensity = terroir_test::TempFile("soil_climate_no_intensity.csv");
-  {
-    std::ofstream out(noIntensity);
-    out << "month,precipitation_mm\n";
-    for (int m = 1; m <= 12; ++m)
-    {
-      out << m << ",10\n";
-    }
-  }
   struct Case
   {
     std::function<void(vtkTerroirSoilHumidity*, vtkImageData*)> Setup;
@@ -234,10 +233,6 @@ TEST(TerroirSoilHumidity, BadClimateAndInputsGiveOneErrorAndNoOutput)
         f->SetPrecipitation(q);
       },
       "precipitation of Dec" },
-    { [](vtkTerroirSoilHumidity* f, vtkImageData*) { f->SetClimateFileName("/nonexistent.csv"); },
-      "/nonexistent.csv" },
-    { [&](vtkTerroirSoilHumidity* f, vtkImageData*) { f->SetClimateFileName(noIntensity.c_str()); },
-      "needs both precipitation_mm and intensity_mm_per_h" },
     { [](vtkTerroirSoilHumidity*, vtkImageData* in)
       { in->GetPointData()->RemoveArray("InfiltrationRate"); },
       "no InfiltrationRate array" },
