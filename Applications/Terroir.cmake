@@ -18,9 +18,7 @@ target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 file(GLOB _terroir_command_files CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*.cxx"
   "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*.h")
 add_library(TerroirCommands STATIC ${_terroir_command_files} TerroirApp.cxx TerroirAppCore.cxx
-  TerroirApp.h TerroirBench.cxx TerroirBench.h TerroirOverlayPlugin.h
-  TerroirWaterCommands.cxx TerroirWaterCommands.h TerroirFlowCommands.cxx TerroirFlowCommands.h
-  TerroirClusterCommands.cxx TerroirClusterCommands.h)
+  TerroirApp.h TerroirBench.cxx TerroirBench.h TerroirOverlayPlugin.h)
 target_include_directories(TerroirCommands PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
   "${CMAKE_CURRENT_SOURCE_DIR}/Commands")
 target_compile_definitions(TerroirCommands PRIVATE

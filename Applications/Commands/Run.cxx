@@ -3,10 +3,10 @@
 #include "TerroirCommands.h"
 
 #include "TerroirApp.h"
-#include "TerroirClusterCommands.h"
+#include "TerroirClusterSupport.h"
 #include "TerroirCommandSupport.h"
-#include "TerroirFlowCommands.h"
-#include "TerroirWaterCommands.h"
+#include "TerroirFlowSupport.h"
+#include "TerroirWaterSupport.h"
 
 #include "RiverValidation.h"
 #include "SoilWater.h"

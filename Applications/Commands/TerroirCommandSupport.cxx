@@ -4,7 +4,9 @@
 #include "TerroirOverlayPlugin.h"
 
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkImageData.h"
+#include "vtkStringArray.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 
@@ -138,6 +140,18 @@ json StatisticsJSON(const Statistics& s)
     { "max", num(s.Max) },
     { "mean", num(s.Mean) },
     { "valid_cells", s.Valid } };
+}
+
+double FieldNumber(vtkImageData* image, const char* name)
+{
+  vtkDataArray* a = vtkDataArray::SafeDownCast(image->GetFieldData()->GetAbstractArray(name));
+  return a && a->GetNumberOfTuples() > 0 ? a->GetComponent(0, 0) : std::nan("");
+}
+
+std::string FieldText(vtkImageData* image, const char* name)
+{
+  auto* a = vtkStringArray::SafeDownCast(image->GetFieldData()->GetAbstractArray(name));
+  return a && a->GetNumberOfValues() > 0 ? a->GetValue(0) : std::string();
 }
 
 bool HaveDisplay()

@@ -72,6 +72,10 @@ vtkSmartPointer<vtkImageData> RunStage(Filter* filter,
   return out;
 }
 
+/// The first value of a one-value field-data array (NaN when missing), or of a string array.
+double FieldNumber(vtkImageData* image, const char* name);
+std::string FieldText(vtkImageData* image, const char* name);
+
 /// True when DISPLAY is set (PNG overlays and the window need an X server).
 bool HaveDisplay();
 

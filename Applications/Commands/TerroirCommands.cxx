@@ -2,10 +2,10 @@
 
 #include "TerroirApp.h"
 #include "TerroirBench.h"
-#include "TerroirClusterCommands.h"
+#include "TerroirClusterSupport.h"
 #include "TerroirCommandSupport.h"
-#include "TerroirFlowCommands.h"
-#include "TerroirWaterCommands.h"
+#include "TerroirFlowSupport.h"
+#include "TerroirWaterSupport.h"
 
 #include <string>
 

@@ -37,13 +37,20 @@ const std::vector<Command>& Commands();
 /// the settings), then calls the command. Throws Failure on an unknown name.
 int RunCommand(CommandLine& line);
 
-int CommandRun(const CommandLine& c);          // Run.cxx
-int CommandSlope(const CommandLine& c);        // Slope.cxx
-int CommandTemperature(const CommandLine& c);  // Temperature.cxx
-int CommandIllumination(const CommandLine& c); // Illumination.cxx
-int CommandInfo(const CommandLine& c);         // Info.cxx
-int CommandFractal(const CommandLine& c);      // Fractal.cxx
-int CommandView(const CommandLine& c);         // View.cxx
+int CommandRun(const CommandLine& c);              // Run.cxx
+int CommandSlope(const CommandLine& c);            // Slope.cxx
+int CommandTemperature(const CommandLine& c);      // Temperature.cxx
+int CommandIllumination(const CommandLine& c);     // Illumination.cxx
+int CommandInfo(const CommandLine& c);             // Info.cxx
+int CommandFractal(const CommandLine& c);          // Fractal.cxx
+int CommandView(const CommandLine& c);             // View.cxx
+int CommandInfiltration(const CommandLine& c);     // Infiltration.cxx
+int CommandHumidity(const CommandLine& c);         // Humidity.cxx
+int CommandFloodFill(const CommandLine& c);        // FloodFill.cxx
+int CommandWaterFlow(const CommandLine& c);        // WaterFlow.cxx
+int CommandFlowAccumulation(const CommandLine& c); // FlowAccumulation.cxx
+int CommandValidate(const CommandLine& c);         // Validate.cxx
+int CommandKMeans(const CommandLine& c);           // KMeans.cxx
 
 } // namespace app
 } // namespace terroir

@@ -1,4 +1,4 @@
-#include "TerroirWaterCommands.h"
+#include "TerroirWaterSupport.h"
 
 #include "TerroirApp.h"
 
@@ -246,106 +246,6 @@ void PrintWaterBodies(vtkImageData* result, int limit)
               << volume->GetComponent(k, 0) << std::setw(14) << std::setprecision(2)
               << depth->GetComponent(k, 0) << "\n";
   }
-}
-
-int CommandInfiltration(const CommandLine& c)
-{
-  CheckWritable({ c.Output }, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
-  vtkNew<vtkTerroirInfiltration> infiltration;
-  infiltration->SetBackend(ParseBackend(c.Backend));
-  ApplyInfiltration(c.SoilWater, infiltration, terrain, c.AllowNetwork);
-  infiltration->SetInputData(terrain);
-  WatchProgress(infiltration, "infiltration");
-  UpdateOrThrow(infiltration, "infiltration");
-  WriteStageResult(infiltration->GetOutput(),
-    vtkTerroirInfiltration::InfiltrationRateName(),
-    c.Output,
-    c.Overwrite);
-  return 0;
-}
-
-int CommandHumidity(const CommandLine& c)
-{
-  const SoilWaterSettings& s = c.SoilWater;
-  std::vector<std::string> outs = { c.Output };
-  for (const std::string* extra : { &s.WeightedOutput, &s.StandingOutput })
-  {
-    if (!extra->empty())
-    {
-      outs.push_back(*extra);
-    }
-  }
-  CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
-  vtkSmartPointer<vtkImageData> withRates;
-  if (!s.InfiltrationInput.empty())
-  {
-    vtkSmartPointer<vtkImageData> rates =
-      ReadGridOperand(s.InfiltrationInput, terrain, c.AllowNetwork, "InfiltrationRate");
-    withRates = vtkSmartPointer<vtkImageData>::New();
-    withRates->ShallowCopy(terrain);
-    withRates->GetPointData()->AddArray(rates->GetPointData()->GetScalars());
-  }
-  else
-  {
-    vtkNew<vtkTerroirInfiltration> infiltration;
-    ApplyInfiltration(s, infiltration, terrain, c.AllowNetwork);
-    infiltration->SetInputData(terrain);
-    WatchProgress(infiltration, "infiltration");
-    UpdateOrThrow(infiltration, "infiltration");
-    withRates = vtkSmartPointer<vtkImageData>::New();
-    withRates->ShallowCopy(infiltration->GetOutput());
-  }
-  vtkNew<vtkTerroirSoilHumidity> humidity;
-  humidity->SetBackend(ParseBackend(c.Backend));
-  ApplyClimate(s, humidity);
-  humidity->SetInputData(withRates);
-  WatchProgress(humidity, "humidity");
-  UpdateOrThrow(humidity, "soil humidity");
-  vtkImageData* result = humidity->GetOutput();
-  WriteStageResult(result, vtkTerroirSoilHumidity::SoilHumidityName(), c.Output, c.Overwrite);
-  if (!s.WeightedOutput.empty())
-  {
-    WriteStageResult(
-      result, vtkTerroirSoilHumidity::WeightedSoilHumidityName(), s.WeightedOutput, c.Overwrite);
-  }
-  if (!s.StandingOutput.empty())
-  {
-    WriteStageResult(
-      result, vtkTerroirSoilHumidity::StandingWaterName(), s.StandingOutput, c.Overwrite);
-  }
-  return 0;
-}
-
-int CommandFloodFill(const CommandLine& c)
-{
-  const FloodFillSettings& s = c.FloodFill;
-  std::vector<std::string> outs = { c.Output };
-  if (!s.IdsOutput.empty())
-  {
-    outs.push_back(s.IdsOutput);
-  }
-  CheckWritable(outs, c.Overwrite);
-  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
-  vtkNew<vtkTerroirFloodFill> flood;
-  flood->SetBackend(ParseBackend(c.Backend));
-  ApplyFloodFill(s, flood);
-  flood->SetInputData(terrain);
-  WatchProgress(flood, "floodfill");
-  const double t0 = Now();
-  UpdateOrThrow(flood, "flood fill");
-  const double seconds = Now() - t0;
-  vtkImageData* result = flood->GetOutput();
-  WriteStageResult(result, vtkTerroirFloodFill::WaterDepthName(), c.Output, c.Overwrite);
-  if (!s.IdsOutput.empty())
-  {
-    WriteStageResult(result, vtkTerroirFloodFill::WaterBodyName(), s.IdsOutput, c.Overwrite);
-  }
-  std::cout << "terroir floodfill (" << flood->GetModeAsString() << ", " << std::fixed
-            << std::setprecision(3) << seconds << " s): ";
-  PrintWaterBodies(result, 20);
-  return 0;
 }
 
 } // namespace app

@@ -1,10 +1,10 @@
 /**
- * @file TerroirWaterCommands.h
+ * @file TerroirWaterSupport.h
  * @brief The soil-water and water-body commands of `terroir` (infiltration, humidity,
  * floodfill) and the pieces `terroir run` shares with them.
  */
-#ifndef TerroirWaterCommands_h
-#define TerroirWaterCommands_h
+#ifndef TerroirWaterSupport_h
+#define TerroirWaterSupport_h
 
 #include "TerroirCommandLine.h"
 
@@ -56,10 +56,6 @@ vtkSmartPointer<vtkImageData> RasterizePolygons(const std::string& path,
   vtkImageData* terrain,
   bool allowNetwork,
   bool quiet = false);
-
-int CommandInfiltration(const CommandLine& c);
-int CommandHumidity(const CommandLine& c);
-int CommandFloodFill(const CommandLine& c);
 
 } // namespace app
 } // namespace terroir

@@ -1,16 +1,18 @@
 /**
- * @file TerroirFlowCommands.h
+ * @file TerroirFlowSupport.h
  * @brief The water-flow commands of `terroir`: waterflow (the hydrostatic simulation), flowacc
  * (the D8 baseline) and validate (both scored against mapped rivers).
  */
-#ifndef TerroirFlowCommands_h
-#define TerroirFlowCommands_h
+#ifndef TerroirFlowSupport_h
+#define TerroirFlowSupport_h
 
 #include "TerroirCommandLine.h"
 #include "TerroirCommandSupport.h" // For OverlayWriterFunction
 
 #include "GridView.h"
 #include "RiverValidation.h"
+
+#include "vtkSmartPointer.h"
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +21,7 @@
 #include <string>
 #include <vector>
 
+class vtkDataArray;
 class vtkImageData;
 class vtkImageAlgorithm;
 
@@ -78,9 +81,35 @@ nlohmann::json MethodScoresJson(const MethodScores& m);
 /// A point array as doubles; throws Failure when it is missing.
 std::vector<double> PointArrayValues(vtkImageData* image, const char* name);
 
-int CommandWaterFlow(const CommandLine& c);
-int CommandFlowAccumulation(const CommandLine& c);
-int CommandValidate(const CommandLine& c);
+/// Runs the simulation on `terrain` with the options of `s` (the soil-water chain first for
+/// --month and --annual; `defaultMode` when --mode is not given); `seconds` gets its time.
+vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
+  vtkImageData* terrain,
+  const std::string& backend,
+  double& seconds,
+  const char* defaultMode = "pulse");
+
+/// One line on what the simulation did (iterations, stop reason, volumes).
+void PrintWaterFlow(vtkImageData* out, double seconds);
+
+/// `v` with `digits` decimals.
+std::string Fixed(double v, int digits);
+
+/// A point array as doubles (NaN stays NaN), absolute values when `absolute`.
+std::vector<double> AsDoubles(vtkDataArray* a, bool absolute);
+
+/// Scores the channel cells of `values` at or above the threshold (length-matched unless
+/// `userThreshold` is finite) against `reference` within `area`; `simulated` gets them.
+MethodScores Score(const std::string& name,
+  const std::string& measure,
+  const std::vector<double>& values,
+  double userThreshold,
+  const GridView<std::uint8_t>& reference,
+  const std::vector<std::uint8_t>& area,
+  std::vector<std::uint8_t>& simulated);
+
+/// One tolerance's scores as JSON.
+nlohmann::json ScoresJson(const hydrology::RiverScores& s);
 
 } // namespace app
 } // namespace terroir

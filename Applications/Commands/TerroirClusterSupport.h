@@ -1,13 +1,13 @@
 /**
- * @file TerroirClusterCommands.h
+ * @file TerroirClusterSupport.h
  * @brief The clustering command of `terroir` (kmeans) and the cluster table's CSV and JSON
  * forms, which `terroir run` writes too.
  */
-#ifndef TerroirClusterCommands_h
-#define TerroirClusterCommands_h
+#ifndef TerroirClusterSupport_h
+#define TerroirClusterSupport_h
 
 #include "TerroirCommandLine.h"
-#include "TerroirFlowCommands.h" // For OverlayWriterFunction
+#include "TerroirFlowSupport.h" // For OverlayWriterFunction
 
 #include "vtkSmartPointer.h"
 
@@ -38,7 +38,8 @@ std::string ClusterTableCSV(vtkTable* table);
  */
 nlohmann::ordered_json ClusterTableJSON(vtkTable* table, vtkImageData* image);
 
-int CommandKMeans(const CommandLine& c);
+/// True when `image` has none of the default features (a bare DEM).
+bool HasNoDefaultFeature(vtkImageData* image);
 
 } // namespace app
 } // namespace terroir

@@ -1,0 +1,54 @@
+// `terroir infiltration`: infiltration rates from fill, slope-rule, paint and soil operations
+#include "TerroirCommands.h"
+
+#include "TerroirApp.h"
+#include "TerroirCommandSupport.h"
+#include "TerroirWaterSupport.h"
+
+#include "TerroirApp.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirClimateReader.h"
+#include "vtkTerroirFloodFill.h"
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirInfiltration.h"
+#include "vtkTerroirSoilHumidity.h"
+#include "vtkTerroirVectorRasterizer.h"
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <numeric>
+#include <vector>
+
+namespace terroir
+{
+namespace app
+{
+
+int CommandInfiltration(const CommandLine& c)
+{
+  CheckWritable({ c.Output }, c.Overwrite);
+  vtkSmartPointer<vtkImageData> terrain = ReadTerrain(c.Input, c.AllowNetwork, c.ZUnit);
+  vtkNew<vtkTerroirInfiltration> infiltration;
+  infiltration->SetBackend(ParseBackend(c.Backend));
+  ApplyInfiltration(c.SoilWater, infiltration, terrain, c.AllowNetwork);
+  infiltration->SetInputData(terrain);
+  WatchProgress(infiltration, "infiltration");
+  UpdateOrThrow(infiltration, "infiltration");
+  WriteStageResult(infiltration->GetOutput(),
+    vtkTerroirInfiltration::InfiltrationRateName(),
+    c.Output,
+    c.Overwrite);
+  return 0;
+}
+
+} // namespace app
+} // namespace terroir
