@@ -5,10 +5,14 @@ find_package(nlohmann_json 3 REQUIRED)
 
 # The command-line parser alone (CLI11, no VTK): unit tests and the fuzz harness link it too.
 # It checks dates with the terrain core's calendar (TerroirTerrainCore, plain C++, no VTK).
+# Each command's options live beside its code, in Commands/<Name>Options.cxx (TerroirCommandOptions.h).
+file(GLOB _terroir_option_files CONFIGURE_DEPENDS
+  "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*Options.cxx"
+  "${CMAKE_CURRENT_SOURCE_DIR}/Commands/TerroirCommandOptions.h")
 add_library(TerroirCommandLine STATIC TerroirCommandLine.cxx TerroirCommandLine.h
-  TerroirViewerScript.cxx TerroirViewerScript.h)
+  TerroirViewerScript.cxx TerroirViewerScript.h ${_terroir_option_files})
 target_include_directories(TerroirCommandLine PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
-  PRIVATE "${CLI11_INCLUDE_DIR}")
+  PRIVATE "${CLI11_INCLUDE_DIR}" "${CMAKE_CURRENT_SOURCE_DIR}/Commands")
 target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore)
 target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
@@ -17,6 +21,7 @@ target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 # library, so that the pipeline tests can check the registry against the parser's commands.
 file(GLOB _terroir_command_files CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*.cxx"
   "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*.h")
+list(FILTER _terroir_command_files EXCLUDE REGEX "Options\\.(cxx|h)$")
 add_library(TerroirCommands STATIC ${_terroir_command_files} TerroirApp.cxx TerroirAppCore.cxx
   TerroirApp.h TerroirBench.cxx TerroirBench.h TerroirOverlayPlugin.h)
 target_include_directories(TerroirCommands PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"

@@ -3,6 +3,9 @@
  * @brief The `terroir` command line parsed into plain settings (CLI11, no VTK), so that parsing
  * can be unit-tested and fuzzed on its own (Testing/Fuzz/FuzzCommandLine.cxx).
  *
+ * Each command declares its options in Applications/Commands/<Name>Options.cxx
+ * (TerroirCommandOptions.h); CommandDescriptions() lists the commands in --help's order.
+ *
  * ParseCommandLine never prints and never exits: it fills a CommandLine, or says what to print
  * and which exit status to return (help: the text and 0; a bad option: one line and 2).
  * Every number is checked here (finite, within its documented range) and every output file

@@ -220,22 +220,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   const std::string& c = line.Command;
-  static const std::vector<std::string> commands{ "run",
-    "slope",
-    "temperature",
-    "illumination",
-    "infiltration",
-    "humidity",
-    "floodfill",
-    "waterflow",
-    "flowacc",
-    "validate",
-    "kmeans",
-    "bench",
-    "info",
-    "fractal",
-    "view" };
-  Check(std::find(commands.begin(), commands.end(), c) != commands.end());
+  // The commands the program knows (the registry's names: TerroirCommandLine's table).
+  const auto& commands = terroir::app::CommandDescriptions();
+  Check(std::any_of(commands.begin(),
+    commands.end(),
+    [&](const terroir::app::CommandDescription& d) { return c == d.Name; }));
   Check(line.Backend == "auto" || line.Backend == "cpu" || line.Backend == "gpu");
   Check(line.ZUnit == "auto" || line.ZUnit == "m" || line.ZUnit == "ft" || line.ZUnit == "us-ft");
   const auto& t = line.Temperature;
