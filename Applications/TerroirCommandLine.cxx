@@ -1,7 +1,6 @@
 #include "TerroirCommandLine.h"
 #include "TerroirCommandOptions.h"
 
-
 #include <CLI/CLI.hpp>
 
 #include <algorithm>

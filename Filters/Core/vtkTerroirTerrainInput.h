@@ -18,7 +18,7 @@
 #ifndef vtkTerroirTerrainInput_h
 #define vtkTerroirTerrainInput_h
 
-#include "GridView.h"                       // For terroir::GridView
+#include "GridView.h"                    // For terroir::GridView
 #include "vtkTerroirFiltersCoreModule.h" // For export macro
 
 #include <cstdint> // For std::uint8_t
