@@ -55,444 +55,542 @@ namespace app
 {
 namespace
 {
-int RunEveryStage(const std::string& demArg,
-  const std::string& outDir,
-  bool overwrite,
-  const std::string& backendName,
-  bool png,
-  bool allowNetwork,
-  const std::string& zUnit,
-  const terroir::app::TemperatureSettings& tempOpts,
-  const terroir::app::IlluminationSettings& illumOpts,
-  const terroir::app::SoilWaterSettings& soilOpts,
-  int clusters)
+
+/// What `terroir run` carries from stage to stage: its settings, the terrain with every array
+/// computed so far, the report and the files it writes.
+struct RunState
 {
-  const std::string dem = demArg.empty() ? terroir::app::DefaultDEM() : demArg;
-  const int backend = ParseBackend(backendName);
-  std::error_code ec;
-  fs::create_directories(outDir, ec);
-  if (ec || !fs::is_directory(outDir))
+  explicit RunState(const CommandLine& line)
+    : Line(line)
   {
-    throw Failure(outDir + ": cannot create the output folder" + (ec ? ": " + ec.message() : ""));
   }
-  const fs::path out(outDir);
-  const std::string vti = (out / "terrain.vti").string();
-  const std::string slopeTif = (out / "slope.tif").string();
-  const std::string aspectTif = (out / "aspect.tif").string();
-  const std::string temperatureTif = (out / "temperature.tif").string();
-  const std::string illuminationTif = (out / "illumination.tif").string();
-  const std::string insolationTif = (out / "insolation.tif").string();
-  const std::string slopePng = (out / "slope.png").string();
-  const std::string temperatureJanPng = (out / "temperature_jan.png").string();
-  const std::string temperatureJulPng = (out / "temperature_jul.png").string();
-  // Illumination at the solstices: December (longest shadows) and June.
-  const std::string illuminationDecPng = (out / "illumination_dec.png").string();
-  const std::string illuminationJunPng = (out / "illumination_jun.png").string();
-  const std::string insolationDecPng = (out / "insolation_dec.png").string();
-  const std::string insolationJunPng = (out / "insolation_jun.png").string();
-  const std::string infiltrationTif = (out / "infiltration.tif").string();
-  const std::string humidityTif = (out / "humidity.tif").string();
-  const std::string weightedTif = (out / "weighted_humidity.tif").string();
-  const std::string standingTif = (out / "standing_water.tif").string();
-  const std::string lakesTif = (out / "lakes.tif").string();
-  const std::string humidityJanPng = (out / "humidity_jan.png").string();
-  const std::string humidityJulPng = (out / "humidity_jul.png").string();
-  const std::string lakesPng = (out / "lakes.png").string();
-  const std::string riversTif = (out / "rivers.tif").string();
-  const std::string dischargeTif = (out / "discharge.tif").string();
-  const std::string riversPng = (out / "rivers.png").string();
-  const std::string riversReliefPng = (out / "rivers_relief.png").string();
-  const std::string validationPng = (out / "validation.png").string();
-  // The bundled DEM's mapped rivers and watershed: its rivers are scored against them.
-  const bool bundled = demArg.empty();
-  const std::string dataDir = dem.substr(0, dem.find_last_of('/') + 1);
-  const std::string referenceLines = dataDir + "sagehen_nhd_flowlines_utm11n.geojson";
-  const std::string referenceArea = dataDir + "sagehen_watershed_utm11n.geojson";
-  const std::string clustersTif = (out / "clusters.tif").string();
-  const std::string clustersCsv = (out / "clusters.csv").string();
-  const std::string clustersJson = (out / "clusters.json").string();
-  const std::string clustersPng = (out / "clusters.png").string();
-  const std::string reportMd = (out / "report.md").string();
-  const std::string reportJson = (out / "report.json").string();
-  std::vector<std::string> outputs = { vti,
-    slopeTif,
-    aspectTif,
-    temperatureTif,
-    illuminationTif,
-    insolationTif,
-    infiltrationTif,
-    humidityTif,
-    weightedTif,
-    standingTif,
-    lakesTif,
-    riversTif,
-    dischargeTif,
-    reportMd,
-    reportJson };
-  if (clusters > 0)
-  {
-    outputs.insert(outputs.end(), { clustersTif, clustersCsv, clustersJson });
-  }
-  if (png)
-  {
-    if (!HaveDisplay())
-    {
-      throw Failure("PNG overlays need an X display (VTK 9.1 renders through X): run under "
-                    "'xvfb-run -a', or pass --no-png");
-    }
-    outputs.insert(outputs.end(),
-      { slopePng,
-        temperatureJanPng,
-        temperatureJulPng,
-        illuminationDecPng,
-        illuminationJunPng,
-        insolationDecPng,
-        insolationJunPng,
-        humidityJanPng,
-        humidityJulPng,
-        lakesPng,
-        riversPng,
-        riversReliefPng });
-    if (bundled)
-    {
-      outputs.push_back(validationPng);
-    }
-    if (clusters > 0)
-    {
-      outputs.push_back(clustersPng);
-    }
-  }
-  // Refuse before any work, so a refused run leaves nothing behind.
-  terroir::app::CheckWritable(outputs, overwrite);
+  const CommandLine& Line;
+  std::string Dem;
+  bool Bundled = false; ///< the bundled DEM: its rivers are scored against its NHD flowlines
+  int Backend = vtkTerroirComputeContext::Auto;
+  bool Png = true;
+  fs::path Out;
+  vtkSmartPointer<vtkImageData> Result;
+  int Dims[3] = { 0, 0, 0 };
+  double Spacing[3] = { 0, 0, 0 };
+  double LatLon[2] = { NAN, NAN };
+  bool Located = false;
+  bool Illuminate = false;
+  double HorizonMapSeconds = 0.0;
+  vtkSmartPointer<vtkImageData> ValidationPicture;
+  vtkNew<vtkTable> ClusterTable;
+  nlohmann::ordered_json ClusterSummary;
+  json Report;
+  json Stages;
+  std::vector<std::string> Outputs;
 
-  json report;
-  report["input"] = dem;
-  json stages;
-  const double t0 = terroir::app::Now();
-  vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, allowNetwork, zUnit);
-  stages["read"] = json{ { "seconds", terroir::app::Now() - t0 } };
+  std::string File(const char* name) const { return (this->Out / name).string(); }
+  bool Overwrite() const { return this->Line.Overwrite; }
+  int Clusters() const { return this->Line.KMeans.Clusters; }
+};
 
-  int dims[3];
-  double spacing[3];
-  terrain->GetDimensions(dims);
-  terrain->GetSpacing(spacing);
-  double latLon[2] = { NAN, NAN };
-  const bool located = vtkTerroirGeoreference::GetCenterLatLon(terrain, latLon);
-  report["grid"] = json{ { "nx", dims[0] },
-    { "ny", dims[1] },
-    { "dx_m", spacing[0] },
-    { "dy_m", spacing[1] },
-    { "geographic", vtkTerroirGeoreference::GetRowSpacing(terrain) != nullptr } };
-  report["georeference"] = json{ { "has_crs", !vtkTerroirGeoreference::GetCRS(terrain).empty() },
-    { "center_lat", located ? json(latLon[0]) : json(nullptr) },
-    { "center_lon", located ? json(latLon[1]) : json(nullptr) },
-    { "meridian_convergence_deg", vtkTerroirGeoreference::GetMeridianConvergence(terrain) } };
+/// The files of a stage, by kind: rasters come first in the report's list, then the reports,
+/// the tables and the pictures.
+struct RunFiles
+{
+  std::vector<std::string> Rasters, Tables, Pictures;
+};
 
+/// One stage of `terroir run`: the files it writes (known before any work, so that a run that
+/// would overwrite is refused before it starts), what it computes, and how it writes them.
+struct RunStep
+{
+  const char* Name;
+  void (*Files)(const RunState&, RunFiles&);
+  void (*Compute)(RunState&);
+  void (*Write)(RunState&);
+};
+
+// ---- slope ------------------------------------------------------------------------------------
+void SlopeFiles(const RunState& r, RunFiles& f)
+{
+  f.Rasters.insert(f.Rasters.end(), { r.File("slope.tif"), r.File("aspect.tif") });
+  f.Pictures.push_back(r.File("slope.png"));
+}
+void SlopeCompute(RunState& r)
+{
   vtkNew<vtkTerroirSlope> slope;
-  slope->SetBackend(backend);
-  vtkSmartPointer<vtkImageData> withSlope = RunStage(slope.Get(), terrain, "slope", stages);
+  slope->SetBackend(r.Backend);
+  r.Result = RunStage(slope.Get(), r.Result, "slope", r.Stages);
+}
+void SlopeWrite(RunState& r)
+{
+  WriteGeoTIFF(r.Result, "Slope", r.File("slope.tif"), r.Overwrite());
+  WriteGeoTIFF(r.Result, "Aspect", r.File("aspect.tif"), r.Overwrite());
+  if (r.Png)
+  {
+    WriteOverlay(r.Result, "Slope", 0, "Slope", "Slope (°)", r.File("slope.png"), r.Overwrite());
+  }
+}
 
+// ---- temperature ------------------------------------------------------------------------------
+void TemperatureFiles(const RunState& r, RunFiles& f)
+{
+  f.Rasters.push_back(r.File("temperature.tif"));
+  f.Pictures.insert(
+    f.Pictures.end(), { r.File("temperature_jan.png"), r.File("temperature_jul.png") });
+}
+void TemperatureCompute(RunState& r)
+{
   vtkNew<vtkTerroirTemperature> temperature;
-  temperature->SetBackend(backend);
-  ApplyTemperature(tempOpts, temperature);
-  vtkSmartPointer<vtkImageData> result =
-    RunStage(temperature.Get(), withSlope, "temperature", stages);
-
-  // Monthly illumination with the filter's defaults (the 15th of each month of 2025, 10-minute
-  // steps, horizon map of 64 sectors). Without a georeference there is no sun to place unless
-  // --lat and --lon say where: the stage is then skipped, with a warning, and its outputs with it.
-  const bool illuminate =
-    located || (std::isfinite(illumOpts.Latitude) && std::isfinite(illumOpts.Longitude));
-  double horizonMapSeconds = 0.0;
-  if (illuminate)
+  temperature->SetBackend(r.Backend);
+  ApplyTemperature(r.Line.Temperature, temperature);
+  r.Result = RunStage(temperature.Get(), r.Result, "temperature", r.Stages);
+}
+void TemperatureWrite(RunState& r)
+{
+  WriteGeoTIFF(r.Result, "Temperature", r.File("temperature.tif"), r.Overwrite());
+  if (r.Png)
   {
-    vtkNew<vtkTerroirSolarIllumination> illumination;
-    illumination->SetBackend(backend);
-    illumination->SetLatitude(illumOpts.Latitude);
-    illumination->SetLongitude(illumOpts.Longitude);
-    result = RunStage(illumination.Get(), result, "illumination", stages);
-    horizonMapSeconds = illumination->GetLastHorizonMapSeconds();
-    stages["illumination"]["horizon_map_seconds"] = horizonMapSeconds;
-    stages["illumination"]["horizon_sectors"] = illumination->GetHorizonSectors();
-    stages["illumination"]["year"] = illumination->GetYear();
-    stages["illumination"]["monthly_day"] = illumination->GetMonthlyDay();
-    stages["illumination"]["time_step_min"] = illumination->GetTimeStep();
-  }
-  else
-  {
-    const std::string why = "the DEM has no georeference; pass --lat and --lon";
-    std::cerr << "terroir: warning: " << dem << ": illumination skipped (" << why << ")\n";
-    stages["illumination"] = json{ { "skipped", why } };
-    for (const std::string& skipped : { illuminationTif,
-           insolationTif,
-           illuminationDecPng,
-           illuminationJunPng,
-           insolationDecPng,
-           insolationJunPng })
-    {
-      outputs.erase(std::remove(outputs.begin(), outputs.end(), skipped), outputs.end());
-    }
-  }
-
-  // Soil water with the default infiltration recipe (fill 15 mm/h, no infiltration on slopes
-  // over 30 degrees) and the climate of --precip/--intensity, --climate or the defaults; then
-  // the lakes: every closed depression and hydro-flattened water surface of at least 1 ha.
-  vtkNew<vtkTerroirInfiltration> infiltration;
-  result = RunStage(infiltration.Get(), result, "infiltration", stages);
-  vtkNew<vtkTerroirSoilHumidity> humidity;
-  humidity->SetBackend(backend);
-  terroir::app::ApplyClimate(soilOpts, humidity);
-  result = RunStage(humidity.Get(), result, "humidity", stages);
-  vtkNew<vtkTerroirFloodFill> lakes;
-  lakes->SetModeToFillDepressions();
-  result = RunStage(lakes.Get(), result, "lakes", stages);
-  vtkDataArray* lakeLevels =
-    result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyLevelName());
-  stages["lakes"]["water_bodies"] = lakeLevels ? lakeLevels->GetNumberOfTuples() : 0;
-
-  // Rivers: the water flow's river-forming mode (steady rain until the outflow balances it),
-  // then the river network (rivers, and the lakes above) and, on the bundled DEM, its scores
-  // against the mapped rivers.
-  vtkNew<vtkTerroirWaterFlow> flow;
-  flow->SetBackend(backend);
-  flow->SetModeToRivers();
-  result = RunStage(flow.Get(), result, "rivers", stages);
-  {
-    vtkPointData* rpd = result->GetPointData();
-    vtkDataArray* river = rpd->GetArray(vtkTerroirWaterFlow::RiverName());
-    vtkDataArray* lake = rpd->GetArray(vtkTerroirFloodFill::WaterBodyName());
-    vtkNew<vtkUnsignedCharArray> network;
-    network->SetName("RiverNetwork");
-    network->SetNumberOfTuples(river->GetNumberOfTuples());
-    long long riverCells = 0;
-    for (vtkIdType k = 0; k < river->GetNumberOfTuples(); ++k)
-    {
-      const bool r = river->GetComponent(k, 0) != 0.0;
-      const bool l = lake && lake->GetComponent(k, 0) != 0.0;
-      network->SetValue(k, r ? 1 : (l ? 2 : 0));
-      riverCells += r ? 1 : 0;
-    }
-    rpd->AddArray(network);
-    const double cell = std::sqrt(std::fabs(spacing[0] * spacing[1]));
-    json& rs = stages["rivers"];
-    rs["iterations"] =
-      result->GetFieldData()->GetArray(vtkTerroirWaterFlow::IterationsName())->GetComponent(0, 0);
-    rs["stop_reason"] = vtkStringArray::SafeDownCast(
-      result->GetFieldData()->GetAbstractArray(vtkTerroirWaterFlow::StopReasonName()))
-                          ->GetValue(0);
-    rs["rain_mm_per_h"] = flow->GetRainRate();
-    if (vtkDataArray* levels = vtkDataArray::SafeDownCast(
-          result->GetFieldData()->GetAbstractArray("WaterFlowWarmStartIterations")))
-    {
-      // The coarse-to-fine start: iterations and size of each level, coarsest first.
-      json warm = json::array();
-      for (vtkIdType l = 0; l < levels->GetNumberOfTuples(); ++l)
-      {
-        warm.push_back({ { "iterations", levels->GetComponent(l, 0) },
-          { "nx", levels->GetComponent(l, 1) },
-          { "ny", levels->GetComponent(l, 2) } });
-      }
-      rs["warm_start_levels"] = warm;
-    }
-    rs["river_area_m2"] = flow->GetRiverArea();
-    rs["river_cells"] = riverCells;
-    rs["river_length_km"] = riverCells * cell / 1000.0; // cells x cell size: approximate
-    json lakeList = json::array();
-    vtkDataArray* areas =
-      result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyAreaName());
-    double lakeArea = 0.0;
-    for (vtkIdType k = 0; areas && k < areas->GetNumberOfTuples(); ++k)
-    {
-      lakeList.push_back(areas->GetComponent(k, 0));
-      lakeArea += areas->GetComponent(k, 0);
-    }
-    rs["lakes"] = lakeList.size();
-    rs["lake_area_m2"] = lakeArea;
-    rs["lake_areas_m2"] = lakeList;
-  }
-  vtkSmartPointer<vtkImageData> validationPicture;
-  if (bundled)
-  {
-    const double tv = terroir::app::Now();
-    terroir::app::RiverReference reference(
-      result, dem, referenceLines, referenceArea, allowNetwork);
-    std::vector<std::uint8_t> simulated;
-    const terroir::app::MethodScores scores = terroir::app::ScoreRiverMeasure("rivers",
-      "RiverStrength (m3/s)",
-      terroir::app::PointArrayValues(result, vtkTerroirWaterFlow::RiverStrengthName()),
-      std::nan(""),
-      reference,
-      simulated);
-    json v = terroir::app::MethodScoresJson(scores);
-    v["reference"] = referenceLines;
-    v["area"] = referenceArea;
-    v["reference_cells"] = reference.Cells;
-    v["seconds"] = terroir::app::Now() - tv;
-    stages["rivers"]["validation"] = v;
-    if (png)
-    {
-      const std::size_t n = simulated.size();
-      std::vector<std::uint8_t> category(n, 0);
-      terroir::hydrology::RiverComparisonCategories(
-        reference.View, simulated.data(), reference.Area.data(), 60.0, category.data());
-      validationPicture = vtkSmartPointer<vtkImageData>::New();
-      validationPicture->ShallowCopy(result);
-      vtkNew<vtkUnsignedCharArray> cat;
-      cat->SetName("RiverComparison");
-      cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
-      std::copy(category.begin(), category.end(), cat->GetPointer(0));
-      validationPicture->GetPointData()->AddArray(cat);
-    }
-  }
-
-  // Ecological zones: k-means of the resources with Long (2016)'s features and weights.
-  vtkNew<vtkTable> clusterTable;
-  nlohmann::ordered_json clusterSummary;
-  if (clusters > 0)
-  {
-    vtkNew<vtkTerroirKMeans> kmeans;
-    terroir::app::KMeansSettings kmeansOpts;
-    kmeansOpts.Clusters = clusters;
-    terroir::app::ApplyKMeans(kmeansOpts, backendName, kmeans);
-    result = RunStage(kmeans.Get(), result, "clusters", stages);
-    clusterTable->DeepCopy(kmeans->GetClusterTable());
-    clusterSummary = terroir::app::ClusterTableJSON(clusterTable, result);
-    stages["clusters"]["k"] = clusters;
-    stages["clusters"]["iterations"] = clusterSummary["iterations"];
-    stages["clusters"]["stop_reason"] = clusterSummary["stop_reason"];
-  }
-  else
-  {
-    stages["clusters"] = json{ { "skipped", "--clusters 0" } };
-  }
-
-  const double tw = terroir::app::Now();
-  terroir::app::WriteVTI(result, vti, overwrite);
-  terroir::app::WriteGeoTIFF(result, "Slope", slopeTif, overwrite);
-  terroir::app::WriteGeoTIFF(result, "Aspect", aspectTif, overwrite);
-  terroir::app::WriteGeoTIFF(result, "Temperature", temperatureTif, overwrite);
-  if (illuminate)
-  {
-    terroir::app::WriteGeoTIFF(result, "IlluminationHours", illuminationTif, overwrite);
-    terroir::app::WriteGeoTIFF(result, "Insolation", insolationTif, overwrite);
-  }
-  terroir::app::WriteGeoTIFF(
-    result, vtkTerroirInfiltration::InfiltrationRateName(), infiltrationTif, overwrite);
-  terroir::app::WriteGeoTIFF(
-    result, vtkTerroirSoilHumidity::SoilHumidityName(), humidityTif, overwrite);
-  terroir::app::WriteGeoTIFF(
-    result, vtkTerroirSoilHumidity::WeightedSoilHumidityName(), weightedTif, overwrite);
-  terroir::app::WriteGeoTIFF(
-    result, vtkTerroirSoilHumidity::StandingWaterName(), standingTif, overwrite);
-  terroir::app::WriteGeoTIFF(result, vtkTerroirFloodFill::WaterDepthName(), lakesTif, overwrite);
-  terroir::app::WriteGeoTIFF(result, vtkTerroirWaterFlow::RiverName(), riversTif, overwrite);
-  terroir::app::WriteGeoTIFF(
-    result, vtkTerroirWaterFlow::DischargeRateName(), dischargeTif, overwrite);
-  if (clusters > 0)
-  {
-    terroir::app::WriteGeoTIFF(result, vtkTerroirKMeans::ClusterIdName(), clustersTif, overwrite);
-    terroir::app::WriteTextFile(
-      clustersCsv, terroir::app::ClusterTableCSV(clusterTable), overwrite);
-    terroir::app::WriteTextFile(clustersJson, clusterSummary.dump(2) + "\n", overwrite);
-  }
-  if (png)
-  {
-    WriteOverlay(result,
-      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
-      0,
-      "Humidity",
-      "Weighted soil humidity, January (mm)",
-      humidityJanPng,
-      overwrite);
-    WriteOverlay(result,
-      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
-      6,
-      "Humidity",
-      "Weighted soil humidity, July (mm)",
-      humidityJulPng,
-      overwrite);
-    WriteOverlay(result,
-      vtkTerroirFloodFill::WaterDepthName(),
-      0,
-      "WaterBodies",
-      "Lakes and closed depressions (depth, m)",
-      lakesPng,
-      overwrite);
-    WriteOverlay(
-      result, "RiverNetwork", 0, "Rivers", "Rivers and lakes (map)", riversPng, overwrite, true);
-    WriteOverlay(
-      result, "RiverNetwork", 0, "Rivers", "Rivers and lakes", riversReliefPng, overwrite);
-    if (validationPicture)
-    {
-      WriteOverlay(validationPicture,
-        "RiverComparison",
-        0,
-        "RiverComparison",
-        "Rivers against NHD within 60 m (map)",
-        validationPng,
-        overwrite,
-        true);
-    }
-    if (clusters > 0)
-    {
-      WriteOverlay(result,
-        vtkTerroirKMeans::ClusterIdName(),
-        0,
-        "Clusters",
-        "Ecological zones (k-means, K = " + std::to_string(clusters) + ")",
-        clustersPng,
-        overwrite);
-    }
-    WriteOverlay(result, "Slope", 0, "Slope", "Slope (°)", slopePng, overwrite);
-    WriteOverlay(result,
+    WriteOverlay(r.Result,
       "Temperature",
       0,
       "Temperature",
       "Temperature, January (°C)",
-      temperatureJanPng,
-      overwrite);
-    WriteOverlay(result,
+      r.File("temperature_jan.png"),
+      r.Overwrite());
+    WriteOverlay(r.Result,
       "Temperature",
       6,
       "Temperature",
       "Temperature, July (°C)",
-      temperatureJulPng,
-      overwrite);
-    if (illuminate)
+      r.File("temperature_jul.png"),
+      r.Overwrite());
+  }
+}
+
+// ---- illumination: monthly, at the solstices December (longest shadows) and June -------------
+void IlluminationFiles(const RunState& r, RunFiles& f)
+{
+  f.Rasters.insert(f.Rasters.end(), { r.File("illumination.tif"), r.File("insolation.tif") });
+  f.Pictures.insert(f.Pictures.end(),
+    { r.File("illumination_dec.png"),
+      r.File("illumination_jun.png"),
+      r.File("insolation_dec.png"),
+      r.File("insolation_jun.png") });
+}
+void IlluminationCompute(RunState& r)
+{
+  // The filter's defaults (the 15th of each month of 2025, 10-minute steps, horizon map of 64
+  // sectors). Without a georeference there is no sun to place unless --lat and --lon say
+  // where: the stage is then skipped, with a warning, and its outputs with it.
+  const IlluminationSettings& s = r.Line.Illumination;
+  r.Illuminate = r.Located || (std::isfinite(s.Latitude) && std::isfinite(s.Longitude));
+  if (!r.Illuminate)
+  {
+    const std::string why = "the DEM has no georeference; pass --lat and --lon";
+    std::cerr << "terroir: warning: " << r.Dem << ": illumination skipped (" << why << ")\n";
+    r.Stages["illumination"] = json{ { "skipped", why } };
+    RunFiles skipped;
+    IlluminationFiles(r, skipped);
+    for (const auto* list : { &skipped.Rasters, &skipped.Pictures })
     {
-      WriteOverlay(result,
-        "IlluminationHours",
+      for (const std::string& file : *list)
+      {
+        r.Outputs.erase(std::remove(r.Outputs.begin(), r.Outputs.end(), file), r.Outputs.end());
+      }
+    }
+    return;
+  }
+  vtkNew<vtkTerroirSolarIllumination> illumination;
+  illumination->SetBackend(r.Backend);
+  illumination->SetLatitude(s.Latitude);
+  illumination->SetLongitude(s.Longitude);
+  r.Result = RunStage(illumination.Get(), r.Result, "illumination", r.Stages);
+  r.HorizonMapSeconds = illumination->GetLastHorizonMapSeconds();
+  json& st = r.Stages["illumination"];
+  st["horizon_map_seconds"] = r.HorizonMapSeconds;
+  st["horizon_sectors"] = illumination->GetHorizonSectors();
+  st["year"] = illumination->GetYear();
+  st["monthly_day"] = illumination->GetMonthlyDay();
+  st["time_step_min"] = illumination->GetTimeStep();
+}
+void IlluminationWrite(RunState& r)
+{
+  if (!r.Illuminate)
+  {
+    return;
+  }
+  WriteGeoTIFF(r.Result, "IlluminationHours", r.File("illumination.tif"), r.Overwrite());
+  WriteGeoTIFF(r.Result, "Insolation", r.File("insolation.tif"), r.Overwrite());
+  if (!r.Png)
+  {
+    return;
+  }
+  struct Picture
+  {
+    const char* Array;
+    int Month;
+    const char* Preset;
+    const char* Title;
+    const char* File;
+  };
+  for (const Picture& p :
+    { Picture{ "IlluminationHours",
         11,
         "Illumination",
         "Direct sun, December 15 (h/day)",
-        illuminationDecPng,
-        overwrite);
-      WriteOverlay(result,
-        "IlluminationHours",
+        "illumination_dec.png" },
+      Picture{ "IlluminationHours",
         5,
         "Illumination",
         "Direct sun, June 15 (h/day)",
-        illuminationJunPng,
-        overwrite);
-      WriteOverlay(result,
-        "Insolation",
+        "illumination_jun.png" },
+      Picture{ "Insolation",
         11,
         "Insolation",
         "Insolation, December 15 (Wh/m²/day)",
-        insolationDecPng,
-        overwrite);
-      WriteOverlay(result,
-        "Insolation",
-        5,
-        "Insolation",
-        "Insolation, June 15 (Wh/m²/day)",
-        insolationJunPng,
-        overwrite);
-    }
+        "insolation_dec.png" },
+      Picture{
+        "Insolation", 5, "Insolation", "Insolation, June 15 (Wh/m²/day)", "insolation_jun.png" } })
+  {
+    WriteOverlay(r.Result, p.Array, p.Month, p.Preset, p.Title, r.File(p.File), r.Overwrite());
   }
-  stages["write"] = json{ { "seconds", terroir::app::Now() - tw } };
-  report["stages"] = stages;
+}
 
+// ---- soil water: the default infiltration recipe (fill 15 mm/h, none on slopes over 30 deg)
+// and the climate of --precip/--intensity, --climate or the defaults ---------------------------
+void SoilWaterFiles(const RunState& r, RunFiles& f)
+{
+  f.Rasters.insert(f.Rasters.end(),
+    { r.File("infiltration.tif"),
+      r.File("humidity.tif"),
+      r.File("weighted_humidity.tif"),
+      r.File("standing_water.tif") });
+  f.Pictures.insert(f.Pictures.end(), { r.File("humidity_jan.png"), r.File("humidity_jul.png") });
+}
+void SoilWaterCompute(RunState& r)
+{
+  vtkNew<vtkTerroirInfiltration> infiltration;
+  r.Result = RunStage(infiltration.Get(), r.Result, "infiltration", r.Stages);
+  vtkNew<vtkTerroirSoilHumidity> humidity;
+  humidity->SetBackend(r.Backend);
+  ApplyClimate(r.Line.SoilWater, humidity);
+  r.Result = RunStage(humidity.Get(), r.Result, "humidity", r.Stages);
+}
+void SoilWaterWrite(RunState& r)
+{
+  WriteGeoTIFF(r.Result,
+    vtkTerroirInfiltration::InfiltrationRateName(),
+    r.File("infiltration.tif"),
+    r.Overwrite());
+  WriteGeoTIFF(
+    r.Result, vtkTerroirSoilHumidity::SoilHumidityName(), r.File("humidity.tif"), r.Overwrite());
+  WriteGeoTIFF(r.Result,
+    vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
+    r.File("weighted_humidity.tif"),
+    r.Overwrite());
+  WriteGeoTIFF(r.Result,
+    vtkTerroirSoilHumidity::StandingWaterName(),
+    r.File("standing_water.tif"),
+    r.Overwrite());
+  if (r.Png)
+  {
+    WriteOverlay(r.Result,
+      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
+      0,
+      "Humidity",
+      "Weighted soil humidity, January (mm)",
+      r.File("humidity_jan.png"),
+      r.Overwrite());
+    WriteOverlay(r.Result,
+      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
+      6,
+      "Humidity",
+      "Weighted soil humidity, July (mm)",
+      r.File("humidity_jul.png"),
+      r.Overwrite());
+  }
+}
+
+// ---- lakes: every closed depression and hydro-flattened water surface of at least 1 ha --------
+void LakesFiles(const RunState& r, RunFiles& f)
+{
+  f.Rasters.push_back(r.File("lakes.tif"));
+  f.Pictures.push_back(r.File("lakes.png"));
+}
+void LakesCompute(RunState& r)
+{
+  vtkNew<vtkTerroirFloodFill> lakes;
+  lakes->SetModeToFillDepressions();
+  r.Result = RunStage(lakes.Get(), r.Result, "lakes", r.Stages);
+  vtkDataArray* levels =
+    r.Result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyLevelName());
+  r.Stages["lakes"]["water_bodies"] = levels ? levels->GetNumberOfTuples() : 0;
+}
+void LakesWrite(RunState& r)
+{
+  WriteGeoTIFF(r.Result, vtkTerroirFloodFill::WaterDepthName(), r.File("lakes.tif"), r.Overwrite());
+  if (r.Png)
+  {
+    WriteOverlay(r.Result,
+      vtkTerroirFloodFill::WaterDepthName(),
+      0,
+      "WaterBodies",
+      "Lakes and closed depressions (depth, m)",
+      r.File("lakes.png"),
+      r.Overwrite());
+  }
+}
+
+// ---- rivers: the water flow's river-forming mode (steady rain until the outflow balances it),
+// the river network (rivers, and the lakes above) and, on the bundled DEM, its scores -----------
+void RiversFiles(const RunState& r, RunFiles& f)
+{
+  f.Rasters.insert(f.Rasters.end(), { r.File("rivers.tif"), r.File("discharge.tif") });
+  f.Pictures.insert(f.Pictures.end(), { r.File("rivers.png"), r.File("rivers_relief.png") });
+  if (r.Bundled)
+  {
+    f.Pictures.push_back(r.File("validation.png"));
+  }
+}
+/// The River and lake cells as one array (1 river, 2 lake), and the network in the report.
+void ReportRiverNetwork(RunState& r, vtkTerroirWaterFlow* flow)
+{
+  vtkPointData* rpd = r.Result->GetPointData();
+  vtkDataArray* river = rpd->GetArray(vtkTerroirWaterFlow::RiverName());
+  vtkDataArray* lake = rpd->GetArray(vtkTerroirFloodFill::WaterBodyName());
+  vtkNew<vtkUnsignedCharArray> network;
+  network->SetName("RiverNetwork");
+  network->SetNumberOfTuples(river->GetNumberOfTuples());
+  long long riverCells = 0;
+  for (vtkIdType k = 0; k < river->GetNumberOfTuples(); ++k)
+  {
+    const bool isRiver = river->GetComponent(k, 0) != 0.0;
+    const bool isLake = lake && lake->GetComponent(k, 0) != 0.0;
+    network->SetValue(k, isRiver ? 1 : (isLake ? 2 : 0));
+    riverCells += isRiver ? 1 : 0;
+  }
+  rpd->AddArray(network);
+  const double cell = std::sqrt(std::fabs(r.Spacing[0] * r.Spacing[1]));
+  vtkFieldData* fd = r.Result->GetFieldData();
+  json& rs = r.Stages["rivers"];
+  rs["iterations"] = fd->GetArray(vtkTerroirWaterFlow::IterationsName())->GetComponent(0, 0);
+  rs["stop_reason"] =
+    vtkStringArray::SafeDownCast(fd->GetAbstractArray(vtkTerroirWaterFlow::StopReasonName()))
+      ->GetValue(0);
+  rs["rain_mm_per_h"] = flow->GetRainRate();
+  if (vtkDataArray* levels =
+        vtkDataArray::SafeDownCast(fd->GetAbstractArray("WaterFlowWarmStartIterations")))
+  {
+    // The coarse-to-fine start: iterations and size of each level, coarsest first.
+    json warm = json::array();
+    for (vtkIdType l = 0; l < levels->GetNumberOfTuples(); ++l)
+    {
+      warm.push_back({ { "iterations", levels->GetComponent(l, 0) },
+        { "nx", levels->GetComponent(l, 1) },
+        { "ny", levels->GetComponent(l, 2) } });
+    }
+    rs["warm_start_levels"] = warm;
+  }
+  rs["river_area_m2"] = flow->GetRiverArea();
+  rs["river_cells"] = riverCells;
+  rs["river_length_km"] = riverCells * cell / 1000.0; // cells x cell size: approximate
+  json lakeList = json::array();
+  vtkDataArray* areas = fd->GetArray(vtkTerroirFloodFill::WaterBodyAreaName());
+  double lakeArea = 0.0;
+  for (vtkIdType k = 0; areas && k < areas->GetNumberOfTuples(); ++k)
+  {
+    lakeList.push_back(areas->GetComponent(k, 0));
+    lakeArea += areas->GetComponent(k, 0);
+  }
+  rs["lakes"] = lakeList.size();
+  rs["lake_area_m2"] = lakeArea;
+  rs["lake_areas_m2"] = lakeList;
+}
+/// The bundled DEM's rivers against its NHD flowlines in its watershed (scores, and the picture
+/// of the comparison when PNGs are written).
+void ValidateBundledRivers(RunState& r)
+{
+  const std::string dataDir = r.Dem.substr(0, r.Dem.find_last_of('/') + 1);
+  const std::string referenceLines = dataDir + "sagehen_nhd_flowlines_utm11n.geojson";
+  const std::string referenceArea = dataDir + "sagehen_watershed_utm11n.geojson";
+  const double tv = Now();
+  RiverReference reference(r.Result, r.Dem, referenceLines, referenceArea, r.Line.AllowNetwork);
+  std::vector<std::uint8_t> simulated;
+  const MethodScores scores = ScoreRiverMeasure("rivers",
+    "RiverStrength (m3/s)",
+    PointArrayValues(r.Result, vtkTerroirWaterFlow::RiverStrengthName()),
+    std::nan(""),
+    reference,
+    simulated);
+  json v = MethodScoresJson(scores);
+  v["reference"] = referenceLines;
+  v["area"] = referenceArea;
+  v["reference_cells"] = reference.Cells;
+  v["seconds"] = Now() - tv;
+  r.Stages["rivers"]["validation"] = v;
+  if (r.Png)
+  {
+    const std::size_t n = simulated.size();
+    std::vector<std::uint8_t> category(n, 0);
+    terroir::hydrology::RiverComparisonCategories(
+      reference.View, simulated.data(), reference.Area.data(), 60.0, category.data());
+    r.ValidationPicture = vtkSmartPointer<vtkImageData>::New();
+    r.ValidationPicture->ShallowCopy(r.Result);
+    vtkNew<vtkUnsignedCharArray> cat;
+    cat->SetName("RiverComparison");
+    cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    std::copy(category.begin(), category.end(), cat->GetPointer(0));
+    r.ValidationPicture->GetPointData()->AddArray(cat);
+  }
+}
+void RiversCompute(RunState& r)
+{
+  vtkNew<vtkTerroirWaterFlow> flow;
+  flow->SetBackend(r.Backend);
+  flow->SetModeToRivers();
+  r.Result = RunStage(flow.Get(), r.Result, "rivers", r.Stages);
+  ReportRiverNetwork(r, flow);
+  if (r.Bundled)
+  {
+    ValidateBundledRivers(r);
+  }
+}
+void RiversWrite(RunState& r)
+{
+  WriteGeoTIFF(r.Result, vtkTerroirWaterFlow::RiverName(), r.File("rivers.tif"), r.Overwrite());
+  WriteGeoTIFF(
+    r.Result, vtkTerroirWaterFlow::DischargeRateName(), r.File("discharge.tif"), r.Overwrite());
+  if (!r.Png)
+  {
+    return;
+  }
+  WriteOverlay(r.Result,
+    "RiverNetwork",
+    0,
+    "Rivers",
+    "Rivers and lakes (map)",
+    r.File("rivers.png"),
+    r.Overwrite(),
+    true);
+  WriteOverlay(r.Result,
+    "RiverNetwork",
+    0,
+    "Rivers",
+    "Rivers and lakes",
+    r.File("rivers_relief.png"),
+    r.Overwrite());
+  if (r.ValidationPicture)
+  {
+    WriteOverlay(r.ValidationPicture,
+      "RiverComparison",
+      0,
+      "RiverComparison",
+      "Rivers against NHD within 60 m (map)",
+      r.File("validation.png"),
+      r.Overwrite(),
+      true);
+  }
+}
+
+// ---- ecological zones: k-means of the resources with Long (2016)'s features and weights ------
+void ClustersFiles(const RunState& r, RunFiles& f)
+{
+  if (r.Clusters() > 0)
+  {
+    f.Tables.insert(
+      f.Tables.end(), { r.File("clusters.tif"), r.File("clusters.csv"), r.File("clusters.json") });
+    f.Pictures.push_back(r.File("clusters.png"));
+  }
+}
+void ClustersCompute(RunState& r)
+{
+  if (r.Clusters() <= 0)
+  {
+    r.Stages["clusters"] = json{ { "skipped", "--clusters 0" } };
+    return;
+  }
+  vtkNew<vtkTerroirKMeans> kmeans;
+  KMeansSettings settings;
+  settings.Clusters = r.Clusters();
+  ApplyKMeans(settings, r.Line.Backend, kmeans);
+  r.Result = RunStage(kmeans.Get(), r.Result, "clusters", r.Stages);
+  r.ClusterTable->DeepCopy(kmeans->GetClusterTable());
+  r.ClusterSummary = ClusterTableJSON(r.ClusterTable, r.Result);
+  json& st = r.Stages["clusters"];
+  st["k"] = r.Clusters();
+  st["iterations"] = r.ClusterSummary["iterations"];
+  st["stop_reason"] = r.ClusterSummary["stop_reason"];
+}
+void ClustersWrite(RunState& r)
+{
+  if (r.Clusters() <= 0)
+  {
+    return;
+  }
+  WriteGeoTIFF(r.Result, vtkTerroirKMeans::ClusterIdName(), r.File("clusters.tif"), r.Overwrite());
+  WriteTextFile(r.File("clusters.csv"), ClusterTableCSV(r.ClusterTable), r.Overwrite());
+  WriteTextFile(r.File("clusters.json"), r.ClusterSummary.dump(2) + "\n", r.Overwrite());
+  if (r.Png)
+  {
+    WriteOverlay(r.Result,
+      vtkTerroirKMeans::ClusterIdName(),
+      0,
+      "Clusters",
+      "Ecological zones (k-means, K = " + std::to_string(r.Clusters()) + ")",
+      r.File("clusters.png"),
+      r.Overwrite());
+  }
+}
+
+/// The stages, in the order they run (and their files are listed).
+const std::vector<RunStep>& RunSteps()
+{
+  static const std::vector<RunStep> steps = {
+    { "slope", SlopeFiles, SlopeCompute, SlopeWrite },
+    { "temperature", TemperatureFiles, TemperatureCompute, TemperatureWrite },
+    { "illumination", IlluminationFiles, IlluminationCompute, IlluminationWrite },
+    { "soil water", SoilWaterFiles, SoilWaterCompute, SoilWaterWrite },
+    { "lakes", LakesFiles, LakesCompute, LakesWrite },
+    { "rivers", RiversFiles, RiversCompute, RiversWrite },
+    { "clusters", ClustersFiles, ClustersCompute, ClustersWrite },
+  };
+  return steps;
+}
+
+/// The stages' names in the report's tables, in order.
+const std::vector<const char*>& ReportedStages()
+{
+  static const std::vector<const char*> names = { "slope",
+    "temperature",
+    "illumination",
+    "infiltration",
+    "humidity",
+    "lakes",
+    "rivers",
+    "clusters" };
+  return names;
+}
+
+// ---- reading and the reports --------------------------------------------------------------------
+void ReadTerrainStage(RunState& r)
+{
+  const double t0 = Now();
+  r.Result = ReadTerrain(r.Dem, r.Line.AllowNetwork, r.Line.ZUnit);
+  r.Stages["read"] = json{ { "seconds", Now() - t0 } };
+  r.Result->GetDimensions(r.Dims);
+  r.Result->GetSpacing(r.Spacing);
+  r.Located = vtkTerroirGeoreference::GetCenterLatLon(r.Result, r.LatLon);
+  r.Report["grid"] = json{ { "nx", r.Dims[0] },
+    { "ny", r.Dims[1] },
+    { "dx_m", r.Spacing[0] },
+    { "dy_m", r.Spacing[1] },
+    { "geographic", vtkTerroirGeoreference::GetRowSpacing(r.Result) != nullptr } };
+  r.Report["georeference"] = json{ { "has_crs", !vtkTerroirGeoreference::GetCRS(r.Result).empty() },
+    { "center_lat", r.Located ? json(r.LatLon[0]) : json(nullptr) },
+    { "center_lon", r.Located ? json(r.LatLon[1]) : json(nullptr) },
+    { "meridian_convergence_deg", vtkTerroirGeoreference::GetMeridianConvergence(r.Result) } };
+}
+
+/// Statistics of every point array (per month for the 12-component ones).
+json ArraysReport(vtkImageData* result)
+{
   json arrays;
   vtkPointData* pd = result->GetPointData();
   for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
@@ -520,51 +618,46 @@ int RunEveryStage(const std::string& demArg,
     }
     arrays[arr->GetName()] = entry;
   }
-  report["arrays"] = arrays;
-  if (clusters > 0)
-  {
-    report["clusters"] = json::parse(clusterSummary.dump());
-  }
-  report["outputs"] = outputs;
+  return arrays;
+}
 
-  // Report: JSON for scripts, Markdown for people; both temp + rename.
-  terroir::app::WriteTextFile(reportJson, report.dump(2) + "\n", overwrite);
+/// report.json (scripts) and report.md (people), both written through a temporary file.
+void WriteReports(RunState& r, json& arrays)
+{
+  WriteTextFile(r.File("report.json"), r.Report.dump(2) + "\n", r.Overwrite());
   std::ostringstream md;
   md << std::fixed << std::setprecision(2);
   md << "# Terroir run\n\n";
-  md << "- input: `" << dem << "`\n";
-  md << "- grid: " << dims[0] << " x " << dims[1] << " cells, " << spacing[0] << " x " << spacing[1]
-     << " m\n";
-  if (located)
+  md << "- input: `" << r.Dem << "`\n";
+  md << "- grid: " << r.Dims[0] << " x " << r.Dims[1] << " cells, " << r.Spacing[0] << " x "
+     << r.Spacing[1] << " m\n";
+  if (r.Located)
   {
-    md << std::setprecision(5) << "- centre: " << latLon[0] << ", " << latLon[1] << " (lat, lon)\n"
+    md << std::setprecision(5) << "- centre: " << r.LatLon[0] << ", " << r.LatLon[1]
+       << " (lat, lon)\n"
        << std::setprecision(2);
   }
   md << "\n| stage | seconds | backend |\n|---|---|---|\n";
-  for (const char* s : { "read",
-         "slope",
-         "temperature",
-         "illumination",
-         "infiltration",
-         "humidity",
-         "lakes",
-         "rivers",
-         "clusters",
-         "write" })
+  std::vector<const char*> table = ReportedStages();
+  table.insert(table.begin(), "read");
+  table.push_back("write");
+  for (const char* s : table)
   {
-    if (!stages[s].contains("seconds"))
+    if (!r.Stages[s].contains("seconds"))
     {
-      md << "| " << s << " | skipped: " << stages[s]["skipped"].get<std::string>() << " | |\n";
+      md << "| " << s << " | skipped: " << r.Stages[s]["skipped"].get<std::string>() << " | |\n";
       continue;
     }
-    md << "| " << s << " | " << std::setprecision(3) << stages[s]["seconds"].get<double>() << " | "
-       << (stages[s].contains("backend") ? stages[s]["backend"].get<std::string>() : "") << " |\n";
+    md << "| " << s << " | " << std::setprecision(3) << r.Stages[s]["seconds"].get<double>()
+       << " | "
+       << (r.Stages[s].contains("backend") ? r.Stages[s]["backend"].get<std::string>() : "")
+       << " |\n";
   }
   // Why each stage ran where it did: under Auto the GPU only where its path is verified correct
   // and faster on this hardware (Documentation/Compute.md, "Verified GPU paths").
   md << "\nBackends (`--backend auto` runs a stage on the GPU only where its GPU path is verified "
         "correct and faster on this hardware; Documentation/Compute.md):\n\n";
-  for (const auto& item : stages.items())
+  for (const auto& item : r.Stages.items())
   {
     if (item.value().is_object() && item.value().contains("reason") &&
       !item.value()["reason"].get<std::string>().empty())
@@ -572,14 +665,14 @@ int RunEveryStage(const std::string& demArg,
       md << "- " << item.key() << ": " << item.value()["reason"].get<std::string>() << "\n";
     }
   }
-  if (illuminate)
+  if (r.Illuminate)
   {
     md << "\nIllumination: monthly, the 15th of each month of "
-       << stages["illumination"]["year"].get<int>() << ", " << std::defaultfloat
-       << stages["illumination"]["time_step_min"].get<double>() << std::fixed
-       << "-minute steps; horizon map of " << stages["illumination"]["horizon_sectors"].get<int>()
-       << " sectors built in " << std::setprecision(3) << horizonMapSeconds << " s of the stage's "
-       << stages["illumination"]["seconds"].get<double>() << " s.\n";
+       << r.Stages["illumination"]["year"].get<int>() << ", " << std::defaultfloat
+       << r.Stages["illumination"]["time_step_min"].get<double>() << std::fixed
+       << "-minute steps; horizon map of " << r.Stages["illumination"]["horizon_sectors"].get<int>()
+       << " sectors built in " << std::setprecision(3) << r.HorizonMapSeconds
+       << " s of the stage's " << r.Stages["illumination"]["seconds"].get<double>() << " s.\n";
   }
   md << std::setprecision(2) << "\n| array | units | min | mean | max |\n|---|---|---|---|---|\n";
   for (auto& [name, entry] : arrays.items())
@@ -596,7 +689,7 @@ int RunEveryStage(const std::string& demArg,
        << st["mean"].get<double>() << " | " << st["max"].get<double>() << " |\n";
   }
   {
-    const json& rs = stages["rivers"];
+    const json& rs = r.Stages["rivers"];
     md << "\nRivers (water flow, river-forming mode: " << std::defaultfloat
        << rs["rain_mm_per_h"].get<double>() << " mm/h until the outflow balances the rain; "
        << rs["iterations"].get<double>() << " iterations, " << rs["stop_reason"].get<std::string>()
@@ -617,15 +710,15 @@ int RunEveryStage(const std::string& demArg,
     }
     md << std::setprecision(2);
   }
-  if (clusters > 0)
+  if (r.Clusters() > 0)
   {
     // The zones at a glance; clusters.csv has the mean of every feature and month.
-    md << "\nEcological zones (k-means, K = " << clusters << ", "
-       << clusterSummary["iterations"].get<int>() << " iterations, "
-       << clusterSummary["stop_reason"].get<std::string>()
+    md << "\nEcological zones (k-means, K = " << r.Clusters() << ", "
+       << r.ClusterSummary["iterations"].get<int>() << " iterations, "
+       << r.ClusterSummary["stop_reason"].get<std::string>()
        << "):\n\n| zone | colour | cells | share | slope (°) | temperature Jul (°C) |\n"
        << "|---|---|---|---|---|---|\n";
-    for (const auto& row : clusterSummary["clusters"])
+    for (const auto& row : r.ClusterSummary["clusters"])
     {
       auto mean = [&row](const char* column)
       {
@@ -648,54 +741,102 @@ int RunEveryStage(const std::string& demArg,
     }
   }
   md << "\nOutputs:\n\n";
-  for (const auto& o : outputs)
+  for (const auto& o : r.Outputs)
   {
     md << "- `" << fs::path(o).filename().string() << "`\n";
   }
-  terroir::app::WriteTextFile(reportMd, md.str(), overwrite);
+  WriteTextFile(r.File("report.md"), md.str(), r.Overwrite());
+}
 
-  std::cout << "terroir run: " << dims[0] << "x" << dims[1] << " cells from " << dem << "\n";
-  for (const char* s : { "slope",
-         "temperature",
-         "illumination",
-         "infiltration",
-         "humidity",
-         "lakes",
-         "rivers",
-         "clusters" })
+/// One line per stage on the terminal.
+void PrintSummary(RunState& r)
+{
+  std::cout << "terroir run: " << r.Dims[0] << "x" << r.Dims[1] << " cells from " << r.Dem << "\n";
+  for (const char* s : ReportedStages())
   {
-    if (!stages[s].contains("seconds"))
+    if (!r.Stages[s].contains("seconds"))
     {
       std::cout << "  " << std::left << std::setw(14) << s << std::right << "skipped\n";
       continue;
     }
     std::cout << "  " << std::left << std::setw(14) << s << std::right << std::fixed
-              << std::setprecision(3) << stages[s]["seconds"].get<double>() << " s  "
-              << stages[s]["backend"].get<std::string>();
+              << std::setprecision(3) << r.Stages[s]["seconds"].get<double>() << " s  "
+              << r.Stages[s]["backend"].get<std::string>();
     if (std::string(s) == "illumination")
     {
-      std::cout << " (horizon map " << horizonMapSeconds << " s)";
+      std::cout << " (horizon map " << r.HorizonMapSeconds << " s)";
     }
     std::cout << "\n";
   }
-  std::cout << "  outputs in " << outDir << " (report.md)\n";
+  std::cout << "  outputs in " << r.Line.Output << " (report.md)\n";
+}
+
+int RunEveryStage(const CommandLine& c)
+{
+  RunState r(c);
+  r.Dem = c.Input.empty() ? DefaultDEM() : c.Input;
+  r.Bundled = c.Input.empty();
+  r.Backend = ParseBackend(c.Backend);
+  r.Png = !c.NoPng;
+  std::error_code ec;
+  fs::create_directories(c.Output, ec);
+  if (ec || !fs::is_directory(c.Output))
+  {
+    throw Failure(c.Output + ": cannot create the output folder" + (ec ? ": " + ec.message() : ""));
+  }
+  r.Out = fs::path(c.Output);
+
+  // Every file, checked before any work, so that a refused run leaves nothing behind.
+  RunFiles files;
+  for (const RunStep& step : RunSteps())
+  {
+    step.Files(r, files);
+  }
+  r.Outputs = { r.File("terrain.vti") };
+  r.Outputs.insert(r.Outputs.end(), files.Rasters.begin(), files.Rasters.end());
+  r.Outputs.insert(r.Outputs.end(), { r.File("report.md"), r.File("report.json") });
+  r.Outputs.insert(r.Outputs.end(), files.Tables.begin(), files.Tables.end());
+  if (r.Png)
+  {
+    if (!HaveDisplay())
+    {
+      throw Failure("PNG overlays need an X display (VTK 9.1 renders through X): run under "
+                    "'xvfb-run -a', or pass --no-png");
+    }
+    r.Outputs.insert(r.Outputs.end(), files.Pictures.begin(), files.Pictures.end());
+  }
+  CheckWritable(r.Outputs, c.Overwrite);
+
+  r.Report["input"] = r.Dem;
+  ReadTerrainStage(r);
+  for (const RunStep& step : RunSteps())
+  {
+    step.Compute(r);
+  }
+  const double tw = Now();
+  WriteVTI(r.Result, r.File("terrain.vti"), c.Overwrite);
+  for (const RunStep& step : RunSteps())
+  {
+    step.Write(r);
+  }
+  r.Stages["write"] = json{ { "seconds", Now() - tw } };
+  r.Report["stages"] = r.Stages;
+  json arrays = ArraysReport(r.Result);
+  r.Report["arrays"] = arrays;
+  if (r.Clusters() > 0)
+  {
+    r.Report["clusters"] = json::parse(r.ClusterSummary.dump());
+  }
+  r.Report["outputs"] = r.Outputs;
+  WriteReports(r, arrays);
+  PrintSummary(r);
   return 0;
 }
 } // namespace
 
 int CommandRun(const CommandLine& c)
 {
-  return RunEveryStage(c.Input,
-    c.Output,
-    c.Overwrite,
-    c.Backend,
-    !c.NoPng,
-    c.AllowNetwork,
-    c.ZUnit,
-    c.Temperature,
-    c.Illumination,
-    c.SoilWater,
-    c.KMeans.Clusters);
+  return RunEveryStage(c);
 }
 
 } // namespace app
