@@ -177,7 +177,7 @@ void ApplySweepValue(WaterFlowSettings& s, const std::string& name, const std::s
   if (name == "water")
   {
     need(x >= 0.0 && x <= 1e6, "0 to 1e6 mm");
-    s.WaterMm = x;
+    s.InitialWater = x;
   }
   else if (name == "rain")
   {

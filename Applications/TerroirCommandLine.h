@@ -111,7 +111,7 @@ struct FloodFillSettings
 /// Options of `waterflow` and `validate` (the simulation).
 struct WaterFlowSettings
 {
-  double WaterMm = 100.0;              ///< --water MM on every cell
+  double InitialWater = 100.0;         ///< --water MM on every cell
   int Month = 0;                       ///< --month M: StandingWater of month M (soil-water chain)
   bool Annual = false;                 ///< --annual: the year's StandingWater
   long long MaximumIterations = 10000; ///< --max-iterations

@@ -425,7 +425,7 @@ void CheckFloodFill(FloodFillSettings& s,
 
 void AddWaterFlowOptions(CLI::App* app, WaterFlowSettings& s)
 {
-  app->add_option("--water", s.WaterMm, "Water on every cell, mm")
+  app->add_option("--water", s.InitialWater, "Water on every cell, mm")
     ->check(FiniteIn(0.0, 1e6))
     ->capture_default_str();
   app->add_option("--month", s.Month, "Use the StandingWater of month M (1-12) instead")

@@ -62,7 +62,7 @@ vtkSmartPointer<vtkImageData> SimulateWaterFlow(const WaterFlowSettings& s,
   }
   vtkNew<vtkTerroirWaterFlow> flow;
   flow->SetBackend(ParseBackend(backend));
-  flow->SetWaterDepth(s.WaterMm);
+  flow->SetInitialWater(s.InitialWater);
   if (s.Month > 0)
   {
     flow->SetWaterSourceToStandingWaterMonth();

@@ -85,7 +85,7 @@ int main(int argc, char* argv[])
   vtkNew<vtkTerroirWaterFlow> flow;
   flow->SetInputConnection(area->GetOutputPort());
   flow->SetWaterSourceToConstant();
-  flow->SetWaterDepth(100.0); // mm of rain on every cell
+  flow->SetInitialWater(100.0); // mm of rain on every cell
   flow->SetMaximumIterations(iterations);
   vtkNew<vtkTerroirFlowAccumulation> d8;
   d8->SetInputConnection(flow->GetOutputPort());

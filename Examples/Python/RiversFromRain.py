@@ -55,7 +55,7 @@ area.SetOutputArrayName("Area")
 flow = terroir.vtkTerroirWaterFlow()
 flow.SetInputConnection(area.GetOutputPort())
 flow.SetWaterSourceToConstant()
-flow.SetWaterDepth(100.0)  # mm of rain on every cell
+flow.SetInitialWater(100.0)  # mm of rain on every cell
 flow.SetMaximumIterations(args.iterations)
 d8 = terroir.vtkTerroirFlowAccumulation()
 d8.SetInputConnection(flow.GetOutputPort())

@@ -111,7 +111,7 @@ void vtkTerroirWaterFlow::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "WaterSource: " << this->WaterSource << "\n";
-  os << indent << "WaterDepth: " << this->WaterDepth << " mm\n";
+  os << indent << "InitialWater: " << this->InitialWater << " mm\n";
   os << indent << "Month: " << this->Month << "\n";
   os << indent << "AutoStopRatio: " << this->AutoStopRatio << "\n";
   os << indent << "MaximumIterations: " << this->MaximumIterations << "\n";
@@ -146,7 +146,7 @@ bool vtkTerroirWaterFlow::GetCurrentWaterHeight(vtkFloatArray* out)
   }
   out->SetNumberOfComponents(1);
   out->SetNumberOfTuples(static_cast<vtkIdType>(sim->Nx()) * sim->Ny());
-  sim->GetWaterDepth(out->GetPointer(0));
+  sim->GetWaterHeight(out->GetPointer(0));
   out->Modified();
   return true;
 }
@@ -174,9 +174,9 @@ double vtkTerroirWaterFlow::EstimateMemory(double nx, double ny)
 //------------------------------------------------------------------------------
 std::string vtkTerroirWaterFlow::CheckParameters()
 {
-  if (!(std::isfinite(this->WaterDepth) && this->WaterDepth >= 0.0))
+  if (!(std::isfinite(this->InitialWater) && this->InitialWater >= 0.0))
   {
-    return "WaterDepth " + terroir::NumberText(this->WaterDepth) +
+    return "InitialWater " + terroir::NumberText(this->InitialWater) +
       " mm must be a finite number >= 0";
   }
   if (this->Month < 1 || this->Month > 12)
@@ -272,7 +272,7 @@ int vtkTerroirWaterFlow::RequestInformation(vtkInformation* request,
 
 //------------------------------------------------------------------------------
 //------------------------------------------------------------------------------
-bool vtkTerroirWaterFlow::InitialWater(vtkImageData* input,
+bool vtkTerroirWaterFlow::PrepareWater(vtkImageData* input,
   const terroir::GridView<float>& v,
   std::vector<double>& water,
   std::vector<double>& rain)
@@ -330,7 +330,7 @@ bool vtkTerroirWaterFlow::InitialWater(vtkImageData* input,
         continue; // uniform rain, RainRate
       }
     }
-    double mm = this->WaterDepth;
+    double mm = this->InitialWater;
     if (this->WaterSource == StandingWaterMonth)
     {
       mm = standing->GetComponent(static_cast<vtkIdType>(c), this->Month - 1);
@@ -375,7 +375,7 @@ bool vtkTerroirWaterFlow::NewSimulation(vtkImageData* input,
   Cache& cache = *this->State;
   // Initial water, metres, every check before the simulation exists.
   std::vector<double> water, rain;
-  if (!this->InitialWater(input, v, water, rain))
+  if (!this->PrepareWater(input, v, water, rain))
   {
     return false;
   }
@@ -622,7 +622,7 @@ void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
   // Outputs.
   vtkSmartPointer<vtkFloatArray> height = vtkSmartPointer<vtkFloatArray>::Take(
     terroir::NewOutputArray(WaterHeightName(), 1, static_cast<long long>(n), "m"));
-  sim.GetWaterDepth(height->GetPointer(0));
+  sim.GetWaterHeight(height->GetPointer(0));
   auto discharge = vtkSmartPointer<vtkDoubleArray>::New();
   discharge->SetName(DischargeName());
   discharge->SetNumberOfTuples(static_cast<vtkIdType>(n));

@@ -49,7 +49,7 @@
  *   edge sums too, bit for bit; the levels run on the chosen backend).
  *
  * Parameters (defaults):
- * - WaterSource: Constant (0, default; WaterDepth mm on every cell, default 100),
+ * - WaterSource: Constant (0, default; InitialWater mm on every cell, default 100),
  *   StandingWaterMonth (1; component Month (1..12, default 1) of `StandingWater`),
  *   StandingWaterAnnual (2; the sum of the 12 months).
  * - Stopping: Long (2016)'s rule stops after the first iteration that moved less than
@@ -213,9 +213,10 @@ public:
   void SetWaterSourceToStandingWaterAnnual() { this->SetWaterSource(StandingWaterAnnual); }
   ///@}
 
-  /// Constant source: depth of water on every cell, mm (>= 0, finite). Default 100.
-  vtkSetMacro(WaterDepth, double);
-  vtkGetMacro(WaterDepth, double);
+  /// Constant source: the water put on every cell at the start, mm (>= 0, finite; `--water`).
+  /// Default 100. The simulation holds water in metres; its output is `WaterHeight` (m).
+  vtkSetMacro(InitialWater, double);
+  vtkGetMacro(InitialWater, double);
 
   /// StandingWaterMonth source: the month, 1 (January) to 12. Default 1.
   vtkSetMacro(Month, int);
@@ -304,7 +305,7 @@ protected:
   double RiverArea = 1e5;
   double ThinningFactor = 0.1;
   int WaterSource = Constant;
-  double WaterDepth = 100.0;
+  double InitialWater = 100.0;
   int Month = 1;
   double AutoStopRatio = 1e-3;
   vtkIdType MaximumIterations = 10000;
@@ -325,15 +326,15 @@ private:
   std::unique_ptr<Cache> State;
 
 #ifndef __VTK_WRAP__
-  // RequestTerrainData in steps: a new simulation in the cache (its initial water, rain and
-  // lakes first), the run to a time step or a stop rule, the output arrays and field data.
+  // RequestTerrainData in steps: a new simulation in the cache (PrepareWater: its initial water,
+  // rain and lakes first), the run to a time step or a stop rule, the output arrays and field data.
   struct RunInfo
   {
     std::string ReasonName; ///< StopReason's value
     bool Timed = false;     ///< a time step was requested
     double Requested = 0.0; ///< that time step
   };
-  bool InitialWater(vtkImageData* input,
+  bool PrepareWater(vtkImageData* input,
     const terroir::GridView<float>& v,
     std::vector<double>& water,
     std::vector<double>& rain);

@@ -121,7 +121,7 @@ void CheckFloodFill(const terroir::app::CommandLine& line)
 void CheckWaterFlow(const terroir::app::CommandLine& line)
 {
   const auto& w = line.WaterFlow;
-  Check(Within(w.WaterMm, 0, 1e6));
+  Check(Within(w.InitialWater, 0, 1e6));
   Check(w.Month >= 0 && w.Month <= 12);
   Check(!(w.Month > 0 && w.Annual));
   Check(w.MaximumIterations >= 0 && w.MaximumIterations <= 100000000LL);

@@ -87,15 +87,15 @@ TEST(TerroirWaterFlow, ArraysUnitsDefaults)
 {
   vtkNew<vtkTerroirWaterFlow> f;
   EXPECT_EQ(f->GetWaterSource(), vtkTerroirWaterFlow::Constant);
-  EXPECT_EQ(f->GetWaterDepth(), 100.0);
+  EXPECT_EQ(f->GetInitialWater(), 100.0);
   EXPECT_EQ(f->GetAutoStopRatio(), 1e-3);
   EXPECT_EQ(f->GetMaximumIterations(), 10000);
   EXPECT_EQ(f->GetRiverThreshold(), 10000.0);
   EXPECT_EQ(f->GetIterationDuration(), 10.0);
   const vtkMTimeType t0 = f->GetMTime();
-  f->SetWaterDepth(50.0);
+  f->SetInitialWater(50.0);
   EXPECT_GT(f->GetMTime(), t0);
-  f->SetWaterDepth(100.0);
+  f->SetInitialWater(100.0);
   f->SetBackendToCPU();
   auto out = RunFlow(f, Valley());
   vtkFloatArray* h = vtkFloatArray::SafeDownCast(
@@ -313,7 +313,7 @@ TEST(TerroirWaterFlow, EqualsCore)
   }
   std::vector<float> depth(z.size());
   std::vector<double> discharge(z.size());
-  sim.GetWaterDepth(depth.data());
+  sim.GetWaterHeight(depth.data());
   sim.GetDischarge(discharge.data());
   const auto h = Values(out, "WaterHeight");
   const auto q = Values(out, "Discharge");
@@ -513,11 +513,11 @@ TEST(TerroirWaterFlow, BadInputsAreOneErrorAndAnEmptyOutput)
   };
   const std::vector<Case> cases = {
     { in,
-      [](vtkTerroirWaterFlow* f) { f->SetWaterDepth(-5.0); },
-      "dem.tif: WaterDepth -5 mm must be a finite number >= 0" },
+      [](vtkTerroirWaterFlow* f) { f->SetInitialWater(-5.0); },
+      "dem.tif: InitialWater -5 mm must be a finite number >= 0" },
     { in,
-      [](vtkTerroirWaterFlow* f) { f->SetWaterDepth(std::nan("")); },
-      "dem.tif: WaterDepth nan mm must be a finite number >= 0" },
+      [](vtkTerroirWaterFlow* f) { f->SetInitialWater(std::nan("")); },
+      "dem.tif: InitialWater nan mm must be a finite number >= 0" },
     { in,
       [](vtkTerroirWaterFlow* f) { f->SetMonth(13); },
       "dem.tif: Month 13 must be 1 (January) to 12 (December)" },

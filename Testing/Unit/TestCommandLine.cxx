@@ -620,7 +620,7 @@ TEST(TerroirCommandLineParse, WaterFlowFlowAccAndValidate)
   ASSERT_TRUE(outcome.Run) << outcome.Error;
   EXPECT_EQ(line.Command, "waterflow");
   const auto& w = line.WaterFlow;
-  EXPECT_EQ(w.WaterMm, 50.0);
+  EXPECT_EQ(w.InitialWater, 50.0);
   EXPECT_EQ(w.MaximumIterations, 200);
   EXPECT_EQ(w.AutoStop, 0.01);
   EXPECT_EQ(w.Time, 3600.0);

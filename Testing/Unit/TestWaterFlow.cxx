@@ -146,7 +146,7 @@ TEST(WaterFlow, ChannelMovesOneCellPerIteration)
   {
     const hy::WaterFlowIteration it = sim.Step();
     EXPECT_DOUBLE_EQ(it.moved, 1.0) << step;
-    sim.GetWaterDepth(w.data());
+    sim.GetWaterHeight(w.data());
     for (int i = 0; i < 3; ++i)
     {
       EXPECT_FLOAT_EQ(w[3 + i], (step < 2 && i == step + 1) ? 1.0f : 0.0f) << step << " " << i;
@@ -263,7 +263,7 @@ TEST(WaterFlow, ClosedBowlFillsToOneFlatLevel)
   rule.maximumIterations = 20000;
   sim.Run(rule);
   std::vector<float> w(s.z.size());
-  sim.GetWaterDepth(w.data());
+  sim.GetWaterHeight(w.data());
   float lo = std::numeric_limits<float>::max();
   float hi = -lo;
   for (std::size_t c = 0; c < w.size(); ++c)
@@ -309,7 +309,7 @@ TEST(WaterFlow, SymmetricTerrainGivesSymmetricResult)
     sim.Step();
   }
   std::vector<float> w(s.z.size());
-  sim.GetWaterDepth(w.data());
+  sim.GetWaterHeight(w.data());
   double largest = 0.0;
   for (float v : w)
   {
@@ -378,9 +378,9 @@ TEST(WaterFlow, GridNeverMovesUphill)
   std::vector<float> after(s.z.size());
   for (int step = 0; step < 20; ++step)
   {
-    sim.GetWaterDepth(before.data());
+    sim.GetWaterHeight(before.data());
     sim.Step();
-    sim.GetWaterDepth(after.data());
+    sim.GetWaterHeight(after.data());
     for (int j = 0; j < s.ny; ++j)
     {
       for (int i = 0; i < s.nx; ++i)
@@ -549,7 +549,7 @@ TEST(WaterFlow, StillLakeAtItsSpillLevelPassesTheRainOn)
   rule.maximumIterations = 20000;
   ASSERT_EQ(sim.Run(rule), hy::WaterFlowStopReason::Balanced);
   std::vector<float> depth(s.z.size());
-  sim.GetWaterDepth(depth.data());
+  sim.GetWaterHeight(depth.data());
   for (int j = 1; j < ny - 1; ++j)
   {
     for (int i = 1; i < 11; ++i)
@@ -579,7 +579,7 @@ TEST(WaterFlow, NetFluxCountsOnlyWhatCrossed)
   rule.maximumIterations = 4000;
   sim.Run(rule);
   std::vector<float> depth(s.z.size());
-  sim.GetWaterDepth(depth.data());
+  sim.GetWaterHeight(depth.data());
   for (int i = 1; i <= 10; ++i)
   {
     ASSERT_NEAR(depth[12 + i], 0.5, 1e-6) << "not at rest yet, cell " << i;
@@ -773,7 +773,7 @@ TEST(WaterFlow, RowBlockingDoesNotChangeResult)
   auto depthAndDischarge = [&s](const hy::WaterFlowSimulation& sim)
   {
     std::pair<std::vector<float>, std::vector<double>> r(s.z.size(), s.z.size());
-    sim.GetWaterDepth(r.first.data());
+    sim.GetWaterHeight(r.first.data());
     sim.GetDischarge(r.second.data());
     return r;
   };
@@ -840,7 +840,7 @@ TEST(WaterFlow, EveryInstructionSetGivesTheSameBits)
     }
     r.w.resize(s.z.size());
     r.q.resize(s.z.size());
-    sim.GetWaterDepth(r.w.data());
+    sim.GetWaterHeight(r.w.data());
     sim.GetDischarge(r.q.data());
     return r;
   };
@@ -871,7 +871,7 @@ TEST(WaterFlow, NoDataCellsAreOutlets)
   EXPECT_GT(sim.TotalOutflow(), 0.0);
   EXPECT_NEAR(sim.StoredVolume() + sim.TotalOutflow(), sim.InitialVolume(), 1e-6);
   std::vector<float> w(25);
-  sim.GetWaterDepth(w.data());
+  sim.GetWaterHeight(w.data());
   EXPECT_TRUE(std::isnan(w[12]));
 }
 

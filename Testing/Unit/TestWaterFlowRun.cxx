@@ -33,7 +33,7 @@ struct Valley
 std::vector<float> Depth(const hy::WaterFlowSimulation& sim)
 {
   std::vector<float> d(static_cast<std::size_t>(sim.Nx()) * sim.Ny());
-  sim.GetWaterDepth(d.data());
+  sim.GetWaterHeight(d.data());
   return d;
 }
 } // namespace

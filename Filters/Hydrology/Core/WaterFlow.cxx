@@ -1299,7 +1299,7 @@ double WaterFlowSimulation::StoredVolume() const
 }
 
 //------------------------------------------------------------------------------
-void WaterFlowSimulation::GetWaterDepth(float* depth) const
+void WaterFlowSimulation::GetWaterHeight(float* depth) const
 {
   const int stride = NX + 2;
   for (int j = 0; j < NY; ++j)

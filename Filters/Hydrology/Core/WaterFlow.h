@@ -394,8 +394,8 @@ public:
   /// Water stored on the terrain now, m^3 (double sum in row order).
   double StoredVolume() const;
 
-  /// Depths (metres, nx*ny; NaN on no-data cells).
-  void GetWaterDepth(float* depth) const;
+  /// Water heights above the terrain (metres, nx*ny, the WaterHeight output; NaN on no data).
+  void GetWaterHeight(float* height) const;
   /// Discharge (m^3, nx*ny; NaN on no-data cells).
   void GetDischarge(double* discharge) const;
 
