@@ -27,7 +27,7 @@ if(_gpu_check_ready)
   file(GLOB _gpu_check_tests CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/Testing/GPU/Test*.cxx")
   file(GLOB _gpu_check_helpers CONFIGURE_DEPENDS "${_gpu_check_common}/*.cxx")
 
-  set(_gpu_check_modules Terroir::Common Terroir::Compute Terroir::FiltersCore
+  set(_gpu_check_modules Terroir::Common Terroir::Compute Terroir::FiltersBase
     Terroir::FiltersTerrain
     Terroir::FiltersHydrology Terroir::FiltersClustering
     VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc

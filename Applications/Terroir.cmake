@@ -33,7 +33,7 @@ target_compile_options(TerroirCommands PRIVATE -Wall -Wextra)
 
 add_executable(terroir terroir.cxx)
 target_compile_options(terroir PRIVATE -Wall -Wextra)
-set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersCore
+set(_terroir_app_modules Terroir::Common Terroir::Compute Terroir::IO Terroir::FiltersBase
   Terroir::FiltersTerrain
   Terroir::FiltersHydrology Terroir::FiltersClustering
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::CommonMisc VTK::IOXML)
@@ -62,7 +62,7 @@ target_include_directories(TerroirViewerSession PUBLIC "${CMAKE_CURRENT_SOURCE_D
 target_compile_options(TerroirViewerSession PRIVATE -Wall -Wextra)
 find_package(Threads REQUIRED)
 target_link_libraries(TerroirViewerSession PUBLIC TerroirCommandLine VTK::CommonCore
-  VTK::CommonDataModel VTK::CommonExecutionModel Terroir::Common Terroir::FiltersCore
+  VTK::CommonDataModel VTK::CommonExecutionModel Terroir::Common Terroir::FiltersBase
   Terroir::FiltersTerrain
   Terroir::FiltersHydrology Terroir::FiltersClustering
   PRIVATE TerroirTerrainCore Threads::Threads)

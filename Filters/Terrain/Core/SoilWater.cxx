@@ -1,5 +1,7 @@
 #include "SoilWater.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 
@@ -52,9 +54,12 @@ void SoilHumidityLong2016(const float* infiltration,
   // Branch-free form of AbsorbedRainLong2016, so that the month loops vectorise: a dry month
   // gets q = 0 and a zero reciprocal intensity (0 whatever the rate); a no-data cell a NaN rate,
   // which every output carries ((NaN > 1) is false). Shaders/SoilHumidity.comp does the same.
+  // Local copies: the month loops vectorise over arrays the compiler sees are not aliased.
   const SoilHumidityMonthConstants constants = SoilHumidityLong2016Constants(rain);
-  const float* q = constants.quantity;
-  const float* inverse = constants.inverseIntensity;
+  float q[12];
+  float inverse[12];
+  std::copy(constants.quantity, constants.quantity + 12, q);
+  std::copy(constants.inverseIntensity, constants.inverseIntensity + 12, inverse);
   for (std::size_t k = begin; k < end; ++k)
   {
     const float rate = (!valid || valid[k] != 0) ? infiltration[k] : nan;

@@ -19,7 +19,7 @@
 #define vtkTerroirTerrainInput_h
 
 #include "GridView.h"                    // For terroir::GridView
-#include "vtkTerroirFiltersCoreModule.h" // For export macro
+#include "vtkTerroirFiltersBaseModule.h" // For export macro
 
 #include <cstdint> // For std::uint8_t
 #include <memory>  // For std::shared_ptr
@@ -34,7 +34,7 @@ namespace terroir
 {
 
 /// A terrain ready for a core: the view plus whatever storage it points into.
-struct VTKTERROIRFILTERSCORE_EXPORT TerrainInput
+struct VTKTERROIRFILTERSBASE_EXPORT TerrainInput
 {
   GridView<float> view;
   std::vector<float> elevationCopy; ///< used when the input is not float32
@@ -70,14 +70,14 @@ struct GPUTerrain
  * context has no copy of the same array at the same modification time (gpu::Context::Resident):
  * a chain of GPU filters on one terrain uploads it once. Only inside gpu::Context::Run.
  */
-VTKTERROIRFILTERSCORE_EXPORT GPUTerrain ResidentTerrain(const TerrainInput& terrain);
+VTKTERROIRFILTERSBASE_EXPORT GPUTerrain ResidentTerrain(const TerrainInput& terrain);
 
 /// The view's validity packed four cells per uint, as the kernels read it (one zero word when
 /// the view has no mask).
-VTKTERROIRFILTERSCORE_EXPORT std::vector<std::uint32_t> PackValidMask(const GridView<float>& v);
+VTKTERROIRFILTERSBASE_EXPORT std::vector<std::uint32_t> PackValidMask(const GridView<float>& v);
 
 /// Validates `image` and `elevation` and fills `out` (see the file comment).
-VTKTERROIRFILTERSCORE_EXPORT bool ExtractTerrain(vtkImageData* image,
+VTKTERROIRFILTERSBASE_EXPORT bool ExtractTerrain(vtkImageData* image,
   vtkDataArray* elevation,
   TerrainInput& out,
   std::string& error,
@@ -86,7 +86,7 @@ VTKTERROIRFILTERSCORE_EXPORT bool ExtractTerrain(vtkImageData* image,
 /// A new float array named `name` with `components` components and `tuples` tuples, with
 /// component names (may be null) and `vtkDataArray::UNITS_LABEL()` set to `units`. Throws
 /// std::bad_alloc when the values cannot be allocated.
-VTKTERROIRFILTERSCORE_EXPORT vtkFloatArray* NewOutputArray(const char* name,
+VTKTERROIRFILTERSBASE_EXPORT vtkFloatArray* NewOutputArray(const char* name,
   int components,
   long long tuples,
   const char* units,

@@ -33,7 +33,7 @@
 
 #include "vtkImageAlgorithm.h"
 #include "vtkTerroirComputeContext.h"    // For the backend values
-#include "vtkTerroirFiltersCoreModule.h" // For export macro
+#include "vtkTerroirFiltersBaseModule.h" // For export macro
 
 #include <functional> // For std::function
 #include <string>     // For std::string
@@ -43,7 +43,7 @@ namespace terroir
 struct TerrainInput;
 }
 
-class VTKTERROIRFILTERSCORE_EXPORT vtkTerroirImageAlgorithm : public vtkImageAlgorithm
+class VTKTERROIRFILTERSBASE_EXPORT vtkTerroirImageAlgorithm : public vtkImageAlgorithm
 {
 public:
   vtkAbstractTypeMacro(vtkTerroirImageAlgorithm, vtkImageAlgorithm);
