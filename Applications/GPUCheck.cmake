@@ -49,6 +49,7 @@ if(_gpu_check_ready)
     ${_gpu_check_core_libs} GTest::gtest)
 
   add_executable(terroir-gpu-check TerroirGPUCheck.cxx TerroirBench.cxx TerroirBench.h
+    TerroirBenchPrivate.h TerroirBenchProbes.cxx TerroirBenchStages.cxx
     TerroirAppCore.cxx TerroirApp.h)
   target_compile_options(terroir-gpu-check PRIVATE -Wall -Wextra)
   target_link_libraries(terroir-gpu-check PRIVATE TerroirGPUCheckTests TerroirCommandLine

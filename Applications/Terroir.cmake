@@ -23,7 +23,8 @@ file(GLOB _terroir_command_files CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/
   "${CMAKE_CURRENT_SOURCE_DIR}/Commands/*.h")
 list(FILTER _terroir_command_files EXCLUDE REGEX "Options\\.(cxx|h)$")
 add_library(TerroirCommands STATIC ${_terroir_command_files} TerroirApp.cxx TerroirAppCore.cxx
-  TerroirApp.h TerroirBench.cxx TerroirBench.h TerroirOverlayPlugin.h)
+  TerroirApp.h TerroirBench.cxx TerroirBench.h TerroirBenchPrivate.h TerroirBenchProbes.cxx
+  TerroirBenchStages.cxx TerroirOverlayPlugin.h)
 target_include_directories(TerroirCommands PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
   "${CMAKE_CURRENT_SOURCE_DIR}/Commands")
 target_compile_definitions(TerroirCommands PRIVATE

@@ -2,6 +2,7 @@
 // command-line parser's list (TerroirCommandLine.h): a command the parser accepts but the
 // program cannot run, or code no command line reaches, fails here instead of at a user's prompt.
 #include "TerroirApp.h"
+#include "TerroirBenchPrivate.h"
 #include "TerroirCommandLine.h"
 #include "TerroirCommands.h"
 
@@ -56,4 +57,16 @@ TEST(CommandRegistry, AnUnknownCommandIsAFailureNamingIt)
   {
     EXPECT_NE(std::string(e.what()).find("no-such-command"), std::string::npos) << e.what();
   }
+}
+
+TEST(CommandRegistry, EveryBenchStageTheParserAcceptsRunsAndNoOther)
+{
+  std::vector<std::string> registered;
+  for (const BenchStage& stage : BenchStages())
+  {
+    registered.emplace_back(stage.Name);
+    EXPECT_NE(stage.Run, nullptr) << stage.Name;
+  }
+  EXPECT_EQ(registered, BenchStageNames()); // same names, in the order `bench` runs them
+  EXPECT_EQ(registered.size(), 12u);        // slope .. kmeans (CLI.md's bench section)
 }
