@@ -17,6 +17,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 record() {
   local out="$1" bin="${2:-$here/build/bin/terroir}"
   [[ -x "$bin" ]] || { echo "compare_cli_outputs: $bin is not an executable" >&2; exit 2; }
+  bin="$(realpath "$bin")" # the commands run inside $out
   if [[ -z "${DISPLAY:-}" && -z "${TERROIR_UNDER_XVFB:-}" ]]; then
     TERROIR_UNDER_XVFB=1 exec xvfb-run -a bash "$0" record "$@"
   fi

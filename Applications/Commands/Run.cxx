@@ -1,5 +1,6 @@
 // `terroir run`: every filter on one DEM with defaults; .vti, GeoTIFFs, PNG overlays,
 // report.md/json
+#include "RunState.h"
 #include "TerroirCommands.h"
 
 #include "TerroirApp.h"
@@ -55,56 +56,6 @@ namespace app
 {
 namespace
 {
-
-/// What `terroir run` carries from stage to stage: its settings, the terrain with every array
-/// computed so far, the report and the files it writes.
-struct RunState
-{
-  explicit RunState(const CommandLine& line)
-    : Line(line)
-  {
-  }
-  const CommandLine& Line;
-  std::string Dem;
-  bool Bundled = false; ///< the bundled DEM: its rivers are scored against its NHD flowlines
-  int Backend = vtkTerroirComputeContext::Auto;
-  bool Png = true;
-  fs::path Out;
-  vtkSmartPointer<vtkImageData> Result;
-  int Dims[3] = { 0, 0, 0 };
-  double Spacing[3] = { 0, 0, 0 };
-  double LatLon[2] = { NAN, NAN };
-  bool Located = false;
-  bool Illuminate = false;
-  double HorizonMapSeconds = 0.0;
-  vtkSmartPointer<vtkImageData> ValidationPicture;
-  vtkNew<vtkTable> ClusterTable;
-  nlohmann::ordered_json ClusterSummary;
-  json Report;
-  json Stages;
-  std::vector<std::string> Outputs;
-
-  std::string File(const char* name) const { return (this->Out / name).string(); }
-  bool Overwrite() const { return this->Line.Overwrite; }
-  int Clusters() const { return this->Line.KMeans.Clusters; }
-};
-
-/// The files of a stage, by kind: rasters come first in the report's list, then the reports,
-/// the tables and the pictures.
-struct RunFiles
-{
-  std::vector<std::string> Rasters, Tables, Pictures;
-};
-
-/// One stage of `terroir run`: the files it writes (known before any work, so that a run that
-/// would overwrite is refused before it starts), what it computes, and how it writes them.
-struct RunStep
-{
-  const char* Name;
-  void (*Files)(const RunState&, RunFiles&);
-  void (*Compute)(RunState&);
-  void (*Write)(RunState&);
-};
 
 // ---- slope ------------------------------------------------------------------------------------
 void SlopeFiles(const RunState& r, RunFiles& f)
@@ -554,20 +505,6 @@ const std::vector<RunStep>& RunSteps()
   return steps;
 }
 
-/// The stages' names in the report's tables, in order.
-const std::vector<const char*>& ReportedStages()
-{
-  static const std::vector<const char*> names = { "slope",
-    "temperature",
-    "illumination",
-    "infiltration",
-    "humidity",
-    "lakes",
-    "rivers",
-    "clusters" };
-  return names;
-}
-
 // ---- reading and the reports --------------------------------------------------------------------
 void ReadTerrainStage(RunState& r)
 {
@@ -586,189 +523,6 @@ void ReadTerrainStage(RunState& r)
     { "center_lat", r.Located ? json(r.LatLon[0]) : json(nullptr) },
     { "center_lon", r.Located ? json(r.LatLon[1]) : json(nullptr) },
     { "meridian_convergence_deg", vtkTerroirGeoreference::GetMeridianConvergence(r.Result) } };
-}
-
-/// Statistics of every point array (per month for the 12-component ones).
-json ArraysReport(vtkImageData* result)
-{
-  json arrays;
-  vtkPointData* pd = result->GetPointData();
-  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
-  {
-    vtkDataArray* arr = pd->GetArray(a);
-    if (!arr || !arr->GetName() || std::string(arr->GetName()) == "vtkValidPointMask")
-    {
-      continue;
-    }
-    json entry;
-    const char* units = arr->GetInformation()->Has(vtkDataArray::UNITS_LABEL())
-      ? arr->GetInformation()->Get(vtkDataArray::UNITS_LABEL())
-      : "";
-    entry["units"] = units;
-    if (arr->GetNumberOfComponents() == 12)
-    {
-      for (int c = 0; c < 12; ++c)
-      {
-        entry[vtkTerroirTemperature::GetMonthName(c)] = StatisticsJSON(ArrayStatistics(arr, c));
-      }
-    }
-    else if (arr->GetNumberOfComponents() == 1)
-    {
-      entry["all"] = StatisticsJSON(ArrayStatistics(arr, 0));
-    }
-    arrays[arr->GetName()] = entry;
-  }
-  return arrays;
-}
-
-/// report.json (scripts) and report.md (people), both written through a temporary file.
-void WriteReports(RunState& r, json& arrays)
-{
-  WriteTextFile(r.File("report.json"), r.Report.dump(2) + "\n", r.Overwrite());
-  std::ostringstream md;
-  md << std::fixed << std::setprecision(2);
-  md << "# Terroir run\n\n";
-  md << "- input: `" << r.Dem << "`\n";
-  md << "- grid: " << r.Dims[0] << " x " << r.Dims[1] << " cells, " << r.Spacing[0] << " x "
-     << r.Spacing[1] << " m\n";
-  if (r.Located)
-  {
-    md << std::setprecision(5) << "- centre: " << r.LatLon[0] << ", " << r.LatLon[1]
-       << " (lat, lon)\n"
-       << std::setprecision(2);
-  }
-  md << "\n| stage | seconds | backend |\n|---|---|---|\n";
-  std::vector<const char*> table = ReportedStages();
-  table.insert(table.begin(), "read");
-  table.push_back("write");
-  for (const char* s : table)
-  {
-    if (!r.Stages[s].contains("seconds"))
-    {
-      md << "| " << s << " | skipped: " << r.Stages[s]["skipped"].get<std::string>() << " | |\n";
-      continue;
-    }
-    md << "| " << s << " | " << std::setprecision(3) << r.Stages[s]["seconds"].get<double>()
-       << " | "
-       << (r.Stages[s].contains("backend") ? r.Stages[s]["backend"].get<std::string>() : "")
-       << " |\n";
-  }
-  // Why each stage ran where it did: under Auto the GPU only where its path is verified correct
-  // and faster on this hardware (Documentation/Compute.md, "Verified GPU paths").
-  md << "\nBackends (`--backend auto` runs a stage on the GPU only where its GPU path is verified "
-        "correct and faster on this hardware; Documentation/Compute.md):\n\n";
-  for (const auto& item : r.Stages.items())
-  {
-    if (item.value().is_object() && item.value().contains("reason") &&
-      !item.value()["reason"].get<std::string>().empty())
-    {
-      md << "- " << item.key() << ": " << item.value()["reason"].get<std::string>() << "\n";
-    }
-  }
-  if (r.Illuminate)
-  {
-    md << "\nIllumination: monthly, the 15th of each month of "
-       << r.Stages["illumination"]["year"].get<int>() << ", " << std::defaultfloat
-       << r.Stages["illumination"]["time_step_min"].get<double>() << std::fixed
-       << "-minute steps; horizon map of " << r.Stages["illumination"]["horizon_sectors"].get<int>()
-       << " sectors built in " << std::setprecision(3) << r.HorizonMapSeconds
-       << " s of the stage's " << r.Stages["illumination"]["seconds"].get<double>() << " s.\n";
-  }
-  md << std::setprecision(2) << "\n| array | units | min | mean | max |\n|---|---|---|---|---|\n";
-  for (auto& [name, entry] : arrays.items())
-  {
-    const json& st = entry.contains("all") ? entry["all"]
-      : entry.contains("Jul")              ? entry["Jul"]
-                                           : json();
-    if (st.is_null() || st["min"].is_null())
-    {
-      continue;
-    }
-    md << "| " << name << (entry.contains("Jul") ? " (Jul)" : "") << " | "
-       << entry["units"].get<std::string>() << " | " << st["min"].get<double>() << " | "
-       << st["mean"].get<double>() << " | " << st["max"].get<double>() << " |\n";
-  }
-  {
-    const json& rs = r.Stages["rivers"];
-    md << "\nRivers (water flow, river-forming mode: " << std::defaultfloat
-       << rs["rain_mm_per_h"].get<double>() << " mm/h until the outflow balances the rain; "
-       << rs["iterations"].get<double>() << " iterations, " << rs["stop_reason"].get<std::string>()
-       << "): " << rs["river_cells"].get<long long>()
-       << " river cells (upstream area >= " << rs["river_area_m2"].get<double>() << " m2), about "
-       << std::fixed << std::setprecision(1) << rs["river_length_km"].get<double>() << " km; "
-       << rs["lakes"].get<std::size_t>() << " lakes, " << std::setprecision(3)
-       << rs["lake_area_m2"].get<double>() / 1e6 << " km2.\n";
-    if (rs.contains("validation"))
-    {
-      const json& v = rs["validation"];
-      md << "\nAgainst the bundled NHD flowlines (" << v["reference_cells"].get<std::size_t>()
-         << " cells in the watershed, length-matched, channel cells): precision "
-         << v["scores"][1]["precision"].get<double>() << ", recall "
-         << v["scores"][1]["recall"].get<double>() << ", F1 " << v["scores"][1]["f1"].get<double>()
-         << " within 60 m (F1 " << v["scores"][0]["f1"].get<double>()
-         << " within 30 m); `terroir validate` compares the classic methods.\n";
-    }
-    md << std::setprecision(2);
-  }
-  if (r.Clusters() > 0)
-  {
-    // The zones at a glance; clusters.csv has the mean of every feature and month.
-    md << "\nEcological zones (k-means, K = " << r.Clusters() << ", "
-       << r.ClusterSummary["iterations"].get<int>() << " iterations, "
-       << r.ClusterSummary["stop_reason"].get<std::string>()
-       << "):\n\n| zone | colour | cells | share | slope (°) | temperature Jul (°C) |\n"
-       << "|---|---|---|---|---|---|\n";
-    for (const auto& row : r.ClusterSummary["clusters"])
-    {
-      auto mean = [&row](const char* column)
-      {
-        std::ostringstream os;
-        os << std::fixed << std::setprecision(1);
-        if (row.contains(column) && row[column].is_number())
-        {
-          os << row[column].get<double>();
-        }
-        else
-        {
-          os << "-";
-        }
-        return os.str();
-      };
-      md << "| " << row["ClusterId"].get<long long>() << " | " << row["Color"].get<std::string>()
-         << " | " << row["Cells"].get<long long>() << " | " << std::setprecision(1)
-         << 100.0 * row["Share"].get<double>() << " % | " << mean("Slope") << " | "
-         << mean("Temperature_Jul") << " |\n";
-    }
-  }
-  md << "\nOutputs:\n\n";
-  for (const auto& o : r.Outputs)
-  {
-    md << "- `" << fs::path(o).filename().string() << "`\n";
-  }
-  WriteTextFile(r.File("report.md"), md.str(), r.Overwrite());
-}
-
-/// One line per stage on the terminal.
-void PrintSummary(RunState& r)
-{
-  std::cout << "terroir run: " << r.Dims[0] << "x" << r.Dims[1] << " cells from " << r.Dem << "\n";
-  for (const char* s : ReportedStages())
-  {
-    if (!r.Stages[s].contains("seconds"))
-    {
-      std::cout << "  " << std::left << std::setw(14) << s << std::right << "skipped\n";
-      continue;
-    }
-    std::cout << "  " << std::left << std::setw(14) << s << std::right << std::fixed
-              << std::setprecision(3) << r.Stages[s]["seconds"].get<double>() << " s  "
-              << r.Stages[s]["backend"].get<std::string>();
-    if (std::string(s) == "illumination")
-    {
-      std::cout << " (horizon map " << r.HorizonMapSeconds << " s)";
-    }
-    std::cout << "\n";
-  }
-  std::cout << "  outputs in " << r.Line.Output << " (report.md)\n";
 }
 
 int RunEveryStage(const CommandLine& c)
