@@ -66,6 +66,7 @@ const std::vector<CommandEntry>& CommandEntries()
     { "kmeans",
       "Ecological zones: k-means clustering of terrain resources, after Long (2016), ch. 4",
       MakeKMeansOptions },
+    // new-filter.sh: commands
     { "view",
       "Interactive window: relief, overlays, sliders, lakes (default: bundled Sagehen DEM)",
       MakeViewOptions },

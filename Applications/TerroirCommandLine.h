@@ -238,6 +238,8 @@ struct CommandLine
   int FractalSize = 1024;
   int FractalSeed = 1;
   double FractalSpacing = 10.0;
+
+  // new-filter.sh: options
 };
 
 /// What ParseCommandLine decided.

@@ -51,6 +51,7 @@ int CommandWaterFlow(const CommandLine& c);        // WaterFlow.cxx
 int CommandFlowAccumulation(const CommandLine& c); // FlowAccumulation.cxx
 int CommandValidate(const CommandLine& c);         // Validate.cxx
 int CommandKMeans(const CommandLine& c);           // KMeans.cxx
+// new-filter.sh: commands
 
 } // namespace app
 } // namespace terroir

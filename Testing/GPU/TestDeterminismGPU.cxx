@@ -14,6 +14,7 @@
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirWaterFlow.h"
+// new-filter.sh: includes
 
 #include <gtest/gtest.h>
 
@@ -94,6 +95,7 @@ const std::map<std::string, GPUCase>& Cases()
           { "Discharge", 0.0 },
           { "DischargeRate", 0.0 },
           { "RiverStrength", 0.0 } } } },
+    // new-filter.sh: cases
   };
   return cases;
 }

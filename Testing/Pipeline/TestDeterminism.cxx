@@ -28,6 +28,7 @@
 #include "vtkTerroirTerragenWriter.h"
 #include "vtkTerroirVectorRasterizer.h"
 #include "vtkTerroirWaterFlow.h"
+// new-filter.sh: includes
 
 #include <gtest/gtest.h>
 
@@ -290,6 +291,7 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         w->Write();
         return FileBytes(Scratch("dem.ter"));
       } },
+    // new-filter.sh: cases
   };
   return runners;
 }
