@@ -8,8 +8,8 @@ set -euo pipefail
 ctest=$1
 build=$2
 declare -A minimum=(
-  [unit]=268 [pipeline]=161 [gpu]=71 [rendering]=42 [python]=16 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1
+  [unit]=268 [pipeline]=162 [gpu]=71 [rendering]=42 [python]=16 [examples]=16 [fuzz]=5
+  [stress]=2 [benchmarks]=1 [scripts]=1
 )
 status=0
 for label in "${!minimum[@]}"; do
