@@ -69,6 +69,14 @@ struct Limits
   double CreationSeconds = 0.0;           ///< wall time to create and probe the context
   long long DeviceMemoryBytes = 0; ///< total device memory (GL_NVX_gpu_memory_info), 0: unknown
   bool ImmutableStorage = false;   ///< glBufferStorage (GL 4.4 or ARB_buffer_storage)
+
+  /// The largest storage block a kernel may bind, bytes; `unknown` when the driver did not say.
+  std::size_t StorageBlockBytes(std::size_t unknown = std::size_t(128) << 20) const
+  {
+    return this->MaxShaderStorageBlockSize > 0
+      ? static_cast<std::size_t>(this->MaxShaderStorageBlockSize)
+      : unknown;
+  }
 };
 
 /// What a new StorageBuffer that is given no data holds.

@@ -6,26 +6,13 @@
 #include "TerroirWaterSupport.h"
 
 #include "TerroirApp.h"
-#include "vtkCallbackCommand.h"
-#include "vtkCommand.h"
 #include "vtkDataArray.h"
-#include "vtkFieldData.h"
-#include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
-#include "vtkTerroirClimateReader.h"
-#include "vtkTerroirFloodFill.h"
-#include "vtkTerroirGeoreference.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirSoilHumidity.h"
-#include "vtkTerroirVectorRasterizer.h"
-#include <algorithm>
-#include <cmath>
-#include <iomanip>
-#include <iostream>
-#include <numeric>
 #include <vector>
 
 namespace terroir

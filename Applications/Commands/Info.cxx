@@ -5,41 +5,19 @@
 #include "TerroirCommandSupport.h"
 
 #include "vtkDataArray.h"
-#include "vtkFieldData.h"
 #include "vtkImageData.h"
-#include "vtkInformation.h"
-#include "vtkInformationStringKey.h"
-#include "vtkNew.h"
 #include "vtkPointData.h"
-#include "vtkStringArray.h"
-#include "vtkTable.h"
-#include "vtkUnsignedCharArray.h"
 
-#include "vtkTerroirComputeContext.h"
-#include "vtkTerroirFloodFill.h"
-#include "vtkTerroirFractalTerrainSource.h"
 #include "vtkTerroirGeoreference.h"
-#include "vtkTerroirInfiltration.h"
-#include "vtkTerroirKMeans.h"
-#include "vtkTerroirSlope.h"
-#include "vtkTerroirSoilHumidity.h"
-#include "vtkTerroirSolarIllumination.h"
-#include "vtkTerroirTemperature.h"
-#include "vtkTerroirWaterFlow.h"
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 namespace terroir

@@ -7,23 +7,14 @@
 
 #include "NumberText.h"
 #include "TerroirApp.h"
-#include "vtkAbstractArray.h"
-#include "vtkDataArray.h"
-#include "vtkFieldData.h"
 #include "vtkImageData.h"
-#include "vtkInformation.h"
 #include "vtkNew.h"
-#include "vtkPointData.h"
-#include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkTerroirKMeans.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirTemperature.h"
-#include "vtkVariant.h"
-#include <cmath>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 
 namespace terroir
 {

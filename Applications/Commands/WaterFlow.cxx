@@ -8,25 +8,10 @@
 #include "RiverValidation.h"
 #include "TerroirApp.h"
 #include "vtkDataArray.h"
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
 #include "vtkImageData.h"
-#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
-#include "vtkStringArray.h"
-#include "vtkTerroirFlowAccumulation.h"
-#include "vtkTerroirGeoreference.h"
-#include "vtkTerroirInfiltration.h"
-#include "vtkTerroirSoilHumidity.h"
-#include "vtkTerroirVectorRasterizer.h"
 #include "vtkTerroirWaterFlow.h"
-#include "vtkUnsignedCharArray.h"
-#include <cmath>
-#include <iomanip>
-#include <iostream>
-#include <nlohmann/json.hpp>
-#include <sstream>
 #include <vector>
 
 namespace terroir

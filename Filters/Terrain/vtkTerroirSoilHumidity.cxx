@@ -68,9 +68,7 @@ void RunSoilHumidityGPU(const terroir::TerrainInput& terrain,
   const std::size_t n = v.Size();
   auto& ctx = terroir::gpu::Context::Global();
   const terroir::gpu::Limits limits = ctx.GetLimits();
-  const std::size_t maxBlock = limits.MaxShaderStorageBlockSize > 0
-    ? static_cast<std::size_t>(limits.MaxShaderStorageBlockSize)
-    : std::size_t(128) << 20;
+  const std::size_t maxBlock = limits.StorageBlockBytes();
   const terroir::gpu::GridPlan plan = terroir::gpu::PlanGrid(limits, 1, 256);
   const std::size_t slice =
     std::max<std::size_t>(1, std::min({ n, kGPUSliceCells, plan.MaxItems, maxBlock / 48 }));

@@ -79,9 +79,7 @@ void RunTemperatureGPU(const terroir::TerrainInput& terrain,
   }
   auto& ctx = terroir::gpu::Context::Global();
   const terroir::gpu::Limits limits = ctx.GetLimits();
-  const std::size_t maxBlock = limits.MaxShaderStorageBlockSize > 0
-    ? static_cast<std::size_t>(limits.MaxShaderStorageBlockSize)
-    : std::size_t(128) << 20;
+  const std::size_t maxBlock = limits.StorageBlockBytes();
   const terroir::gpu::GridPlan plan = terroir::gpu::PlanGrid(limits, 1, 256);
   std::size_t slice = std::min<std::size_t>(n, std::size_t(1) << 22); // 4 Mi cells, 192 MiB out
   slice = std::max<std::size_t>(1, std::min({ slice, plan.MaxItems, maxBlock / 48 }));
