@@ -8,7 +8,6 @@
 
 #include "vtkImageData.h"
 
-
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
