@@ -6,17 +6,8 @@
 #   (without --dem: the bundled Sagehen DEM, its NHD flowlines and its watershed)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-terroir=${TERROIR:-$here/build/bin/terroir}
-dem_args=()
-dem=$here/Data/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif
-if [ "${1:-}" = "--dem" ]; then
-  dem=$2
-  dem_args=("$dem")
-  shift 2
-fi
+. "$here/Scripts/validate_peer_args.sh"
 command -v grass > /dev/null || { echo "GRASS is not installed: run terroir validate alone" >&2; exit 1; }
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
 grass --tmp-location "$dem" --exec bash -c "
   r.in.gdal -o input='$dem' output=dem --quiet &&
   g.region raster=dem &&

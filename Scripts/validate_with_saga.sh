@@ -13,19 +13,10 @@
 # min_slope_degrees: smaller rounds to flat flats, SAGA's default 0.1 steepens gentle valleys).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-terroir=${TERROIR:-$here/build/bin/terroir}
-dem_args=()
-dem=$here/Data/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif
-if [ "${1:-}" = "--dem" ]; then
-  dem=$2
-  dem_args=("$dem")
-  shift 2
-fi
+. "$here/Scripts/validate_peer_args.sh"
 command -v saga_cmd > /dev/null ||
   { echo "SAGA GIS is not installed (no saga_cmd, Debian package saga):" \
       "run terroir validate alone" >&2; exit 1; }
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
 minslope=${SAGA_MINSLOPE:-$(gdalinfo -mm "$dem" 2> /dev/null | awk '
   /^Pixel Size/ { gsub(/[(),=]/, " "); dx = $3 < 0 ? -$3 : $3 + 0; dy = $4 < 0 ? -$4 : $4 + 0 }
   /Computed Min\/Max=/ { split(substr($0, index($0, "=") + 1), m, ",")
