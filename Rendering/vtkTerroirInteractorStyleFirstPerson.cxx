@@ -24,21 +24,18 @@ void vtkTerroirInteractorStyleFirstPerson::OnLeftButtonDown()
 
 void vtkTerroirInteractorStyleFirstPerson::Rotate()
 {
-  if (!this->CurrentRenderer)
+  double dx = 0.0, dy = 0.0;
+  vtkCamera* camera = nullptr;
+  if (!this->DragDegrees(dx, dy, camera))
   {
     return;
   }
-  vtkRenderWindowInteractor* rwi = this->Interactor;
-  const int* now = rwi->GetEventPosition();
-  const int* last = rwi->GetLastEventPosition();
-  const double k = this->RotationDegreesPerPixel * this->MouseSensitivity;
-  vtkCamera* camera = this->CurrentRenderer->GetActiveCamera();
   double focal[3], position[3];
   camera->GetFocalPoint(focal);
   camera->GetPosition(position);
   double d[3] = { focal[0] - position[0], focal[1] - position[1], focal[2] - position[2] };
   // The direction of view turns: drag right turns right, the pitch stays within 85 degrees.
-  if (!TurnVector(d, k * (now[0] - last[0]), k * (now[1] - last[1]), -85.0, 85.0))
+  if (!TurnVector(d, dx, dy, -85.0, 85.0))
   {
     return;
   }

@@ -167,19 +167,31 @@ void vtkTerroirInteractorStyleTerrain::Pan()
   rwi->Render();
 }
 
-void vtkTerroirInteractorStyleTerrain::Rotate()
+bool vtkTerroirInteractorStyleTerrain::DragDegrees(double& dx, double& dy, vtkCamera*& camera)
 {
   if (!this->CurrentRenderer)
   {
+    return false;
+  }
+  const int* now = this->Interactor->GetEventPosition();
+  const int* last = this->Interactor->GetLastEventPosition();
+  const double k = this->RotationDegreesPerPixel * this->MouseSensitivity;
+  dx = k * (now[0] - last[0]);
+  dy = k * (now[1] - last[1]);
+  camera = this->CurrentRenderer->GetActiveCamera();
+  return true;
+}
+
+void vtkTerroirInteractorStyleTerrain::Rotate()
+{
+  double dx = 0.0, dy = 0.0;
+  vtkCamera* camera = nullptr;
+  if (!this->DragDegrees(dx, dy, camera))
+  {
     return;
   }
-  vtkRenderWindowInteractor* rwi = this->Interactor;
-  const int* now = rwi->GetEventPosition();
-  const int* last = rwi->GetLastEventPosition();
-  const double k = this->RotationDegreesPerPixel * this->MouseSensitivity;
-  const double dAzimuth = -k * (now[0] - last[0]);
-  const double dElevation = -k * (now[1] - last[1]);
-  vtkCamera* camera = this->CurrentRenderer->GetActiveCamera();
+  const double dAzimuth = -dx;
+  const double dElevation = -dy;
   double focal[3], position[3];
   camera->GetFocalPoint(focal);
   camera->GetPosition(position);

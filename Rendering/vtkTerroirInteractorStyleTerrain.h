@@ -105,6 +105,9 @@ protected:
     double dElevation,
     double lowest,
     double highest);
+  /// The last mouse move in degrees (RotationDegreesPerPixel x MouseSensitivity per pixel,
+  /// x to the right, y up) and the renderer's camera; false without a renderer.
+  bool DragDegrees(double& dx, double& dy, vtkCamera*& camera);
   /// After a rotation: view up +z (orthogonalised), clipping range reset, render.
   void FinishRotation(vtkCamera* camera);
 
