@@ -20,6 +20,7 @@
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
 #include "vtkTerroirWaterFlow.h"
+// new-filter.sh: includes
 
 #include <algorithm>
 #include <iomanip>
@@ -308,6 +309,7 @@ const std::vector<BenchStage>& BenchStages()
     { "flowacc", true, BenchFlowAccumulation },
     { "waterflow", false, BenchWaterFlow },
     { "kmeans", false, BenchKMeans },
+    // new-filter.sh: stages
   };
   return stages;
 }

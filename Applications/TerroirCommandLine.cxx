@@ -108,7 +108,8 @@ const char* CommandSummary(const std::string& name)
 
 const std::vector<std::string>& BenchStageNames()
 {
-  static const std::vector<std::string> names{ "slope",
+  static const std::vector<std::string> names{
+    "slope",
     "temperature",
     "horizon",
     "instant",
@@ -119,7 +120,9 @@ const std::vector<std::string>& BenchStageNames()
     "depressions",
     "flowacc",
     "waterflow",
-    "kmeans" };
+    "kmeans",
+    // new-filter.sh: stages
+  };
   return names;
 }
 

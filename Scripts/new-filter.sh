@@ -19,8 +19,9 @@
 #   Documentation/Filters/vtkTerroirNAME.md   the filter's page
 #   Testing/Fuzz/corpus/CommandLine/name      a seed of the command-line fuzzer
 # and adds one line or entry at each `new-filter.sh:` marker: the module's classes, shaders and
-# core sources, the command's entry, options factory, registry entry and CommandLine field, the
-# two determinism lists, the shader table (Shaders/README.md) and the command table (CLI.md).
+# core sources, the command's entry, options factory, registry entry and CommandLine field, a
+# `terroir bench` stage, the two determinism lists, the shader table (Shaders/README.md) and the
+# command table (CLI.md).
 # The skeleton computes Scale x elevation on both paths; it builds, and its placeholder tests
 # fail (ADD_FAILURE) until they are replaced by real ones: grep -rn 'TODO(new-filter)'.
 # Nothing is written when a check fails (a bad name, a file or class that exists, a marker
@@ -97,6 +98,11 @@ registrations=(
   "Applications/Commands/TerroirCommandOptions.h|// new-filter.sh: options factories|std::unique_ptr<CommandOptions> Make${Name}Options(); // ${Name}Options.cxx"
   "Applications/Commands/TerroirCommands.h|// new-filter.sh: commands|int Command$Name(const CommandLine& c); // $Name.cxx"
   "Applications/Commands/TerroirCommands.cxx|// new-filter.sh: commands|    { \"$name\", Command$Name },"
+  "Applications/TerroirCommandLine.cxx|// new-filter.sh: stages|    \"$name\","
+  "Applications/TerroirBenchStages.cxx|// new-filter.sh: includes|#include \"vtkTerroir$Name.h\""
+  "Applications/TerroirBenchStages.cxx|// new-filter.sh: stages|    { \"$name\",
+      false,
+      [](BenchRun& run) { BenchFilter(run, vtkSmartPointer<vtkTerroir$Name>::New(), \"$name\"); } },"
   "Testing/Pipeline/TestDeterminism.cxx|// new-filter.sh: includes|#include \"vtkTerroir$Name.h\""
   "Testing/Pipeline/TestDeterminism.cxx|// new-filter.sh: cases|    { \"vtkTerroir$Name\",
       []

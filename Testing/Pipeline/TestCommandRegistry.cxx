@@ -103,5 +103,5 @@ TEST(CommandRegistry, EveryBenchStageTheParserAcceptsRunsAndNoOther)
     EXPECT_NE(stage.Run, nullptr) << stage.Name;
   }
   EXPECT_EQ(registered, BenchStageNames()); // same names, in the order `bench` runs them
-  EXPECT_EQ(registered.size(), 12u);        // slope .. kmeans (CLI.md's bench section)
+  EXPECT_GE(registered.size(), 12u);        // slope .. kmeans: none disappears unnoticed
 }

@@ -76,6 +76,8 @@ registered=(
   "Applications/Commands/TerroirCommands.cxx:CommandAridity"
   "Testing/Pipeline/TestDeterminism.cxx:vtkNew<vtkTerroirAridity>"
   "Testing/GPU/TestDeterminismGPU.cxx:vtkSmartPointer<vtkTerroirAridity>"
+  "Applications/TerroirBenchStages.cxx:vtkSmartPointer<vtkTerroirAridity>"
+  "Applications/TerroirCommandLine.cxx:    \"aridity\","
   "Shaders/README.md:Aridity.comp" "Documentation/CLI.md:terroir aridity")
 for r in "${registered[@]}"; do
   check "${r%%:*} registers ${r#*:}" grep -qF -- "${r#*:}" "$tree/${r%%:*}"
@@ -109,6 +111,7 @@ pairs=(
   Applications/Commands/AridityOptions.cxx=Applications/Commands/TemperatureOptions.cxx
   Applications/TerroirCommandLine.cxx=Applications/TerroirCommandLine.cxx
   Applications/Commands/TerroirCommands.cxx=Applications/Commands/TerroirCommands.cxx
+  Applications/TerroirBenchStages.cxx=Applications/TerroirBenchStages.cxx
   Testing/Pipeline/TestDeterminism.cxx=Testing/Pipeline/TestDeterminism.cxx
   Testing/GPU/TestDeterminismGPU.cxx=Testing/GPU/TestDeterminismGPU.cxx)
 for p in "${pairs[@]}"; do
