@@ -91,9 +91,9 @@ struct Description
   std::vector<std::string> warnings;
 };
 
-bool DescribeRaw(GDALDatasetH ds,
+/// Reads the raster size and the band's no-data value, scale, offset and unit.
+bool DescribeBand(GDALDatasetH ds,
   int bandIndex,
-  bool requireGeo,
   vtkIdType maxCells,
   Description& d,
   std::string& error)
@@ -153,7 +153,12 @@ bool DescribeRaw(GDALDatasetH ds,
         std::string("unknown band unit '") + unitType + "', values taken as metres");
     }
   }
+  return true;
+}
 
+/// Reads the geotransform (north-up, finite) or, when the file has none, sets a unit one.
+bool DescribeGeoTransform(GDALDatasetH ds, Description& d, std::string& error)
+{
   d.hasGeoTransform = GDALGetGeoTransform(ds, d.gt) == CE_None;
   if (d.hasGeoTransform && (d.gt[2] != 0.0 || d.gt[4] != 0.0))
   {
@@ -181,35 +186,37 @@ bool DescribeRaw(GDALDatasetH ds,
       d.gt[k] = (k == 1) ? 1.0 : ((k == 5) ? -1.0 : 0.0);
     }
   }
-  const char* wkt = GDALGetProjectionRef(ds);
-  d.wkt = wkt ? wkt : "";
-  if (d.wkt.empty() || !d.hasGeoTransform)
-  {
-    if (requireGeo)
-    {
-      error = d.wkt.empty() ? "no coordinate reference system (RequireGeoreference is on)"
-                            : "no geotransform (RequireGeoreference is on)";
-      return false;
-    }
-    d.warnings.push_back(d.wkt.empty()
-        ? "no coordinate reference system: pixel size taken as metres, no georeference"
-        : "no geotransform: spacing 1 m, no georeference");
-    d.wkt.clear();
-    d.spacing[0] = std::fabs(d.gt[1]);
-    d.spacing[1] = std::fabs(d.gt[5]);
-    d.origin[0] = d.gt[0] + 0.5 * d.gt[1];
-    d.origin[1] = d.gt[5] < 0 ? d.gt[3] + (d.ny - 0.5) * d.gt[5] : d.gt[3] + 0.5 * d.gt[5];
-    return true;
-  }
+  return true;
+}
 
-  SRSPtr srsOwner(OSRNewSpatialReference(nullptr));
-  auto srs = static_cast<OGRSpatialReferenceH>(srsOwner.get());
-  if (OSRImportFromWkt(srs, const_cast<char**>(&wkt)) != OGRERR_NONE)
+/// A file without CRS or geotransform: refused when `requireGeo`, else pixel units taken as
+/// metres and no georeference.
+bool DescribeUngeoreferenced(bool requireGeo, Description& d, std::string& error)
+{
+  if (requireGeo)
   {
-    error = "cannot parse the coordinate reference system";
+    error = d.wkt.empty() ? "no coordinate reference system (RequireGeoreference is on)"
+                          : "no geotransform (RequireGeoreference is on)";
     return false;
   }
-  OSRSetAxisMappingStrategy(srs, OAMS_TRADITIONAL_GIS_ORDER);
+  d.warnings.push_back(d.wkt.empty()
+      ? "no coordinate reference system: pixel size taken as metres, no georeference"
+      : "no geotransform: spacing 1 m, no georeference");
+  d.wkt.clear();
+  d.spacing[0] = std::fabs(d.gt[1]);
+  d.spacing[1] = std::fabs(d.gt[5]);
+  d.origin[0] = d.gt[0] + 0.5 * d.gt[1];
+  d.origin[1] = d.gt[5] < 0 ? d.gt[3] + (d.ny - 0.5) * d.gt[5] : d.gt[3] + 0.5 * d.gt[5];
+  return true;
+}
+
+/// Reads the vertical unit and the ellipsoid (semi-major axis a, flattening f) of the CRS.
+bool DescribeEllipsoid(OGRSpatialReferenceH srs,
+  Description& d,
+  double& a,
+  double& f,
+  std::string& error)
+{
   if (OSRIsCompound(srs) || OSRIsVertical(srs))
   {
     const double vf = OSRGetTargetLinearUnits(srs, "VERT_CS", nullptr);
@@ -219,7 +226,7 @@ bool DescribeRaw(GDALDatasetH ds,
     }
   }
   OGRErr err = OGRERR_NONE;
-  const double a = OSRGetSemiMajor(srs, &err);
+  a = OSRGetSemiMajor(srs, &err);
   const double invf = OSRGetInvFlattening(srs, &err);
   // GeographicLib throws on a degenerate ellipsoid; no body a file may describe needs more
   // than a flattening of 1/2.
@@ -229,53 +236,70 @@ bool DescribeRaw(GDALDatasetH ds,
       std::to_string(invf) + ") is not usable";
     return false;
   }
-  const double f = invf > 0.0 ? 1.0 / invf : 0.0;
-  const GeographicLib::Geodesic geod(a, f);
+  f = invf > 0.0 ? 1.0 / invf : 0.0;
+  return true;
+}
 
+/// A geographic grid: metric spacing of every row on the ellipsoid, centre, no convergence.
+bool DescribeGeographic(OGRSpatialReferenceH srs,
+  const GeographicLib::Geodesic& geod,
+  Description& d,
+  std::string& error)
+{
   // Grid centre in CRS coordinates.
   const double cx = d.gt[0] + 0.5 * d.nx * d.gt[1];
   const double cy = d.gt[3] + 0.5 * d.ny * d.gt[5];
   const bool northUp = d.gt[5] < 0.0;
   auto gdalRow = [&](int j) { return northUp ? d.ny - 1 - j : j; };
-
-  if (OSRIsGeographic(srs))
+  d.geographic = true;
+  const double toDeg = OSRGetAngularUnits(srs, nullptr) * 180.0 / M_PI;
+  const double dLon = std::fabs(d.gt[1]) * toDeg;
+  const double dLat = std::fabs(d.gt[5]) * toDeg;
+  d.centerLon = cx * toDeg;
+  d.centerLat = cy * toDeg;
+  d.hasCenter = true;
+  d.hasConvergence = true;
+  d.convergence = 0.0;
+  d.rowDx.resize(d.ny);
+  d.rowDy.resize(d.ny);
+  for (int j = 0; j < d.ny; ++j)
   {
-    d.geographic = true;
-    const double toDeg = OSRGetAngularUnits(srs, nullptr) * 180.0 / M_PI;
-    const double dLon = std::fabs(d.gt[1]) * toDeg;
-    const double dLat = std::fabs(d.gt[5]) * toDeg;
-    d.centerLon = cx * toDeg;
-    d.centerLat = cy * toDeg;
-    d.hasCenter = true;
-    d.hasConvergence = true;
-    d.convergence = 0.0;
-    d.rowDx.resize(d.ny);
-    d.rowDy.resize(d.ny);
-    for (int j = 0; j < d.ny; ++j)
+    const double lat = (d.gt[3] + (gdalRow(j) + 0.5) * d.gt[5]) * toDeg;
+    if (std::fabs(lat) + 0.5 * dLat > 90.0)
     {
-      const double lat = (d.gt[3] + (gdalRow(j) + 0.5) * d.gt[5]) * toDeg;
-      if (std::fabs(lat) + 0.5 * dLat > 90.0)
-      {
-        std::ostringstream os;
-        os << "row latitude " << lat
-           << " is outside [-90, 90]: the geotransform is not in the degrees of the file's "
-              "geographic CRS (mismatched CRS?)";
-        error = os.str();
-        return false;
-      }
-      double s12 = 0.0;
-      geod.Inverse(lat, d.centerLon, lat, d.centerLon + dLon, s12);
-      d.rowDx[j] = s12;
-      geod.Inverse(lat - 0.5 * dLat, d.centerLon, lat + 0.5 * dLat, d.centerLon, s12);
-      d.rowDy[j] = s12;
+      std::ostringstream os;
+      os << "row latitude " << lat
+         << " is outside [-90, 90]: the geotransform is not in the degrees of the file's "
+            "geographic CRS (mismatched CRS?)";
+      error = os.str();
+      return false;
     }
-    d.spacing[0] = d.rowDx[d.ny / 2];
-    d.spacing[1] = d.rowDy[d.ny / 2];
-    d.origin[0] = 0.0;
-    d.origin[1] = 0.0;
-    return true;
+    double s12 = 0.0;
+    geod.Inverse(lat, d.centerLon, lat, d.centerLon + dLon, s12);
+    d.rowDx[j] = s12;
+    geod.Inverse(lat - 0.5 * dLat, d.centerLon, lat + 0.5 * dLat, d.centerLon, s12);
+    d.rowDy[j] = s12;
   }
+  d.spacing[0] = d.rowDx[d.ny / 2];
+  d.spacing[1] = d.rowDy[d.ny / 2];
+  d.origin[0] = 0.0;
+  d.origin[1] = 0.0;
+  return true;
+}
 
+/// A projected (or local) grid: spacing and origin in metres, then, for a projection, the
+/// geographic centre and the meridian convergence there.
+bool DescribeProjected(OGRSpatialReferenceH srs,
+  double a,
+  double f,
+  const GeographicLib::Geodesic& geod,
+  Description& d,
+  std::string& error)
+{
+  // Grid centre in CRS coordinates.
+  const double cx = d.gt[0] + 0.5 * d.nx * d.gt[1];
+  const double cy = d.gt[3] + 0.5 * d.ny * d.gt[5];
+  const bool northUp = d.gt[5] < 0.0;
   const double lin = OSRIsProjected(srs) ? OSRGetLinearUnits(srs, nullptr) : 1.0;
   d.spacing[0] = std::fabs(d.gt[1]) * lin;
   d.spacing[1] = std::fabs(d.gt[5]) * lin;
@@ -332,6 +356,47 @@ bool DescribeRaw(GDALDatasetH ds,
   }
   d.hasConvergence = true;
   return true;
+}
+
+/// Reads everything Description holds from the file, without the final sanity checks.
+bool DescribeRaw(GDALDatasetH ds,
+  int bandIndex,
+  bool requireGeo,
+  vtkIdType maxCells,
+  Description& d,
+  std::string& error)
+{
+  if (!DescribeBand(ds, bandIndex, maxCells, d, error) || !DescribeGeoTransform(ds, d, error))
+  {
+    return false;
+  }
+  const char* wkt = GDALGetProjectionRef(ds);
+  d.wkt = wkt ? wkt : "";
+  if (d.wkt.empty() || !d.hasGeoTransform)
+  {
+    return DescribeUngeoreferenced(requireGeo, d, error);
+  }
+
+  SRSPtr srsOwner(OSRNewSpatialReference(nullptr));
+  auto srs = static_cast<OGRSpatialReferenceH>(srsOwner.get());
+  if (OSRImportFromWkt(srs, const_cast<char**>(&wkt)) != OGRERR_NONE)
+  {
+    error = "cannot parse the coordinate reference system";
+    return false;
+  }
+  OSRSetAxisMappingStrategy(srs, OAMS_TRADITIONAL_GIS_ORDER);
+  double a = 0.0;
+  double f = 0.0;
+  if (!DescribeEllipsoid(srs, d, a, f, error))
+  {
+    return false;
+  }
+  const GeographicLib::Geodesic geod(a, f);
+  if (OSRIsGeographic(srs))
+  {
+    return DescribeGeographic(srs, geod, d, error);
+  }
+  return DescribeProjected(srs, a, f, geod, d, error);
 }
 
 /// DescribeRaw, then checks that everything derived from what GDAL returned is usable: a CRS
@@ -485,6 +550,150 @@ DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& erro
   error = terroir::io::detail::RefuseNetworkDataset(driver, server, named);
   return error.empty() ? std::move(ds) : DatasetPtr();
 }
+
+/// Replaces the file's vertical unit with the one chosen (VerticalUnit other than AUTO),
+/// with a warning when the file declared another one.
+void ApplyVerticalUnit(int verticalUnit, Description& d)
+{
+  if (verticalUnit == vtkTerroirDEMReader::VERTICAL_UNIT_AUTO)
+  {
+    return;
+  }
+  const double chosen = verticalUnit == vtkTerroirDEMReader::VERTICAL_UNIT_FOOT ? kFoot
+    : verticalUnit == vtkTerroirDEMReader::VERTICAL_UNIT_US_FOOT                ? kUSSurveyFoot
+                                                                                : 1.0;
+  if (d.zScale != 1.0 && d.zScale != chosen)
+  {
+    d.warnings.push_back("the file's vertical unit (" + std::to_string(d.zScale) +
+      " m) is replaced by VerticalUnit (" + std::to_string(chosen) + " m)");
+  }
+  d.zScale = chosen;
+}
+
+/// Where ReadElevations puts the heights (metres, row 0 = south) and the validity of nx*ny
+/// cells, and how many cells it found invalid.
+struct ElevationTarget
+{
+  float* Elevation = nullptr;
+  unsigned char* Valid = nullptr;
+  vtkIdType InvalidCount = 0;
+};
+
+/// Reads the band in blocks of chunkRows rows as Sample (float or double, GDAL type ioType),
+/// converts to metres, masks no-data and flips rows (row 0 = south) into `target`; reports
+/// progress to `algorithm`. On a failed read sets `error` and returns false.
+template<typename Sample>
+bool ReadElevations(GDALRasterBandH band,
+  GDALDataType ioType,
+  const Description& d,
+  int chunkRows,
+  ElevationTarget& target,
+  vtkAlgorithm* algorithm,
+  const GDALErrorCapture& capture,
+  std::string& error)
+{
+  const vtkIdType nx = d.nx;
+  const vtkIdType ny = d.ny;
+  const bool northUp = d.gt[5] < 0.0;
+  const float nodataF = static_cast<float>(d.nodata);
+  const double factor = d.bandScale * d.zScale;
+  const double offset = d.bandOffset * d.zScale;
+  std::vector<Sample> buffer(static_cast<std::size_t>(nx) * chunkRows);
+  const Sample nodataS = static_cast<Sample>(d.nodata);
+  const bool scaled = factor != 1.0 || offset != 0.0;
+  for (int r0 = 0; r0 < d.ny; r0 += chunkRows)
+  {
+    const int rows = std::min(chunkRows, d.ny - r0);
+    if (GDALRasterIO(band, GF_Read, 0, r0, d.nx, rows, buffer.data(), d.nx, rows, ioType, 0, 0) !=
+      CE_None)
+    {
+      error = "read failed at row " + std::to_string(r0) + capture.Suffix();
+      return false;
+    }
+    // Drop the blocks GDAL cached for these rows: the elevation array is the one copy kept.
+    GDALFlushRasterCache(band);
+    for (int r = 0; r < rows; ++r)
+    {
+      const int gr = r0 + r;
+      const vtkIdType j = northUp ? ny - 1 - gr : gr;
+      const Sample* src = buffer.data() + static_cast<std::size_t>(r) * nx;
+      float* dst = target.Elevation + j * nx;
+      unsigned char* vdst = target.Valid + j * nx;
+      for (vtkIdType i = 0; i < nx; ++i)
+      {
+        const Sample v = src[i];
+        bool isValid = !std::isnan(v);
+        if (isValid && d.hasNodata)
+        {
+          isValid = d.floatBand ? static_cast<float>(v) != nodataF : v != nodataS;
+        }
+        // A value that is, or scales to, infinity is no height either, nor a float sentinel
+        // such as -3.4e38 (ESRI's default no-data) left undeclared.
+        const float h = !isValid ? std::numeric_limits<float>::quiet_NaN()
+          : scaled               ? static_cast<float>(v * factor + offset)
+                                 : static_cast<float>(v);
+        isValid = isValid && std::fabs(h) <= kLargestHeight;
+        vdst[i] = isValid ? 1 : 0;
+        dst[i] = isValid ? h : std::numeric_limits<float>::quiet_NaN();
+        target.InvalidCount += isValid ? 0 : 1;
+      }
+    }
+    algorithm->UpdateProgress(static_cast<double>(r0 + rows) / d.ny);
+  }
+  return true;
+}
+
+/// Gives the output its grid, the elevation (and the mask when `masked`) and the
+/// georeference of `d`, and names the source file.
+void AssembleTerrain(vtkImageData* output,
+  const Description& d,
+  vtkFloatArray* elevation,
+  vtkUnsignedCharArray* mask,
+  bool masked,
+  const char* fileName)
+{
+  output->SetExtent(0, d.nx - 1, 0, d.ny - 1, 0, 0);
+  output->SetSpacing(d.spacing[0], d.spacing[1], 1.0);
+  output->SetOrigin(d.origin[0], d.origin[1], 0.0);
+  output->GetPointData()->SetScalars(elevation);
+  if (masked)
+  {
+    output->GetPointData()->AddArray(mask);
+  }
+  if (d.hasGeoTransform)
+  {
+    vtkTerroirGeoreference::SetGeoTransform(output, d.gt);
+  }
+  if (!d.wkt.empty())
+  {
+    vtkTerroirGeoreference::SetCRS(output, d.wkt);
+  }
+  if (d.hasCenter)
+  {
+    vtkTerroirGeoreference::SetCenterLatLon(output, d.centerLat, d.centerLon);
+  }
+  if (d.hasConvergence)
+  {
+    vtkTerroirGeoreference::SetMeridianConvergence(output, d.convergence);
+  }
+  if (d.geographic)
+  {
+    const vtkIdType ny = d.ny;
+    vtkNew<vtkDoubleArray> rows;
+    rows->SetNumberOfComponents(2);
+    rows->SetComponentName(0, "dx");
+    rows->SetComponentName(1, "dy");
+    rows->SetNumberOfTuples(ny);
+    for (vtkIdType j = 0; j < ny; ++j)
+    {
+      rows->SetTypedComponent(j, 0, d.rowDx[j]);
+      rows->SetTypedComponent(j, 1, d.rowDy[j]);
+    }
+    rows->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m");
+    vtkTerroirGeoreference::SetRowSpacing(output, rows);
+  }
+  vtkTerroirGeoreference::SetSourceFile(output, fileName);
+}
 } // namespace
 
 int vtkTerroirDEMReader::RequestInformation(vtkInformation*,
@@ -559,18 +768,7 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
     this->Fail(error + capture.Suffix());
     return 0;
   }
-  if (this->VerticalUnit != VERTICAL_UNIT_AUTO)
-  {
-    const double chosen = this->VerticalUnit == VERTICAL_UNIT_FOOT ? kFoot
-      : this->VerticalUnit == VERTICAL_UNIT_US_FOOT                ? kUSSurveyFoot
-                                                                   : 1.0;
-    if (d.zScale != 1.0 && d.zScale != chosen)
-    {
-      d.warnings.push_back("the file's vertical unit (" + std::to_string(d.zScale) +
-        " m) is replaced by VerticalUnit (" + std::to_string(chosen) + " m)");
-    }
-    d.zScale = chosen;
-  }
+  ApplyVerticalUnit(this->VerticalUnit, d);
   this->VerticalUnitToMetres = d.zScale;
 
   const vtkIdType nx = d.nx;
@@ -593,74 +791,26 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   vtkNew<vtkUnsignedCharArray> mask;
   mask->SetName(vtkTerroirGeoreference::ValidMaskName());
   mask->SetNumberOfTuples(nx * ny);
-  float* elev = elevation->GetPointer(0);
-  unsigned char* valid = mask->GetPointer(0);
+  ElevationTarget target;
+  target.Elevation = elevation->GetPointer(0);
+  target.Valid = mask->GetPointer(0);
 
   GDALRasterBandH band = GDALGetRasterBand(dataset, this->Band);
-  const bool northUp = d.gt[5] < 0.0;
-  const float nodataF = static_cast<float>(d.nodata);
-  const double factor = d.bandScale * d.zScale;
-  const double offset = d.bandOffset * d.zScale;
   // Bands whose values float32 holds exactly (Float32, Byte, Int16, UInt16) are read as float,
   // the rest as double; either way one pass converts, masks and flips rows (row 0 = south).
   const GDALDataType bandType = GDALGetRasterDataType(band);
   const bool asFloat = bandType == GDT_Float32 || bandType == GDT_Byte || bandType == GDT_Int16 ||
     bandType == GDT_UInt16;
-  vtkIdType invalidCount = 0;
-  auto readChunks = [&](auto sample, GDALDataType ioType) -> bool
-  {
-    using Sample = decltype(sample);
-    std::vector<Sample> buffer(static_cast<std::size_t>(nx) * chunkRows);
-    const Sample nodataS = static_cast<Sample>(d.nodata);
-    const bool scaled = factor != 1.0 || offset != 0.0;
-    for (int r0 = 0; r0 < d.ny; r0 += chunkRows)
-    {
-      const int rows = std::min(chunkRows, d.ny - r0);
-      if (GDALRasterIO(band, GF_Read, 0, r0, d.nx, rows, buffer.data(), d.nx, rows, ioType, 0, 0) !=
-        CE_None)
-      {
-        this->Fail("read failed at row " + std::to_string(r0) + capture.Suffix());
-        return false;
-      }
-      // Drop the blocks GDAL cached for these rows: the elevation array is the one copy kept.
-      GDALFlushRasterCache(band);
-      for (int r = 0; r < rows; ++r)
-      {
-        const int gr = r0 + r;
-        const vtkIdType j = northUp ? ny - 1 - gr : gr;
-        const Sample* src = buffer.data() + static_cast<std::size_t>(r) * nx;
-        float* dst = elev + j * nx;
-        unsigned char* vdst = valid + j * nx;
-        for (vtkIdType i = 0; i < nx; ++i)
-        {
-          const Sample v = src[i];
-          bool isValid = !std::isnan(v);
-          if (isValid && d.hasNodata)
-          {
-            isValid = d.floatBand ? static_cast<float>(v) != nodataF : v != nodataS;
-          }
-          // A value that is, or scales to, infinity is no height either, nor a float sentinel
-          // such as -3.4e38 (ESRI's default no-data) left undeclared.
-          const float h = !isValid ? std::numeric_limits<float>::quiet_NaN()
-            : scaled               ? static_cast<float>(v * factor + offset)
-                                   : static_cast<float>(v);
-          isValid = isValid && std::fabs(h) <= kLargestHeight;
-          vdst[i] = isValid ? 1 : 0;
-          dst[i] = isValid ? h : std::numeric_limits<float>::quiet_NaN();
-          invalidCount += isValid ? 0 : 1;
-        }
-      }
-      this->UpdateProgress(static_cast<double>(r0 + rows) / d.ny);
-    }
-    return true;
-  };
-  const bool ok = asFloat ? readChunks(0.0f, GDT_Float32) : readChunks(0.0, GDT_Float64);
+  const bool ok = asFloat
+    ? ReadElevations<float>(band, GDT_Float32, d, chunkRows, target, this, capture, error)
+    : ReadElevations<double>(band, GDT_Float64, d, chunkRows, target, this, capture, error);
   if (!ok)
   {
+    this->Fail(error);
     output->Initialize();
     return 0;
   }
-  if (invalidCount == nx * ny)
+  if (target.InvalidCount == nx * ny)
   {
     this->Fail("every cell is no-data (nothing to read)");
     output->Initialize();
@@ -670,46 +820,6 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   {
     vtkWarningMacro(<< terroir::io::detail::FileError(this->FileName, w));
   }
-
-  output->SetExtent(0, d.nx - 1, 0, d.ny - 1, 0, 0);
-  output->SetSpacing(d.spacing[0], d.spacing[1], 1.0);
-  output->SetOrigin(d.origin[0], d.origin[1], 0.0);
-  output->GetPointData()->SetScalars(elevation);
-  if (invalidCount > 0)
-  {
-    output->GetPointData()->AddArray(mask);
-  }
-  if (d.hasGeoTransform)
-  {
-    vtkTerroirGeoreference::SetGeoTransform(output, d.gt);
-  }
-  if (!d.wkt.empty())
-  {
-    vtkTerroirGeoreference::SetCRS(output, d.wkt);
-  }
-  if (d.hasCenter)
-  {
-    vtkTerroirGeoreference::SetCenterLatLon(output, d.centerLat, d.centerLon);
-  }
-  if (d.hasConvergence)
-  {
-    vtkTerroirGeoreference::SetMeridianConvergence(output, d.convergence);
-  }
-  if (d.geographic)
-  {
-    vtkNew<vtkDoubleArray> rows;
-    rows->SetNumberOfComponents(2);
-    rows->SetComponentName(0, "dx");
-    rows->SetComponentName(1, "dy");
-    rows->SetNumberOfTuples(ny);
-    for (vtkIdType j = 0; j < ny; ++j)
-    {
-      rows->SetTypedComponent(j, 0, d.rowDx[j]);
-      rows->SetTypedComponent(j, 1, d.rowDy[j]);
-    }
-    rows->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m");
-    vtkTerroirGeoreference::SetRowSpacing(output, rows);
-  }
-  vtkTerroirGeoreference::SetSourceFile(output, this->FileName);
+  AssembleTerrain(output, d, elevation, mask, target.InvalidCount > 0, this->FileName);
   return 1;
 }

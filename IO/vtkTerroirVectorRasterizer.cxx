@@ -480,6 +480,573 @@ int CPL_STDCALL RasterizeProgress(double fraction, const char*, void* data)
   self->UpdateProgress(0.2 + 0.7 * fraction);
   return self->GetAbortExecute() ? FALSE : TRUE;
 }
+
+/// "" when the burn value and the output array name are usable, else the problem.
+std::string ParameterProblem(bool useAttribute, double burnValue, const char* outputArrayName)
+{
+  if (!useAttribute && !std::isfinite(burnValue))
+  {
+    return "BurnValue " + Number(burnValue) + " is not a finite number";
+  }
+  if (!outputArrayName || !*outputArrayName)
+  {
+    return "OutputArrayName is empty";
+  }
+  return std::string();
+}
+
+/// The terrain's grid: its extent, geotransform, CRS and place on the geotransform's grid.
+struct TerrainGrid
+{
+  int Extent[6] = { 0, -1, 0, -1, 0, -1 };
+  double GT[6] = { 0.0, 1.0, 0.0, 0.0, 0.0, 1.0 };
+  SRSPtr SRSOwner;
+  OGRSpatialReferenceH SRS = nullptr;
+  Placement Place;
+  int NX = 0;
+  int NY = 0;
+  vtkIdType Cells = 0;
+};
+
+/// Parses the terrain's TerroirCRS (WKT only) into grid.SRS, in GIS axis order.
+bool ParseTerrainCRS(const std::string& wkt, TerrainGrid& grid, std::string& error)
+{
+  grid.SRSOwner.reset(OSRNewSpatialReference(nullptr));
+  grid.SRS = static_cast<OGRSpatialReferenceH>(grid.SRSOwner.get());
+  {
+    GDALErrorCapture capture;
+    // WKT only: OSRSetFromUserInput would also take file names and URLs.
+    char* text = const_cast<char*>(wkt.c_str());
+    if (OSRImportFromWkt(grid.SRS, &text) != OGRERR_NONE)
+    {
+      error = "the terrain's TerroirCRS cannot be parsed" + capture.Suffix();
+      return false;
+    }
+  }
+  OSRSetAxisMappingStrategy(grid.SRS, OAMS_TRADITIONAL_GIS_ORDER);
+  return true;
+}
+
+/// Checks that the input is a georeferenced 2-D terrain and places it (see Place).
+bool ReadTerrainGrid(vtkImageData* input,
+  vtkInformation* inInfo,
+  TerrainGrid& grid,
+  std::string& error)
+{
+  int* extent = grid.Extent;
+  input->GetExtent(extent);
+  if (input->GetNumberOfPoints() < 1)
+  {
+    error = "the input terrain is empty";
+    return false;
+  }
+  if (extent[4] != extent[5])
+  {
+    error = "the input is not a 2-D terrain (an image of nx x ny x 1 points)";
+    return false;
+  }
+  const std::string wkt = vtkTerroirGeoreference::GetCRS(input);
+  const bool hasGT = vtkTerroirGeoreference::GetGeoTransform(input, grid.GT);
+  if (wkt.empty() || !hasGT)
+  {
+    error = std::string("the terrain has no georeference (") +
+      (wkt.empty() && !hasGT ? "TerroirCRS and TerroirGeoTransform are"
+          : wkt.empty()      ? "TerroirCRS is"
+                             : "TerroirGeoTransform is") +
+      " missing): it must come from a georeferenced DEM (vtkTerroirDEMReader with a CRS)";
+    return false;
+  }
+  if (!ParseTerrainCRS(wkt, grid, error))
+  {
+    return false;
+  }
+  int wholeExtent[6];
+  std::copy(extent, extent + 6, wholeExtent);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
+  }
+  if (!Place(input, wholeExtent, grid.GT, grid.SRS, grid.Place, error))
+  {
+    return false;
+  }
+  grid.NX = extent[1] - extent[0] + 1;
+  grid.NY = extent[3] - extent[2] + 1;
+  grid.Cells = static_cast<vtkIdType>(grid.NX) * grid.NY;
+  return true;
+}
+
+/// The layer to burn, the attribute field of the burn values (-1: every feature burns
+/// BurnValue) and the attribute filter set on the layer (null when none).
+struct VectorLayer
+{
+  OGRLayerH Layer = nullptr;
+  std::string Name;
+  int Field = -1;
+  const char* Filter = nullptr;
+};
+
+/// The index of the numeric field `attributeName` of the layer; -1 with `error` set when the
+/// layer has no such field or it is not a number.
+int NumericField(OGRFeatureDefnH defn,
+  const char* attributeName,
+  const std::string& layerName,
+  std::string& error)
+{
+  const int field = OGR_FD_GetFieldIndex(defn, attributeName);
+  if (field < 0)
+  {
+    error = std::string("no attribute '") + attributeName + "' in layer '" + layerName +
+      "' (numeric attributes: " + NumericFieldList(defn) + ")";
+    return -1;
+  }
+  const OGRFieldType type = OGR_Fld_GetType(OGR_FD_GetFieldDefn(defn, field));
+  if (type != OFTInteger && type != OFTInteger64 && type != OFTReal)
+  {
+    error = std::string("attribute '") + attributeName + "' of layer '" + layerName + "' is a " +
+      OGR_GetFieldTypeName(type) +
+      " field, not a number (numeric attributes: " + NumericFieldList(defn) + ")";
+    return -1;
+  }
+  return field;
+}
+
+/// Picks the layer (by name, else the first), its attribute field (when `attributeName` is not
+/// null) and sets the attribute filter (when not empty); `capture` holds GDAL's messages.
+bool ChooseLayer(GDALDatasetH dataset,
+  const char* layerName,
+  const char* attributeName,
+  const char* attributeFilter,
+  const GDALErrorCapture& capture,
+  VectorLayer& out,
+  std::string& error)
+{
+  if (GDALDatasetGetLayerCount(dataset) < 1)
+  {
+    error = "holds no vector layer";
+    return false;
+  }
+  OGRLayerH layer = nullptr;
+  if (layerName && *layerName)
+  {
+    layer = GDALDatasetGetLayerByName(dataset, layerName);
+    if (!layer)
+    {
+      error = std::string("no layer '") + layerName + "' (layers: " + LayerList(dataset) + ")";
+      return false;
+    }
+  }
+  else
+  {
+    layer = GDALDatasetGetLayer(dataset, 0);
+  }
+  out.Layer = layer;
+  out.Name = OGR_L_GetName(layer);
+  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
+  if (attributeName)
+  {
+    out.Field = NumericField(defn, attributeName, out.Name, error);
+    if (out.Field < 0)
+    {
+      return false;
+    }
+  }
+  const bool filtered = attributeFilter && *attributeFilter;
+  if (filtered && OGR_L_SetAttributeFilter(layer, attributeFilter) != OGRERR_NONE)
+  {
+    error = std::string("invalid attribute filter '") + attributeFilter + "'" + capture.Suffix();
+    return false;
+  }
+  out.Filter = filtered ? attributeFilter : nullptr;
+  return true;
+}
+
+/// The layer's CRS (null when it has none) and the transformation from it to the terrain's
+/// (null when none is needed).
+struct LayerTransform
+{
+  CTPtr CT;
+  SRSPtr LayerSRS;
+};
+
+/// Finds how the layer's coordinates reach the terrain's CRS; `warning` is set when the layer
+/// has no CRS (its coordinates are then taken as they are).
+bool TransformToTerrain(const VectorLayer& layer,
+  OGRSpatialReferenceH terrainSRS,
+  LayerTransform& t,
+  std::string& warning,
+  std::string& error)
+{
+  OGRSpatialReferenceH layerSRS = OGR_L_GetSpatialRef(layer.Layer);
+  t.LayerSRS.reset(layerSRS ? OSRClone(layerSRS) : nullptr);
+  layerSRS = static_cast<OGRSpatialReferenceH>(t.LayerSRS.get());
+  if (!layerSRS)
+  {
+    warning = "layer '" + layer.Name +
+      "' has no CRS: its coordinates are taken as already in the terrain's CRS (" +
+      CRSName(terrainSRS) + ")";
+    return true;
+  }
+  OSRSetAxisMappingStrategy(layerSRS, OAMS_TRADITIONAL_GIS_ORDER);
+  if (!OSRIsSame(layerSRS, terrainSRS))
+  {
+    t.CT.reset(OCTNewCoordinateTransformation(layerSRS, terrainSRS));
+    if (!t.CT)
+    {
+      // GDAL's message only repeats both CRSs as WKT: their names say it in one line.
+      error = "cannot transform coordinates from the layer's CRS (" + CRSName(layerSRS) +
+        ") to the terrain's (" + CRSName(terrainSRS) + ")";
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The vector file while it is read: the network refusal (null when network paths are
+/// allowed), the dataset, GDAL's messages since it was opened, the layer and how its
+/// coordinates reach the terrain's CRS. Members go in reverse order, the refusal last.
+struct VectorSource
+{
+  std::unique_ptr<terroir::io::detail::ScopedNetworkRefusal> Offline;
+  DatasetPtr Dataset;
+  std::unique_ptr<GDALErrorCapture> Capture;
+  VectorLayer Layer;
+  LayerTransform Transform;
+};
+
+/// Opens the vector file (OpenVector), picks its layer (ChooseLayer) and finds how its
+/// coordinates reach the terrain's CRS (TransformToTerrain, which may set `warning`).
+bool OpenSource(const char* fileName,
+  bool allowNetwork,
+  const char* layerName,
+  const char* attributeName,
+  const char* attributeFilter,
+  OGRSpatialReferenceH terrainSRS,
+  VectorSource& source,
+  std::string& warning,
+  std::string& error)
+{
+  if (!allowNetwork)
+  {
+    source.Offline.reset(new terroir::io::detail::ScopedNetworkRefusal);
+  }
+  source.Dataset = OpenVector(fileName, source.Offline.get(), error);
+  if (!source.Dataset)
+  {
+    return false;
+  }
+  source.Capture.reset(new GDALErrorCapture);
+  return ChooseLayer(static_cast<GDALDatasetH>(source.Dataset.get()),
+           layerName,
+           attributeName,
+           attributeFilter,
+           *source.Capture,
+           source.Layer,
+           error) &&
+    TransformToTerrain(source.Layer, terrainSRS, source.Transform, warning, error);
+}
+
+/// What is burnt: the geometries in the terrain's CRS, their burn values, and how many
+/// features were left out for having no value.
+struct BurnList
+{
+  std::vector<GeometryPtr> Geometries;
+  std::vector<double> Values;
+  vtkIdType NullValues = 0;
+};
+
+/// A copy of the feature's geometry (curves made linear) in the terrain's CRS; null with
+/// `error` set when it cannot be copied or transformed.
+GeometryPtr TerrainGeometry(OGRFeatureH f,
+  OGRGeometryH geometry,
+  const std::string& layerName,
+  const LayerTransform& t,
+  OGRSpatialReferenceH terrainSRS,
+  const GDALErrorCapture& reading,
+  std::string& error)
+{
+  GeometryPtr copy(OGR_G_HasCurveGeometry(geometry, TRUE)
+      ? OGR_G_GetLinearGeometry(geometry, 0.0, nullptr)
+      : OGR_G_Clone(geometry));
+  if (!copy)
+  {
+    error = "feature " + std::to_string(static_cast<long long>(OGR_F_GetFID(f))) + " of layer '" +
+      layerName + "' has a geometry that cannot be copied" + reading.Suffix();
+    return nullptr;
+  }
+  auto ct = static_cast<OGRCoordinateTransformationH>(t.CT.get());
+  if (ct && OGR_G_Transform(static_cast<OGRGeometryH>(copy.get()), ct) != OGRERR_NONE)
+  {
+    error = "feature " + std::to_string(static_cast<long long>(OGR_F_GetFID(f))) + " of layer '" +
+      layerName + "' cannot be transformed from " +
+      CRSName(static_cast<OGRSpatialReferenceH>(t.LayerSRS.get())) + " to the terrain's CRS (" +
+      CRSName(terrainSRS) + ")" + reading.Suffix();
+    return nullptr;
+  }
+  return copy;
+}
+
+/// Reads the layer's features with a geometry (and a value, when burning an attribute) into
+/// `burn`, in the terrain's CRS.
+bool ReadFeatures(const VectorLayer& layer,
+  double burnValue,
+  const LayerTransform& t,
+  OGRSpatialReferenceH terrainSRS,
+  BurnList& burn,
+  std::string& error)
+{
+  GDALErrorCapture reading;
+  OGR_L_ResetReading(layer.Layer);
+  for (FeaturePtr feature(OGR_L_GetNextFeature(layer.Layer)); feature;
+       feature.reset(OGR_L_GetNextFeature(layer.Layer)))
+  {
+    auto f = static_cast<OGRFeatureH>(feature.get());
+    OGRGeometryH geometry = OGR_F_GetGeometryRef(f);
+    if (!geometry || OGR_G_IsEmpty(geometry))
+    {
+      continue;
+    }
+    double value = burnValue;
+    if (layer.Field >= 0)
+    {
+      if (!OGR_F_IsFieldSetAndNotNull(f, layer.Field))
+      {
+        ++burn.NullValues;
+        continue;
+      }
+      value = OGR_F_GetFieldAsDouble(f, layer.Field);
+    }
+    GeometryPtr copy = TerrainGeometry(f, geometry, layer.Name, t, terrainSRS, reading, error);
+    if (!copy)
+    {
+      return false;
+    }
+    burn.Geometries.push_back(std::move(copy));
+    burn.Values.push_back(value);
+  }
+  if (reading.Failed())
+  {
+    // A driver that fails half-way through a file reports it here, not by a null feature.
+    // SQL drivers (GeoPackage, SQLite) accept any filter and compile it at the first read.
+    if (layer.Filter && burn.Geometries.empty() && burn.NullValues == 0)
+    {
+      error = std::string("invalid attribute filter '") + layer.Filter + "'" + reading.Suffix();
+    }
+    else
+    {
+      error = "reading the features of layer '" + layer.Name + "' failed" + reading.Suffix();
+    }
+    return false;
+  }
+  return true;
+}
+
+/// The in-memory raster GDAL burns into: the terrain's cells, its row 0 the upper one.
+struct MemRaster
+{
+  DatasetPtr Owner;
+  GDALRasterBandH Band = nullptr;
+  double GT[6] = { 0.0, 1.0, 0.0, 0.0, 0.0, 1.0 };
+  long long RowTop = 0; // the GDAL row of the MEM raster's row 0
+};
+
+/// Creates the MEM raster (byte or float32) over the terrain's cells, filled with the
+/// background (0 or NaN).
+bool CreateMemRaster(const TerrainGrid& grid,
+  bool asByte,
+  const GDALErrorCapture& capture,
+  MemRaster& mem,
+  std::string& error)
+{
+  const Placement& place = grid.Place;
+  const double* gt = grid.GT;
+  // GDAL rows of the terrain's first and last rows; the MEM raster's row 0 is the upper one.
+  const long long rowA = place.Row0 + static_cast<long long>(place.RowStep) * grid.Extent[2];
+  const long long rowB = place.Row0 + static_cast<long long>(place.RowStep) * grid.Extent[3];
+  mem.RowTop = std::min(rowA, rowB);
+  const long long colLeft = place.Col0 + grid.Extent[0];
+  GDALDriverH memDriver = GDALGetDriverByName("MEM");
+  mem.Owner.reset(memDriver
+      ? GDALCreate(memDriver, "", grid.NX, grid.NY, 1, asByte ? GDT_Byte : GDT_Float32, nullptr)
+      : nullptr);
+  if (!mem.Owner)
+  {
+    error = "cannot create the in-memory raster" + capture.Suffix();
+    return false;
+  }
+  auto dataset = static_cast<GDALDatasetH>(mem.Owner.get());
+  const double memGT[6] = { gt[0] + static_cast<double>(colLeft) * gt[1],
+    gt[1],
+    0.0,
+    gt[3] + static_cast<double>(mem.RowTop) * gt[5],
+    0.0,
+    gt[5] };
+  std::copy(memGT, memGT + 6, mem.GT);
+  GDALSetGeoTransform(dataset, mem.GT);
+  mem.Band = GDALGetRasterBand(dataset, 1);
+  const double background = asByte ? 0.0 : std::numeric_limits<double>::quiet_NaN();
+  GDALFillRaster(mem.Band, background, 0.0);
+  return true;
+}
+
+/// Cuts the lines among the geometries to the MEM raster grown by kLineMarginCells.
+void ClipToMargin(const MemRaster& mem, int nx, int ny, std::vector<GeometryPtr>& geometries)
+{
+  const double* memGT = mem.GT;
+  const double m = kLineMarginCells;
+  const double xa = memGT[0] - m * memGT[1];
+  const double xb = memGT[0] + (nx + m) * memGT[1];
+  const double ya = memGT[3] - m * memGT[5];
+  const double yb = memGT[3] + (ny + m) * memGT[5];
+  const ClipBox box{ std::min(xa, xb), std::max(xa, xb), std::min(ya, yb), std::max(ya, yb) };
+  for (GeometryPtr& g : geometries)
+  {
+    if (GeometryPtr clipped = ClipLines(static_cast<OGRGeometryH>(g.get()), box))
+    {
+      g = std::move(clipped);
+    }
+  }
+}
+
+/// Burns every geometry with its value into the MEM raster (lines cut first, see
+/// ClipToMargin); progress and abort go through `self`.
+bool BurnGeometries(vtkTerroirVectorRasterizer* self,
+  bool allTouched,
+  const TerrainGrid& grid,
+  const MemRaster& mem,
+  BurnList& burn,
+  const GDALErrorCapture& capture,
+  std::string& error)
+{
+  ClipToMargin(mem, grid.NX, grid.NY, burn.Geometries);
+  std::vector<OGRGeometryH> handles(burn.Geometries.size());
+  std::transform(burn.Geometries.begin(),
+    burn.Geometries.end(),
+    handles.begin(),
+    [](const GeometryPtr& g) { return static_cast<OGRGeometryH>(g.get()); });
+  int bandList[1] = { 1 };
+  char** options = nullptr;
+  if (allTouched)
+  {
+    options = CSLSetNameValue(options, "ALL_TOUCHED", "TRUE");
+  }
+  const CPLErr err = GDALRasterizeGeometries(static_cast<GDALDatasetH>(mem.Owner.get()),
+    1,
+    bandList,
+    static_cast<int>(handles.size()),
+    handles.data(),
+    nullptr,
+    nullptr,
+    burn.Values.data(),
+    options,
+    &RasterizeProgress,
+    self);
+  CSLDestroy(options);
+  if (err != CE_None)
+  {
+    error = self->GetAbortExecute() ? std::string("rasterisation aborted")
+                                    : "rasterisation failed" + capture.Suffix();
+    return false;
+  }
+  return true;
+}
+
+/// A new output array, unsigned char or float, named `name`, with `cells` values and no unit.
+vtkSmartPointer<vtkDataArray> NewBurnArray(bool asByte, const char* name, vtkIdType cells)
+{
+  vtkSmartPointer<vtkDataArray> array;
+  if (asByte)
+  {
+    array = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  }
+  else
+  {
+    array = vtkSmartPointer<vtkFloatArray>::New();
+  }
+  array->SetName(name);
+  array->SetNumberOfTuples(cells);
+  array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "");
+  return array;
+}
+
+/// Copies the MEM raster's rows into the array in VTK order (j = 0 south).
+bool CopyRows(const MemRaster& mem,
+  const TerrainGrid& grid,
+  bool asByte,
+  vtkDataArray* array,
+  const GDALErrorCapture& capture,
+  std::string& error)
+{
+  const int* extent = grid.Extent;
+  const int nx = grid.NX;
+  const int cellBytes = asByte ? 1 : 4;
+  auto* base = static_cast<unsigned char*>(array->GetVoidPointer(0));
+  for (int j = extent[2]; j <= extent[3]; ++j)
+  {
+    const long long memRow =
+      grid.Place.Row0 + static_cast<long long>(grid.Place.RowStep) * j - mem.RowTop;
+    void* dst = base + static_cast<std::size_t>(j - extent[2]) * nx * cellBytes;
+    if (GDALRasterIO(mem.Band,
+          GF_Read,
+          0,
+          static_cast<int>(memRow),
+          nx,
+          1,
+          dst,
+          nx,
+          1,
+          asByte ? GDT_Byte : GDT_Float32,
+          0,
+          0) != CE_None)
+    {
+      error = "reading the in-memory raster failed" + capture.Suffix();
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The cells burnt: non-zero bytes, or floats that are not NaN.
+vtkIdType CountCovered(vtkDataArray* array, bool asByte, vtkIdType cells)
+{
+  const auto* base = static_cast<const unsigned char*>(array->GetVoidPointer(0));
+  if (asByte)
+  {
+    const unsigned char* v = base;
+    return static_cast<vtkIdType>(std::count_if(v, v + cells, [](unsigned char c) { return c; }));
+  }
+  const auto* v = reinterpret_cast<const float*>(base);
+  return static_cast<vtkIdType>(
+    std::count_if(v, v + cells, [](float x) { return !std::isnan(x); }));
+}
+
+/// The warnings on what was burnt: features without a value, no feature, no cell covered.
+std::vector<std::string> BurnWarnings(const VectorLayer& layer,
+  const char* attributeName,
+  const BurnList& burn,
+  vtkIdType covered)
+{
+  std::vector<std::string> warnings;
+  if (burn.NullValues > 0)
+  {
+    warnings.push_back(std::to_string(static_cast<long long>(burn.NullValues)) +
+      " feature(s) of layer '" + layer.Name + "' have no value in '" + attributeName +
+      "' and were left out");
+  }
+  if (burn.Geometries.empty())
+  {
+    warnings.push_back("layer '" + layer.Name + "' has no feature with a geometry" +
+      (layer.Filter ? std::string(" matching the filter '") + layer.Filter + "'" : std::string()) +
+      ": nothing burnt");
+  }
+  else if (covered == 0)
+  {
+    warnings.push_back("none of the " +
+      std::to_string(static_cast<long long>(burn.Geometries.size())) + " features of layer '" +
+      layer.Name + "' covers a cell of the terrain: nothing burnt");
+  }
+  return warnings;
+}
 } // namespace
 
 vtkTerroirVectorRasterizer::vtkTerroirVectorRasterizer()
@@ -540,381 +1107,87 @@ int vtkTerroirVectorRasterizer::RequestData(vtkInformation*,
 
   // --- Parameters and the terrain --------------------------------------------------------
   const bool useAttribute = this->AttributeName && *this->AttributeName;
-  if (!useAttribute && !std::isfinite(this->BurnValue))
-  {
-    this->Fail("BurnValue " + Number(this->BurnValue) + " is not a finite number");
-    return 0;
-  }
-  if (!this->OutputArrayName || !*this->OutputArrayName)
-  {
-    this->Fail("OutputArrayName is empty");
-    return 0;
-  }
-  int extent[6];
-  input->GetExtent(extent);
-  if (input->GetNumberOfPoints() < 1)
-  {
-    this->Fail("the input terrain is empty");
-    return 0;
-  }
-  if (extent[4] != extent[5])
-  {
-    this->Fail("the input is not a 2-D terrain (an image of nx x ny x 1 points)");
-    return 0;
-  }
-  const std::string wkt = vtkTerroirGeoreference::GetCRS(input);
-  double gt[6];
-  const bool hasGT = vtkTerroirGeoreference::GetGeoTransform(input, gt);
-  if (wkt.empty() || !hasGT)
-  {
-    this->Fail(std::string("the terrain has no georeference (") +
-      (wkt.empty() && !hasGT ? "TerroirCRS and TerroirGeoTransform are"
-          : wkt.empty()      ? "TerroirCRS is"
-                             : "TerroirGeoTransform is") +
-      " missing): it must come from a georeferenced DEM (vtkTerroirDEMReader with a CRS)");
-    return 0;
-  }
-  SRSPtr terrainSRSOwner(OSRNewSpatialReference(nullptr));
-  auto terrainSRS = static_cast<OGRSpatialReferenceH>(terrainSRSOwner.get());
-  {
-    GDALErrorCapture capture;
-    // WKT only: OSRSetFromUserInput would also take file names and URLs.
-    char* text = const_cast<char*>(wkt.c_str());
-    if (OSRImportFromWkt(terrainSRS, &text) != OGRERR_NONE)
-    {
-      this->Fail("the terrain's TerroirCRS cannot be parsed" + capture.Suffix());
-      return 0;
-    }
-  }
-  OSRSetAxisMappingStrategy(terrainSRS, OAMS_TRADITIONAL_GIS_ORDER);
-  int wholeExtent[6];
-  std::copy(extent, extent + 6, wholeExtent);
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
-  }
-  Placement place;
-  std::string error;
-  if (!Place(input, wholeExtent, gt, terrainSRS, place, error))
+  std::string error = ParameterProblem(useAttribute, this->BurnValue, this->OutputArrayName);
+  TerrainGrid grid;
+  if (!error.empty() ||
+    !ReadTerrainGrid(input, inputVector[0]->GetInformationObject(0), grid, error))
   {
     this->Fail(error);
     return 0;
   }
-  const int nx = extent[1] - extent[0] + 1;
-  const int ny = extent[3] - extent[2] + 1;
-  const vtkIdType cells = static_cast<vtkIdType>(nx) * ny;
   const bool asByte = !useAttribute && this->BurnValue >= 1.0 && this->BurnValue <= 255.0 &&
     this->BurnValue == std::floor(this->BurnValue);
   const int cellBytes = asByte ? 1 : 4;
   // The MEM raster and the output array.
-  error =
-    terroir::CheckMemory(2.0 * cellBytes * static_cast<double>(cells), "rasterising the layer");
+  error = terroir::CheckMemory(
+    2.0 * cellBytes * static_cast<double>(grid.Cells), "rasterising the layer");
   if (!error.empty())
   {
     this->Fail(error);
     return 0;
   }
 
-  // --- The vector file, its layer, filter and attribute ------------------------------------
-  std::unique_ptr<terroir::io::detail::ScopedNetworkRefusal> offline;
-  if (!this->AllowNetworkPaths)
-  {
-    offline.reset(new terroir::io::detail::ScopedNetworkRefusal);
-  }
-  DatasetPtr ds = OpenVector(this->FileName, offline.get(), error);
-  if (!ds)
+  // --- The vector file, its layer, filter, attribute and CRS ------------------------------
+  VectorSource source;
+  std::string warning;
+  if (!OpenSource(this->FileName,
+        this->AllowNetworkPaths,
+        this->LayerName,
+        useAttribute ? this->AttributeName : nullptr,
+        this->AttributeFilter,
+        grid.SRS,
+        source,
+        warning,
+        error))
   {
     this->Fail(error);
     return 0;
   }
-  auto dataset = static_cast<GDALDatasetH>(ds.get());
-  GDALErrorCapture capture;
-  if (GDALDatasetGetLayerCount(dataset) < 1)
+  if (!warning.empty())
   {
-    this->Fail("holds no vector layer");
-    return 0;
+    this->Warn(warning);
   }
-  OGRLayerH layer = nullptr;
-  if (this->LayerName && *this->LayerName)
-  {
-    layer = GDALDatasetGetLayerByName(dataset, this->LayerName);
-    if (!layer)
-    {
-      this->Fail(
-        std::string("no layer '") + this->LayerName + "' (layers: " + LayerList(dataset) + ")");
-      return 0;
-    }
-  }
-  else
-  {
-    layer = GDALDatasetGetLayer(dataset, 0);
-  }
-  const std::string layerName = OGR_L_GetName(layer);
-  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
-  int field = -1;
-  if (useAttribute)
-  {
-    field = OGR_FD_GetFieldIndex(defn, this->AttributeName);
-    if (field < 0)
-    {
-      this->Fail(std::string("no attribute '") + this->AttributeName + "' in layer '" + layerName +
-        "' (numeric attributes: " + NumericFieldList(defn) + ")");
-      return 0;
-    }
-    const OGRFieldType type = OGR_Fld_GetType(OGR_FD_GetFieldDefn(defn, field));
-    if (type != OFTInteger && type != OFTInteger64 && type != OFTReal)
-    {
-      this->Fail(std::string("attribute '") + this->AttributeName + "' of layer '" + layerName +
-        "' is a " + OGR_GetFieldTypeName(type) +
-        " field, not a number (numeric attributes: " + NumericFieldList(defn) + ")");
-      return 0;
-    }
-  }
-  const bool filtered = this->AttributeFilter && *this->AttributeFilter;
-  if (filtered && OGR_L_SetAttributeFilter(layer, this->AttributeFilter) != OGRERR_NONE)
-  {
-    this->Fail(
-      std::string("invalid attribute filter '") + this->AttributeFilter + "'" + capture.Suffix());
-    return 0;
-  }
-
-  // --- Coordinate transformation -------------------------------------------------------------
-  CTPtr ctOwner;
-  OGRSpatialReferenceH layerSRS = OGR_L_GetSpatialRef(layer);
-  SRSPtr layerSRSOwner(layerSRS ? OSRClone(layerSRS) : nullptr);
-  layerSRS = static_cast<OGRSpatialReferenceH>(layerSRSOwner.get());
-  if (!layerSRS)
-  {
-    this->Warn("layer '" + layerName +
-      "' has no CRS: its coordinates are taken as already in the terrain's CRS (" +
-      CRSName(terrainSRS) + ")");
-  }
-  else
-  {
-    OSRSetAxisMappingStrategy(layerSRS, OAMS_TRADITIONAL_GIS_ORDER);
-    if (!OSRIsSame(layerSRS, terrainSRS))
-    {
-      ctOwner.reset(OCTNewCoordinateTransformation(layerSRS, terrainSRS));
-      if (!ctOwner)
-      {
-        // GDAL's message only repeats both CRSs as WKT: their names say it in one line.
-        this->Fail("cannot transform coordinates from the layer's CRS (" + CRSName(layerSRS) +
-          ") to the terrain's (" + CRSName(terrainSRS) + ")");
-        return 0;
-      }
-    }
-  }
-  auto ct = static_cast<OGRCoordinateTransformationH>(ctOwner.get());
+  const VectorLayer& layer = source.Layer;
+  const GDALErrorCapture& capture = *source.Capture;
 
   // --- Features: geometries in the terrain's CRS and their burn values ----------------------
-  std::vector<GeometryPtr> geometries;
-  std::vector<double> burnValues;
-  vtkIdType nullValues = 0;
+  BurnList burn;
+  if (!ReadFeatures(layer, this->BurnValue, source.Transform, grid.SRS, burn, error))
   {
-    GDALErrorCapture reading;
-    OGR_L_ResetReading(layer);
-    for (FeaturePtr feature(OGR_L_GetNextFeature(layer)); feature;
-         feature.reset(OGR_L_GetNextFeature(layer)))
-    {
-      auto f = static_cast<OGRFeatureH>(feature.get());
-      OGRGeometryH geometry = OGR_F_GetGeometryRef(f);
-      if (!geometry || OGR_G_IsEmpty(geometry))
-      {
-        continue;
-      }
-      double value = this->BurnValue;
-      if (useAttribute)
-      {
-        if (!OGR_F_IsFieldSetAndNotNull(f, field))
-        {
-          ++nullValues;
-          continue;
-        }
-        value = OGR_F_GetFieldAsDouble(f, field);
-      }
-      GeometryPtr copy(OGR_G_HasCurveGeometry(geometry, TRUE)
-          ? OGR_G_GetLinearGeometry(geometry, 0.0, nullptr)
-          : OGR_G_Clone(geometry));
-      if (!copy)
-      {
-        this->Fail("feature " + std::to_string(static_cast<long long>(OGR_F_GetFID(f))) +
-          " of layer '" + layerName + "' has a geometry that cannot be copied" + reading.Suffix());
-        return 0;
-      }
-      if (ct && OGR_G_Transform(static_cast<OGRGeometryH>(copy.get()), ct) != OGRERR_NONE)
-      {
-        this->Fail("feature " + std::to_string(static_cast<long long>(OGR_F_GetFID(f))) +
-          " of layer '" + layerName + "' cannot be transformed from " + CRSName(layerSRS) +
-          " to the terrain's CRS (" + CRSName(terrainSRS) + ")" + reading.Suffix());
-        return 0;
-      }
-      geometries.push_back(std::move(copy));
-      burnValues.push_back(value);
-    }
-    if (reading.Failed())
-    {
-      // A driver that fails half-way through a file reports it here, not by a null feature.
-      // SQL drivers (GeoPackage, SQLite) accept any filter and compile it at the first read.
-      if (filtered && geometries.empty() && nullValues == 0)
-      {
-        this->Fail(std::string("invalid attribute filter '") + this->AttributeFilter + "'" +
-          reading.Suffix());
-      }
-      else
-      {
-        this->Fail("reading the features of layer '" + layerName + "' failed" + reading.Suffix());
-      }
-      return 0;
-    }
+    this->Fail(error);
+    return 0;
   }
-  error = RefusedRequest(offline.get());
+  error = RefusedRequest(source.Offline.get());
   if (!error.empty())
   {
     this->Fail(error);
     return 0;
   }
-  this->NumberOfFeatures = static_cast<vtkIdType>(geometries.size());
+  this->NumberOfFeatures = static_cast<vtkIdType>(burn.Geometries.size());
   this->UpdateProgress(0.2);
 
   // --- Burn into a MEM raster with the terrain's cells --------------------------------------
-  // GDAL rows of the terrain's first and last rows; the MEM raster's row 0 is the upper one.
-  const long long rowA = place.Row0 + static_cast<long long>(place.RowStep) * extent[2];
-  const long long rowB = place.Row0 + static_cast<long long>(place.RowStep) * extent[3];
-  const long long rowTop = std::min(rowA, rowB);
-  const long long colLeft = place.Col0 + extent[0];
-  GDALDriverH memDriver = GDALGetDriverByName("MEM");
-  DatasetPtr memOwner(memDriver
-      ? GDALCreate(memDriver, "", nx, ny, 1, asByte ? GDT_Byte : GDT_Float32, nullptr)
-      : nullptr);
-  if (!memOwner)
+  MemRaster mem;
+  if (!CreateMemRaster(grid, asByte, capture, mem, error) ||
+    (!burn.Geometries.empty() &&
+      !BurnGeometries(this, this->AllTouched, grid, mem, burn, capture, error)))
   {
-    this->Fail("cannot create the in-memory raster" + capture.Suffix());
+    this->Fail(error);
     return 0;
-  }
-  auto mem = static_cast<GDALDatasetH>(memOwner.get());
-  double memGT[6] = { gt[0] + static_cast<double>(colLeft) * gt[1],
-    gt[1],
-    0.0,
-    gt[3] + static_cast<double>(rowTop) * gt[5],
-    0.0,
-    gt[5] };
-  GDALSetGeoTransform(mem, memGT);
-  GDALRasterBandH band = GDALGetRasterBand(mem, 1);
-  const double background = asByte ? 0.0 : std::numeric_limits<double>::quiet_NaN();
-  GDALFillRaster(band, background, 0.0);
-  if (!geometries.empty())
-  {
-    const double m = kLineMarginCells;
-    const double xa = memGT[0] - m * memGT[1];
-    const double xb = memGT[0] + (nx + m) * memGT[1];
-    const double ya = memGT[3] - m * memGT[5];
-    const double yb = memGT[3] + (ny + m) * memGT[5];
-    const ClipBox box{ std::min(xa, xb), std::max(xa, xb), std::min(ya, yb), std::max(ya, yb) };
-    for (GeometryPtr& g : geometries)
-    {
-      if (GeometryPtr clipped = ClipLines(static_cast<OGRGeometryH>(g.get()), box))
-      {
-        g = std::move(clipped);
-      }
-    }
-    std::vector<OGRGeometryH> handles(geometries.size());
-    std::transform(geometries.begin(),
-      geometries.end(),
-      handles.begin(),
-      [](const GeometryPtr& g) { return static_cast<OGRGeometryH>(g.get()); });
-    int bandList[1] = { 1 };
-    char** options = nullptr;
-    if (this->AllTouched)
-    {
-      options = CSLSetNameValue(options, "ALL_TOUCHED", "TRUE");
-    }
-    const CPLErr err = GDALRasterizeGeometries(mem,
-      1,
-      bandList,
-      static_cast<int>(handles.size()),
-      handles.data(),
-      nullptr,
-      nullptr,
-      burnValues.data(),
-      options,
-      &RasterizeProgress,
-      this);
-    CSLDestroy(options);
-    if (err != CE_None)
-    {
-      this->Fail(this->GetAbortExecute() ? std::string("rasterisation aborted")
-                                         : "rasterisation failed" + capture.Suffix());
-      return 0;
-    }
   }
 
   // --- Rows into VTK order (j = 0 south) -----------------------------------------------------
-  vtkSmartPointer<vtkDataArray> array;
-  if (asByte)
+  vtkSmartPointer<vtkDataArray> array = NewBurnArray(asByte, this->OutputArrayName, grid.Cells);
+  if (!CopyRows(mem, grid, asByte, array, capture, error))
   {
-    array = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    this->Fail(error);
+    return 0;
   }
-  else
-  {
-    array = vtkSmartPointer<vtkFloatArray>::New();
-  }
-  array->SetName(this->OutputArrayName);
-  array->SetNumberOfTuples(cells);
-  array->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "");
-  auto* base = static_cast<unsigned char*>(array->GetVoidPointer(0));
-  for (int j = extent[2]; j <= extent[3]; ++j)
-  {
-    const long long memRow = place.Row0 + static_cast<long long>(place.RowStep) * j - rowTop;
-    void* dst = base + static_cast<std::size_t>(j - extent[2]) * nx * cellBytes;
-    if (GDALRasterIO(band,
-          GF_Read,
-          0,
-          static_cast<int>(memRow),
-          nx,
-          1,
-          dst,
-          nx,
-          1,
-          asByte ? GDT_Byte : GDT_Float32,
-          0,
-          0) != CE_None)
-    {
-      this->Fail("reading the in-memory raster failed" + capture.Suffix());
-      return 0;
-    }
-  }
-  vtkIdType covered = 0;
-  if (asByte)
-  {
-    const unsigned char* v = base;
-    covered =
-      static_cast<vtkIdType>(std::count_if(v, v + cells, [](unsigned char c) { return c; }));
-  }
-  else
-  {
-    const auto* v = reinterpret_cast<const float*>(base);
-    covered =
-      static_cast<vtkIdType>(std::count_if(v, v + cells, [](float x) { return !std::isnan(x); }));
-  }
+  const vtkIdType covered = CountCovered(array, asByte, grid.Cells);
   this->NumberOfCoveredCells = covered;
-
-  if (nullValues > 0)
+  for (const std::string& w : BurnWarnings(layer, this->AttributeName, burn, covered))
   {
-    this->Warn(std::to_string(static_cast<long long>(nullValues)) + " feature(s) of layer '" +
-      layerName + "' have no value in '" + this->AttributeName + "' and were left out");
-  }
-  if (geometries.empty())
-  {
-    this->Warn("layer '" + layerName + "' has no feature with a geometry" +
-      (filtered ? std::string(" matching the filter '") + this->AttributeFilter + "'"
-                : std::string()) +
-      ": nothing burnt");
-  }
-  else if (covered == 0)
-  {
-    this->Warn("none of the " + std::to_string(static_cast<long long>(geometries.size())) +
-      " features of layer '" + layerName + "' covers a cell of the terrain: nothing burnt");
+    this->Warn(w);
   }
 
   output->ShallowCopy(input);
