@@ -22,19 +22,11 @@
 namespace terroir
 {
 
-bool ExtractTerrain(vtkImageData* image,
-  vtkDataArray* elevation,
-  TerrainInput& out,
-  std::string& error,
-  int minSize)
+namespace
 {
-  out = TerrainInput();
-  if (!image)
-  {
-    error = "input is not a vtkImageData";
-    return false;
-  }
-  int dims[3];
+/// Checks that the image is 2-D with at least minSize x minSize points; fills `dims`.
+bool CheckDimensions(vtkImageData* image, int minSize, int dims[3], std::string& error)
+{
   image->GetDimensions(dims);
   if (dims[2] != 1 || dims[0] < 1 || dims[1] < 1)
   {
@@ -52,6 +44,12 @@ bool ExtractTerrain(vtkImageData* image,
     error = os.str();
     return false;
   }
+  return true;
+}
+
+/// Checks that `elevation` is a one-component point-data array of the image's n points.
+bool CheckElevation(vtkImageData* image, vtkDataArray* elevation, vtkIdType n, std::string& error)
+{
   if (!elevation)
   {
     error = "no elevation array: the input needs a point-data array named 'Elevation' (or the "
@@ -79,7 +77,6 @@ bool ExtractTerrain(vtkImageData* image,
     error = os.str();
     return false;
   }
-  const vtkIdType n = static_cast<vtkIdType>(dims[0]) * dims[1];
   if (elevation->GetNumberOfTuples() != n)
   {
     std::ostringstream os;
@@ -88,7 +85,17 @@ bool ExtractTerrain(vtkImageData* image,
     error = os.str();
     return false;
   }
+  return true;
+}
 
+/// Sets the view's size, spacing and elevations (float32 in place, other types copied).
+bool ViewElevation(vtkImageData* image,
+  vtkDataArray* elevation,
+  const int dims[3],
+  vtkIdType n,
+  TerrainInput& out,
+  std::string& error)
+{
   GridView<float>& v = out.view;
   v.nx = dims[0];
   v.ny = dims[1];
@@ -116,9 +123,19 @@ bool ExtractTerrain(vtkImageData* image,
     }
     v.data = out.elevationCopy.data();
   }
+  return true;
+}
 
-  // Validity: the mask array and NaN elevations.
-  vtkDataArray* mask = vtkArrayDownCast<vtkDataArray>(
+/// Sets the view's validity from the mask array and NaN elevations; `mask` is the image's
+/// mask array (null when it has none).
+bool ViewValidity(vtkImageData* image,
+  vtkIdType n,
+  TerrainInput& out,
+  vtkDataArray*& mask,
+  std::string& error)
+{
+  GridView<float>& v = out.view;
+  mask = vtkArrayDownCast<vtkDataArray>(
     image->GetPointData()->GetAbstractArray(vtkTerroirGeoreference::ValidMaskName()));
   if (mask && (mask->GetNumberOfTuples() != n || mask->GetNumberOfComponents() != 1))
   {
@@ -145,50 +162,87 @@ bool ExtractTerrain(vtkImageData* image,
     v.valid = out.valid.data();
     out.hasNoData = true;
   }
+  return true;
+}
 
+/// Sets the view's per-row spacing from the image's TerroirRowSpacing (geographic grids).
+bool ViewRowSpacing(vtkImageData* image, TerrainInput& out, std::string& error)
+{
+  GridView<float>& v = out.view;
+  vtkDoubleArray* rows = vtkTerroirGeoreference::GetRowSpacing(image);
+  if (!rows)
+  {
+    return true;
+  }
+  // One (dx, dy) per row of the whole grid; a sub-extent uses its own rows of it.
+  int extent[6];
+  image->GetExtent(extent);
+  const vtkIdType offset = rows->GetNumberOfTuples() == v.ny ? 0 : extent[2];
+  if (rows->GetNumberOfComponents() != 2 || offset < 0 || offset + v.ny > rows->GetNumberOfTuples())
+  {
+    std::ostringstream os;
+    os << "'" << vtkTerroirGeoreference::RowSpacingName() << "' has " << rows->GetNumberOfTuples()
+       << " x " << rows->GetNumberOfComponents() << " values, expected " << v.ny
+       << " x 2 (one (dx, dy) per row)";
+    error = os.str();
+    return false;
+  }
+  out.rowDx.resize(v.ny);
+  out.rowDy.resize(v.ny);
+  for (int j = 0; j < v.ny; ++j)
+  {
+    out.rowDx[j] = std::fabs(rows->GetComponent(offset + j, 0));
+    out.rowDy[j] = std::fabs(rows->GetComponent(offset + j, 1));
+    if (!(out.rowDx[j] > 0.0) || !(out.rowDy[j] > 0.0) || !std::isfinite(out.rowDx[j]) ||
+      !std::isfinite(out.rowDy[j]))
+    {
+      std::ostringstream os;
+      os << "'" << vtkTerroirGeoreference::RowSpacingName() << "' of row " << j << " is "
+         << out.rowDx[j] << " x " << out.rowDy[j] << " m: must be positive and finite";
+      error = os.str();
+      return false;
+    }
+  }
+  v.rowDx = out.rowDx.data();
+  v.rowDy = out.rowDy.data();
+  return true;
+}
+} // namespace
+
+bool ExtractTerrain(vtkImageData* image,
+  vtkDataArray* elevation,
+  TerrainInput& out,
+  std::string& error,
+  int minSize)
+{
+  out = TerrainInput();
+  if (!image)
+  {
+    error = "input is not a vtkImageData";
+    return false;
+  }
+  int dims[3];
+  if (!CheckDimensions(image, minSize, dims, error))
+  {
+    return false;
+  }
+  const vtkIdType n = static_cast<vtkIdType>(dims[0]) * dims[1];
+  if (!CheckElevation(image, elevation, n, error) ||
+    !ViewElevation(image, elevation, dims, n, out, error))
+  {
+    return false;
+  }
+  vtkDataArray* mask = nullptr;
+  if (!ViewValidity(image, n, out, mask, error))
+  {
+    return false;
+  }
   out.key = elevation;
   out.stamp = elevation->GetMTime();
   // Never dereferenced; offset by one so that it differs from any array's own key.
   out.maskKey = static_cast<const char*>(static_cast<const void*>(mask ? mask : elevation)) + 1;
   out.maskStamp = std::max<unsigned long long>(out.stamp, mask ? mask->GetMTime() : 0);
-
-  // Per-row spacing of geographic grids.
-  if (vtkDoubleArray* rows = vtkTerroirGeoreference::GetRowSpacing(image))
-  {
-    // One (dx, dy) per row of the whole grid; a sub-extent uses its own rows of it.
-    int extent[6];
-    image->GetExtent(extent);
-    const vtkIdType offset = rows->GetNumberOfTuples() == v.ny ? 0 : extent[2];
-    if (rows->GetNumberOfComponents() != 2 || offset < 0 ||
-      offset + v.ny > rows->GetNumberOfTuples())
-    {
-      std::ostringstream os;
-      os << "'" << vtkTerroirGeoreference::RowSpacingName() << "' has " << rows->GetNumberOfTuples()
-         << " x " << rows->GetNumberOfComponents() << " values, expected " << v.ny
-         << " x 2 (one (dx, dy) per row)";
-      error = os.str();
-      return false;
-    }
-    out.rowDx.resize(v.ny);
-    out.rowDy.resize(v.ny);
-    for (int j = 0; j < v.ny; ++j)
-    {
-      out.rowDx[j] = std::fabs(rows->GetComponent(offset + j, 0));
-      out.rowDy[j] = std::fabs(rows->GetComponent(offset + j, 1));
-      if (!(out.rowDx[j] > 0.0) || !(out.rowDy[j] > 0.0) || !std::isfinite(out.rowDx[j]) ||
-        !std::isfinite(out.rowDy[j]))
-      {
-        std::ostringstream os;
-        os << "'" << vtkTerroirGeoreference::RowSpacingName() << "' of row " << j << " is "
-           << out.rowDx[j] << " x " << out.rowDy[j] << " m: must be positive and finite";
-        error = os.str();
-        return false;
-      }
-    }
-    v.rowDx = out.rowDx.data();
-    v.rowDy = out.rowDy.data();
-  }
-  return true;
+  return ViewRowSpacing(image, out, error);
 }
 
 static void AdviseHugePages(void* data, std::size_t bytes)

@@ -257,14 +257,276 @@ std::string ParseNumber(std::string_view s, double& v)
 // ------------------------------------------------------------------------------------------
 // CSV
 
-bool ParseCsv(std::string_view text, ClimateTable& table, std::string& error)
+/// The column index of the month in CsvState::columns (value columns hold a quantity index).
+constexpr int kMonthColumn = -1;
+
+/// What ParseCsv has read so far.
+struct CsvState
 {
-  constexpr int kMonthColumn = -1;
   std::vector<int> columns; // per field: kMonthColumn or a quantity index
   bool haveHeader = false;
   int headerLine = 0;
   int monthLine[12] = {}; // line of each month's row, 0 = not seen yet
   int rows = 0;
+};
+
+/// Splits a line (no end of line, not blank) into trimmed comma-separated fields, refusing
+/// carriage returns and double quotes; `where` is the message prefix "line N: ".
+bool SplitCsvLine(std::string_view line,
+  const std::string& where,
+  std::vector<std::string_view>& fields,
+  std::string& error)
+{
+  if (line.find('\r') != std::string_view::npos)
+  {
+    error = where + "carriage return inside a line (lines must end with \\n or \\r\\n)";
+    return false;
+  }
+  fields.clear();
+  for (std::size_t start = 0;;)
+  {
+    const std::size_t comma = line.find(',', start);
+    fields.push_back(Trim(line.substr(start, comma - start)));
+    if (comma == std::string_view::npos)
+    {
+      break;
+    }
+    start = comma + 1;
+  }
+  for (std::size_t f = 0; f < fields.size(); ++f)
+  {
+    if (fields[f].find('"') != std::string_view::npos)
+    {
+      error = where + "field " + std::to_string(f + 1) + " " + Quote(fields[f]) +
+        " contains a double quote; quoting is not supported";
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Reads the header's column names into state.columns and marks the quantities present.
+bool ParseCsvHeader(const std::vector<std::string_view>& fields,
+  const std::string& where,
+  CsvState& state,
+  ClimateTable& table,
+  std::string& error)
+{
+  const std::string expected =
+    "; expected month, precipitation_mm, intensity_mm_per_h, temperature_c";
+  for (std::size_t f = 0; f < fields.size(); ++f)
+  {
+    const std::string name = Lower(fields[f]);
+    int column = -2;
+    if (name == "month")
+    {
+      column = kMonthColumn;
+    }
+    for (int q = 0; q < kQuantityCount; ++q)
+    {
+      if (name == kQuantities[q].name)
+      {
+        column = q;
+      }
+    }
+    if (fields[f].empty())
+    {
+      error = where + "empty column name (column " + std::to_string(f + 1) + ")" + expected;
+      return false;
+    }
+    if (column == -2)
+    {
+      error = where + "unknown column " + Quote(fields[f]) + expected;
+      return false;
+    }
+    for (int previous : state.columns)
+    {
+      if (previous == column)
+      {
+        error = where + "duplicate column '" + name + "'";
+        return false;
+      }
+    }
+    state.columns.push_back(column);
+  }
+  bool haveMonth = false;
+  for (int column : state.columns)
+  {
+    haveMonth = haveMonth || column == kMonthColumn;
+    if (column != kMonthColumn)
+    {
+      Has(table, column) = true;
+    }
+  }
+  if (!haveMonth)
+  {
+    error = where + "missing column 'month'";
+    return false;
+  }
+  if (state.columns.size() < 2)
+  {
+    error = where + "no value column; expected at least one of " + kValueNames;
+    return false;
+  }
+  return true;
+}
+
+/// Checks that a data row may follow the rows read so far and has one non-empty value per
+/// column.
+bool CheckCsvRowShape(const std::vector<std::string_view>& fields,
+  const std::string& where,
+  const CsvState& state,
+  std::string& error)
+{
+  const std::vector<int>& columns = state.columns;
+  if (state.rows == 12)
+  {
+    error = where + "more than 12 data rows (one per month)";
+    return false;
+  }
+  if (fields.size() != columns.size())
+  {
+    std::string names;
+    for (int column : columns)
+    {
+      names += (names.empty() ? "" : ", ") +
+        std::string(column == kMonthColumn ? "month" : kQuantities[column].name);
+    }
+    error = where + std::to_string(fields.size()) + " fields, expected " +
+      std::to_string(columns.size()) + " (" + names + ")";
+    if (fields.size() > columns.size())
+    {
+      error += "; decimals take '.', not ','";
+    }
+    return false;
+  }
+  for (std::size_t f = 0; f < fields.size(); ++f)
+  {
+    if (fields[f].empty())
+    {
+      error = where + "empty value in column " +
+        (columns[f] == kMonthColumn ? "month" : kQuantities[columns[f]].name);
+      return false;
+    }
+  }
+  return true;
+}
+
+/// Reads the month of a data row (0..11) and records it as seen on `lineNumber`.
+bool ParseCsvRowMonth(const std::vector<std::string_view>& fields,
+  const std::string& where,
+  int lineNumber,
+  CsvState& state,
+  int& month,
+  std::string& error)
+{
+  month = -1;
+  for (std::size_t f = 0; f < fields.size(); ++f)
+  {
+    if (state.columns[f] == kMonthColumn)
+    {
+      month = ParseMonth(fields[f]);
+      if (month < 0)
+      {
+        error = where + "unknown month " + Quote(fields[f]) +
+          "; expected 1 to 12, Jan to Dec or January to December";
+        return false;
+      }
+    }
+  }
+  if (state.monthLine[month] != 0)
+  {
+    error = where + MonthAbbreviation(month) + " given twice (first on line " +
+      std::to_string(state.monthLine[month]) + ")";
+    return false;
+  }
+  state.monthLine[month] = lineNumber;
+  ++state.rows;
+  return true;
+}
+
+/// Reads the values of a data row for `month` into the table, each checked for its range.
+bool ParseCsvRowValues(const std::vector<std::string_view>& fields,
+  const std::string& where,
+  const CsvState& state,
+  int month,
+  ClimateTable& table,
+  std::string& error)
+{
+  const std::string monthName = MonthAbbreviation(month);
+  std::string_view valueText[kQuantityCount]; // as written, for messages
+  for (std::size_t f = 0; f < fields.size(); ++f)
+  {
+    const int q = state.columns[f];
+    if (q == kMonthColumn)
+    {
+      continue;
+    }
+    const std::string subject =
+      where + kQuantities[q].name + " for " + monthName + " is " + Quote(fields[f]) + ", ";
+    double v = 0.0;
+    const std::string numberProblem = ParseNumber(fields[f], v);
+    if (!numberProblem.empty())
+    {
+      error = subject + numberProblem;
+      return false;
+    }
+    const std::string rangeProblem = RangeProblem(q, v);
+    if (!rangeProblem.empty())
+    {
+      error = where + kQuantities[q].name + " for " + monthName + " is " +
+        Sanitize(fields[f], kMaxQuoted) + ", " + rangeProblem;
+      return false;
+    }
+    Values(table, q)[month] = v;
+    valueText[q] = fields[f];
+  }
+  if (table.hasPrecipitation && table.hasIntensity && table.precipitationMm[month] > 0.0 &&
+    !(table.intensityMmPerHour[month] > 0.0))
+  {
+    error = where + "precipitation_mm for " + monthName + " is " +
+      Sanitize(valueText[kPrecipitation], kMaxQuoted) + " but intensity_mm_per_h is " +
+      Sanitize(valueText[kIntensity], kMaxQuoted) + ": rain needs a positive intensity";
+    return false;
+  }
+  return true;
+}
+
+/// Checks, after the last line, that there was a header and a row for every month.
+bool CheckCsvComplete(const CsvState& state, std::string& error)
+{
+  if (!state.haveHeader)
+  {
+    error = std::string("no header line; expected month and at least one of ") + kValueNames;
+    return false;
+  }
+  if (state.rows == 0)
+  {
+    error = "no data rows after the header on line " + std::to_string(state.headerLine) +
+      "; expected one row per month";
+    return false;
+  }
+  std::string missing;
+  int missingCount = 0;
+  for (int m = 0; m < 12; ++m)
+  {
+    if (state.monthLine[m] == 0)
+    {
+      missing += (missing.empty() ? "" : ", ") + MonthAbbreviation(m);
+      ++missingCount;
+    }
+  }
+  if (missingCount > 0)
+  {
+    error = (missingCount == 1 ? "missing month: " : "missing months: ") + missing;
+    return false;
+  }
+  return true;
+}
+
+bool ParseCsv(std::string_view text, ClimateTable& table, std::string& error)
+{
+  CsvState state;
   int lineNumber = 0;
   std::vector<std::string_view> fields;
   std::size_t position = 0;
@@ -285,211 +547,29 @@ bool ParseCsv(std::string_view text, ClimateTable& table, std::string& error)
       continue;
     }
     const std::string where = "line " + std::to_string(lineNumber) + ": ";
-    if (line.find('\r') != std::string_view::npos)
+    if (!SplitCsvLine(line, where, fields, error))
     {
-      error = where + "carriage return inside a line (lines must end with \\n or \\r\\n)";
       return false;
     }
-    fields.clear();
-    for (std::size_t start = 0;;)
+    if (!state.haveHeader)
     {
-      const std::size_t comma = line.find(',', start);
-      fields.push_back(Trim(line.substr(start, comma - start)));
-      if (comma == std::string_view::npos)
+      if (!ParseCsvHeader(fields, where, state, table, error))
       {
-        break;
-      }
-      start = comma + 1;
-    }
-    for (std::size_t f = 0; f < fields.size(); ++f)
-    {
-      if (fields[f].find('"') != std::string_view::npos)
-      {
-        error = where + "field " + std::to_string(f + 1) + " " + Quote(fields[f]) +
-          " contains a double quote; quoting is not supported";
         return false;
       }
-    }
-
-    if (!haveHeader)
-    {
-      const std::string expected =
-        "; expected month, precipitation_mm, intensity_mm_per_h, temperature_c";
-      for (std::size_t f = 0; f < fields.size(); ++f)
-      {
-        const std::string name = Lower(fields[f]);
-        int column = -2;
-        if (name == "month")
-        {
-          column = kMonthColumn;
-        }
-        for (int q = 0; q < kQuantityCount; ++q)
-        {
-          if (name == kQuantities[q].name)
-          {
-            column = q;
-          }
-        }
-        if (fields[f].empty())
-        {
-          error = where + "empty column name (column " + std::to_string(f + 1) + ")" + expected;
-          return false;
-        }
-        if (column == -2)
-        {
-          error = where + "unknown column " + Quote(fields[f]) + expected;
-          return false;
-        }
-        for (int previous : columns)
-        {
-          if (previous == column)
-          {
-            error = where + "duplicate column '" + name + "'";
-            return false;
-          }
-        }
-        columns.push_back(column);
-      }
-      bool haveMonth = false;
-      for (int column : columns)
-      {
-        haveMonth = haveMonth || column == kMonthColumn;
-        if (column != kMonthColumn)
-        {
-          Has(table, column) = true;
-        }
-      }
-      if (!haveMonth)
-      {
-        error = where + "missing column 'month'";
-        return false;
-      }
-      if (columns.size() < 2)
-      {
-        error = where + "no value column; expected at least one of " + kValueNames;
-        return false;
-      }
-      haveHeader = true;
-      headerLine = lineNumber;
+      state.haveHeader = true;
+      state.headerLine = lineNumber;
       continue;
     }
-
-    if (rows == 12)
-    {
-      error = where + "more than 12 data rows (one per month)";
-      return false;
-    }
-    if (fields.size() != columns.size())
-    {
-      std::string names;
-      for (int column : columns)
-      {
-        names += (names.empty() ? "" : ", ") +
-          std::string(column == kMonthColumn ? "month" : kQuantities[column].name);
-      }
-      error = where + std::to_string(fields.size()) + " fields, expected " +
-        std::to_string(columns.size()) + " (" + names + ")";
-      if (fields.size() > columns.size())
-      {
-        error += "; decimals take '.', not ','";
-      }
-      return false;
-    }
-    for (std::size_t f = 0; f < fields.size(); ++f)
-    {
-      if (fields[f].empty())
-      {
-        error = where + "empty value in column " +
-          (columns[f] == kMonthColumn ? "month" : kQuantities[columns[f]].name);
-        return false;
-      }
-    }
     int month = -1;
-    for (std::size_t f = 0; f < fields.size(); ++f)
+    if (!CheckCsvRowShape(fields, where, state, error) ||
+      !ParseCsvRowMonth(fields, where, lineNumber, state, month, error) ||
+      !ParseCsvRowValues(fields, where, state, month, table, error))
     {
-      if (columns[f] == kMonthColumn)
-      {
-        month = ParseMonth(fields[f]);
-        if (month < 0)
-        {
-          error = where + "unknown month " + Quote(fields[f]) +
-            "; expected 1 to 12, Jan to Dec or January to December";
-          return false;
-        }
-      }
-    }
-    const std::string monthName = MonthAbbreviation(month);
-    if (monthLine[month] != 0)
-    {
-      error =
-        where + monthName + " given twice (first on line " + std::to_string(monthLine[month]) + ")";
-      return false;
-    }
-    monthLine[month] = lineNumber;
-    ++rows;
-    std::string_view valueText[kQuantityCount]; // as written, for messages
-    for (std::size_t f = 0; f < fields.size(); ++f)
-    {
-      const int q = columns[f];
-      if (q == kMonthColumn)
-      {
-        continue;
-      }
-      const std::string subject =
-        where + kQuantities[q].name + " for " + monthName + " is " + Quote(fields[f]) + ", ";
-      double v = 0.0;
-      const std::string numberProblem = ParseNumber(fields[f], v);
-      if (!numberProblem.empty())
-      {
-        error = subject + numberProblem;
-        return false;
-      }
-      const std::string rangeProblem = RangeProblem(q, v);
-      if (!rangeProblem.empty())
-      {
-        error = where + kQuantities[q].name + " for " + monthName + " is " +
-          Sanitize(fields[f], kMaxQuoted) + ", " + rangeProblem;
-        return false;
-      }
-      Values(table, q)[month] = v;
-      valueText[q] = fields[f];
-    }
-    if (table.hasPrecipitation && table.hasIntensity && table.precipitationMm[month] > 0.0 &&
-      !(table.intensityMmPerHour[month] > 0.0))
-    {
-      error = where + "precipitation_mm for " + monthName + " is " +
-        Sanitize(valueText[kPrecipitation], kMaxQuoted) + " but intensity_mm_per_h is " +
-        Sanitize(valueText[kIntensity], kMaxQuoted) + ": rain needs a positive intensity";
       return false;
     }
   }
-  if (!haveHeader)
-  {
-    error = std::string("no header line; expected month and at least one of ") + kValueNames;
-    return false;
-  }
-  if (rows == 0)
-  {
-    error = "no data rows after the header on line " + std::to_string(headerLine) +
-      "; expected one row per month";
-    return false;
-  }
-  std::string missing;
-  int missingCount = 0;
-  for (int m = 0; m < 12; ++m)
-  {
-    if (monthLine[m] == 0)
-    {
-      missing += (missing.empty() ? "" : ", ") + MonthAbbreviation(m);
-      ++missingCount;
-    }
-  }
-  if (missingCount > 0)
-  {
-    error = (missingCount == 1 ? "missing month: " : "missing months: ") + missing;
-    return false;
-  }
-  return true;
+  return CheckCsvComplete(state, error);
 }
 
 // ------------------------------------------------------------------------------------------

@@ -71,6 +71,197 @@ bool Fail(std::string& error, TerragenTerrain& terrain, const std::string& messa
   terrain = TerragenTerrain();
   return false;
 }
+
+/// Where the reader is in the file, and what the chunks read so far said.
+struct ChunkCursor
+{
+  const std::uint8_t* Bytes = nullptr;
+  std::size_t Size = 0;
+  std::size_t Offset = 0;
+  int SizeChunk = -1;
+  int XPoints = -1;
+  int YPoints = -1;
+  bool HaveAltw = false;
+};
+
+/// The chunk at the cursor: its tag, where it starts and how many bytes are left from there.
+struct Chunk
+{
+  const std::uint8_t* Tag = nullptr;
+  std::string TagName;
+  std::size_t Offset = 0;
+  std::size_t Remaining = 0;
+
+  /// True when the file holds the tag plus `payload` bytes from here.
+  bool Holds(std::size_t payload) const { return this->Remaining >= 4 + payload; }
+
+  /// The message for a chunk too short for `payload` bytes.
+  std::string Truncated(std::size_t payload) const
+  {
+    return "truncated '" + this->TagName + "' chunk at offset " + std::to_string(this->Offset) +
+      " (needs " + std::to_string(4 + payload) + " bytes, " + std::to_string(this->Remaining) +
+      " left)";
+  }
+};
+
+/// True when bytes[offset, size) are all zero.
+bool OnlyZerosFrom(const std::uint8_t* bytes, std::size_t offset, std::size_t size)
+{
+  bool zeros = true;
+  for (std::size_t k = offset; k < size; ++k)
+  {
+    zeros = zeros && bytes[k] == 0;
+  }
+  return zeros;
+}
+
+/// Reads a SIZE, XPTS or YPTS chunk into the cursor; "" on success, else the problem.
+std::string ReadSizeChunk(const Chunk& chunk, ChunkCursor& cursor)
+{
+  if (!chunk.Holds(4))
+  {
+    return chunk.Truncated(4);
+  }
+  const int v = GetInt16(chunk.Tag + 4);
+  const int minimum = chunk.TagName == "SIZE" ? 1 : 2;
+  if (v < minimum)
+  {
+    return "invalid " + chunk.TagName + " " + std::to_string(v) + " at offset " +
+      std::to_string(chunk.Offset) + " (must be at least " + std::to_string(minimum) + ")";
+  }
+  (chunk.TagName == "SIZE" ? cursor.SizeChunk
+                           : (chunk.TagName == "XPTS" ? cursor.XPoints : cursor.YPoints)) = v;
+  cursor.Offset += 8;
+  return std::string();
+}
+
+/// Reads a SCAL chunk into terrain.scale; "" on success, else the problem.
+std::string ReadScaleChunk(const Chunk& chunk, ChunkCursor& cursor, TerragenTerrain& terrain)
+{
+  if (!chunk.Holds(12))
+  {
+    return chunk.Truncated(12);
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    const float s = GetFloat32(chunk.Tag + 4 + 4 * k);
+    if (!(s >= kTerragenMinScale && s <= kTerragenMaxScale))
+    {
+      return "invalid SCAL component " + std::to_string(k) + " (" + std::to_string(s) +
+        ") at offset " + std::to_string(chunk.Offset) + " (must be 1e-6 to 1e7 m)";
+    }
+    terrain.scale[k] = s;
+  }
+  cursor.Offset += 16;
+  return std::string();
+}
+
+/// Reads an ALTW chunk (the heights) into the terrain; "" on success, else the problem.
+std::string ReadHeightsChunk(const Chunk& chunk, ChunkCursor& cursor, TerragenTerrain& terrain)
+{
+  if (cursor.SizeChunk < 0)
+  {
+    return "ALTW chunk at offset " + std::to_string(chunk.Offset) + " comes before the SIZE chunk";
+  }
+  const int nx = cursor.XPoints > 0 ? cursor.XPoints : cursor.SizeChunk + 1;
+  const int ny = cursor.YPoints > 0 ? cursor.YPoints : cursor.SizeChunk + 1;
+  if (std::min(nx, ny) - 1 != cursor.SizeChunk)
+  {
+    return "SIZE " + std::to_string(cursor.SizeChunk) + " does not match XPTS " +
+      std::to_string(nx) + " x YPTS " + std::to_string(ny) + " (expected min - 1)";
+  }
+  const std::size_t count = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  if (!chunk.Holds(4))
+  {
+    return chunk.Truncated(4);
+  }
+  if (chunk.Remaining - 8 < 2 * count)
+  {
+    return "ALTW chunk at offset " + std::to_string(chunk.Offset) + " holds " +
+      std::to_string((chunk.Remaining - 8) / 2) +
+      " heights, expected xpts*ypts = " + std::to_string(nx) + "*" + std::to_string(ny) + " = " +
+      std::to_string(count) + " (file truncated or sizes wrong)";
+  }
+  terrain.nx = nx;
+  terrain.ny = ny;
+  terrain.heightScale = GetInt16(chunk.Tag + 4);
+  terrain.baseHeight = GetInt16(chunk.Tag + 6);
+  terrain.raw.resize(count);
+  terrain.heights.resize(count);
+  const std::uint8_t* p = chunk.Tag + 8;
+  const double unitScale = terrain.heightScale / 65536.0;
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    const std::int16_t r = GetInt16(p + 2 * k);
+    terrain.raw[k] = r;
+    terrain.heights[k] =
+      static_cast<float>(terrain.scale[2] * (terrain.baseHeight + r * unitScale));
+  }
+  cursor.HaveAltw = true;
+  cursor.Offset += 8 + 2 * count;
+  return std::string();
+}
+
+/// Reads the chunk at the cursor and moves past it; "" on success, else the problem. `end` is
+/// set at the EOF chunk and at up to 3 bytes of zero padding after the last chunk.
+std::string ReadChunk(ChunkCursor& cursor, TerragenTerrain& terrain, bool& end)
+{
+  const std::size_t remaining = cursor.Size - cursor.Offset;
+  if (remaining < 4)
+  {
+    // Tolerate up to 3 bytes of zero padding after the last chunk.
+    if (OnlyZerosFrom(cursor.Bytes, cursor.Offset, cursor.Size))
+    {
+      end = true;
+      return std::string();
+    }
+    return "truncated chunk tag at offset " + std::to_string(cursor.Offset) + " (" +
+      std::to_string(remaining) + " bytes left)";
+  }
+  Chunk chunk;
+  chunk.Tag = cursor.Bytes + cursor.Offset;
+  chunk.TagName = Printable(chunk.Tag, 4);
+  chunk.Offset = cursor.Offset;
+  chunk.Remaining = remaining;
+  if (chunk.TagName == "EOF ")
+  {
+    end = true;
+    return std::string();
+  }
+  if (chunk.TagName == "SIZE" || chunk.TagName == "XPTS" || chunk.TagName == "YPTS")
+  {
+    return ReadSizeChunk(chunk, cursor);
+  }
+  if (chunk.TagName == "SCAL")
+  {
+    return ReadScaleChunk(chunk, cursor, terrain);
+  }
+  if (chunk.TagName == "CRAD")
+  {
+    if (!chunk.Holds(4))
+    {
+      return chunk.Truncated(4);
+    }
+    terrain.planetRadiusKm = GetFloat32(chunk.Tag + 4);
+    cursor.Offset += 8;
+    return std::string();
+  }
+  if (chunk.TagName == "CRVM")
+  {
+    if (!chunk.Holds(4))
+    {
+      return chunk.Truncated(4);
+    }
+    terrain.curveMode = GetUInt32(chunk.Tag + 4);
+    cursor.Offset += 8;
+    return std::string();
+  }
+  if (chunk.TagName == "ALTW")
+  {
+    return ReadHeightsChunk(chunk, cursor, terrain);
+  }
+  return "unknown chunk '" + chunk.TagName + "' at offset " + std::to_string(chunk.Offset);
+}
 } // namespace
 
 bool ReadTerragen(const std::uint8_t* bytes,
@@ -84,161 +275,24 @@ bool ReadTerragen(const std::uint8_t* bytes,
   {
     return Fail(error, terrain, "not a Terragen file (missing 'TERRAGENTERRAIN ' header)");
   }
-  int sizeChunk = -1;
-  int xpts = -1;
-  int ypts = -1;
-  bool haveAltw = false;
-  std::size_t offset = kMagicSize;
-  while (offset < size)
+  ChunkCursor cursor;
+  cursor.Bytes = bytes;
+  cursor.Size = size;
+  cursor.Offset = kMagicSize;
+  bool end = false;
+  while (!end && cursor.Offset < size)
   {
-    const std::size_t remaining = size - offset;
-    if (remaining < 4)
+    const std::string problem = ReadChunk(cursor, terrain, end);
+    if (!problem.empty())
     {
-      // Tolerate up to 3 bytes of zero padding after the last chunk.
-      bool zeros = true;
-      for (std::size_t k = offset; k < size; ++k)
-      {
-        zeros = zeros && bytes[k] == 0;
-      }
-      if (zeros)
-      {
-        break;
-      }
-      return Fail(error,
-        terrain,
-        "truncated chunk tag at offset " + std::to_string(offset) + " (" +
-          std::to_string(remaining) + " bytes left)");
-    }
-    const std::uint8_t* tag = bytes + offset;
-    const std::string tagName = Printable(tag, 4);
-    auto need = [&](std::size_t payload) { return remaining >= 4 + payload; };
-    auto truncated = [&](std::size_t payload)
-    {
-      return Fail(error,
-        terrain,
-        "truncated '" + tagName + "' chunk at offset " + std::to_string(offset) + " (needs " +
-          std::to_string(4 + payload) + " bytes, " + std::to_string(remaining) + " left)");
-    };
-    if (tagName == "EOF ")
-    {
-      break;
-    }
-    if (tagName == "SIZE" || tagName == "XPTS" || tagName == "YPTS")
-    {
-      if (!need(4))
-      {
-        return truncated(4);
-      }
-      const int v = GetInt16(tag + 4);
-      const int minimum = tagName == "SIZE" ? 1 : 2;
-      if (v < minimum)
-      {
-        return Fail(error,
-          terrain,
-          "invalid " + tagName + " " + std::to_string(v) + " at offset " + std::to_string(offset) +
-            " (must be at least " + std::to_string(minimum) + ")");
-      }
-      (tagName == "SIZE" ? sizeChunk : (tagName == "XPTS" ? xpts : ypts)) = v;
-      offset += 8;
-    }
-    else if (tagName == "SCAL")
-    {
-      if (!need(12))
-      {
-        return truncated(12);
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        const float s = GetFloat32(tag + 4 + 4 * k);
-        if (!(s >= kTerragenMinScale && s <= kTerragenMaxScale))
-        {
-          return Fail(error,
-            terrain,
-            "invalid SCAL component " + std::to_string(k) + " (" + std::to_string(s) +
-              ") at offset " + std::to_string(offset) + " (must be 1e-6 to 1e7 m)");
-        }
-        terrain.scale[k] = s;
-      }
-      offset += 16;
-    }
-    else if (tagName == "CRAD")
-    {
-      if (!need(4))
-      {
-        return truncated(4);
-      }
-      terrain.planetRadiusKm = GetFloat32(tag + 4);
-      offset += 8;
-    }
-    else if (tagName == "CRVM")
-    {
-      if (!need(4))
-      {
-        return truncated(4);
-      }
-      terrain.curveMode = GetUInt32(tag + 4);
-      offset += 8;
-    }
-    else if (tagName == "ALTW")
-    {
-      if (sizeChunk < 0)
-      {
-        return Fail(error,
-          terrain,
-          "ALTW chunk at offset " + std::to_string(offset) + " comes before the SIZE chunk");
-      }
-      const int nx = xpts > 0 ? xpts : sizeChunk + 1;
-      const int ny = ypts > 0 ? ypts : sizeChunk + 1;
-      if (std::min(nx, ny) - 1 != sizeChunk)
-      {
-        return Fail(error,
-          terrain,
-          "SIZE " + std::to_string(sizeChunk) + " does not match XPTS " + std::to_string(nx) +
-            " x YPTS " + std::to_string(ny) + " (expected min - 1)");
-      }
-      const std::size_t count = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
-      if (!need(4))
-      {
-        return truncated(4);
-      }
-      if (remaining - 8 < 2 * count)
-      {
-        return Fail(error,
-          terrain,
-          "ALTW chunk at offset " + std::to_string(offset) + " holds " +
-            std::to_string((remaining - 8) / 2) +
-            " heights, expected xpts*ypts = " + std::to_string(nx) + "*" + std::to_string(ny) +
-            " = " + std::to_string(count) + " (file truncated or sizes wrong)");
-      }
-      terrain.nx = nx;
-      terrain.ny = ny;
-      terrain.heightScale = GetInt16(tag + 4);
-      terrain.baseHeight = GetInt16(tag + 6);
-      terrain.raw.resize(count);
-      terrain.heights.resize(count);
-      const std::uint8_t* p = tag + 8;
-      const double unitScale = terrain.heightScale / 65536.0;
-      for (std::size_t k = 0; k < count; ++k)
-      {
-        const std::int16_t r = GetInt16(p + 2 * k);
-        terrain.raw[k] = r;
-        terrain.heights[k] =
-          static_cast<float>(terrain.scale[2] * (terrain.baseHeight + r * unitScale));
-      }
-      haveAltw = true;
-      offset += 8 + 2 * count;
-    }
-    else
-    {
-      return Fail(
-        error, terrain, "unknown chunk '" + tagName + "' at offset " + std::to_string(offset));
+      return Fail(error, terrain, problem);
     }
   }
-  if (!haveAltw)
+  if (!cursor.HaveAltw)
   {
     return Fail(error,
       terrain,
-      sizeChunk < 0 ? "missing SIZE and ALTW chunks" : "missing ALTW chunk (no heights)");
+      cursor.SizeChunk < 0 ? "missing SIZE and ALTW chunks" : "missing ALTW chunk (no heights)");
   }
   return true;
 }
