@@ -30,6 +30,7 @@
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
+#include <cpl_string.h>
 #include <cpl_vsi.h>
 #include <gdal.h>
 
@@ -159,6 +160,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       Check(rasterizer->GetNumberOfFeatures() >= 0);
     }
   }
-  VSIUnlink(kFile);
+  // The input and whatever GDAL wrote beside it (a GML reader's .gfs schema file), so that
+  // every input starts from the same empty folder and a run can be repeated.
+  char** files = VSIReadDir("/vsimem/");
+  for (char** name = files; name && *name; ++name)
+  {
+    if (std::string(*name).rfind("terroir_fuzz.", 0) == 0)
+    {
+      VSIUnlink((std::string("/vsimem/") + *name).c_str());
+    }
+  }
+  CSLDestroy(files);
   return 0;
 }
