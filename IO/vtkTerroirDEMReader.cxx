@@ -89,6 +89,12 @@ struct Description
   double convergence = 0.0;
   std::vector<double> rowDx, rowDy; // j = 0 south
   std::vector<std::string> warnings;
+
+  /// The grid's centre in CRS coordinates (from the geotransform).
+  double CentreX() const { return this->gt[0] + 0.5 * this->nx * this->gt[1]; }
+  double CentreY() const { return this->gt[3] + 0.5 * this->ny * this->gt[5]; }
+  /// True when the file's first row is the northern one (GDAL's usual order).
+  bool NorthUp() const { return this->gt[5] < 0.0; }
 };
 
 /// Reads the raster size and the band's no-data value, scale, offset and unit.
@@ -246,10 +252,9 @@ bool DescribeGeographic(OGRSpatialReferenceH srs,
   Description& d,
   std::string& error)
 {
-  // Grid centre in CRS coordinates.
-  const double cx = d.gt[0] + 0.5 * d.nx * d.gt[1];
-  const double cy = d.gt[3] + 0.5 * d.ny * d.gt[5];
-  const bool northUp = d.gt[5] < 0.0;
+  const double cx = d.CentreX();
+  const double cy = d.CentreY();
+  const bool northUp = d.NorthUp();
   auto gdalRow = [&](int j) { return northUp ? d.ny - 1 - j : j; };
   d.geographic = true;
   const double toDeg = OSRGetAngularUnits(srs, nullptr) * 180.0 / M_PI;
@@ -296,10 +301,9 @@ bool DescribeProjected(OGRSpatialReferenceH srs,
   Description& d,
   std::string& error)
 {
-  // Grid centre in CRS coordinates.
-  const double cx = d.gt[0] + 0.5 * d.nx * d.gt[1];
-  const double cy = d.gt[3] + 0.5 * d.ny * d.gt[5];
-  const bool northUp = d.gt[5] < 0.0;
+  const double cx = d.CentreX();
+  const double cy = d.CentreY();
+  const bool northUp = d.NorthUp();
   const double lin = OSRIsProjected(srs) ? OSRGetLinearUnits(srs, nullptr) : 1.0;
   d.spacing[0] = std::fabs(d.gt[1]) * lin;
   d.spacing[1] = std::fabs(d.gt[5]) * lin;
@@ -594,7 +598,7 @@ bool ReadElevations(GDALRasterBandH band,
 {
   const vtkIdType nx = d.nx;
   const vtkIdType ny = d.ny;
-  const bool northUp = d.gt[5] < 0.0;
+  const bool northUp = d.NorthUp();
   const float nodataF = static_cast<float>(d.nodata);
   const double factor = d.bandScale * d.zScale;
   const double offset = d.bandOffset * d.zScale;
