@@ -40,26 +40,28 @@ void StepLengths(const GridView<float>& view, int j, double length[8])
     length[e] = kD8Di[e] == 0 ? dy : (kD8Dj[e] == 0 ? dx : diagonal);
   }
 }
-} // namespace
 
-D8Summary D8FlowDirections(const GridView<float>& view,
+/// Counts of the flat routing (DrainFlats), added to the D8Summary.
+struct FlatCounts
+{
+  std::size_t outlets = 0;
+  std::size_t flatCells = 0;
+  std::size_t sinks = 0;
+};
+
+/// Step 1 of D8FlowDirections: every cell with data drains to its neighbour of steepest descent;
+/// an outlet without a lower neighbour inside gets kD8Outlet (counted in `outlets`), the rest
+/// stay kUnset. Returns the number of unset cells.
+std::size_t SteepestDescent(const GridView<float>& view,
   const float* filled,
   std::int8_t* direction,
-  const std::function<void(double)>& progress)
+  const std::function<void(double)>& progress,
+  std::size_t& outlets)
 {
-  detail::CheckCellCount(view, "D8FlowDirections");
   const int nx = view.nx;
   const int ny = view.ny;
-  const std::size_t n = view.Size();
-  auto hasData = [&](std::size_t k) { return HasData(view, k) && !std::isnan(filled[k]); };
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    direction[k] = hasData(k) ? kUnset : kD8NoData;
-  }
-
-  // 1. Steepest descent; outlets without a lower neighbour inside get -1; the rest stay unset.
-  D8Summary summary;
   std::size_t unresolved = 0;
+  std::size_t outletCount = 0;
   double length[8];
   for (int j = 0; j < ny; ++j)
   {
@@ -108,7 +110,7 @@ D8Summary D8FlowDirections(const GridView<float>& view,
       else if (outlet)
       {
         direction[k] = kD8Outlet;
-        ++summary.outlets;
+        ++outletCount;
       }
       else
       {
@@ -120,45 +122,29 @@ D8Summary D8FlowDirections(const GridView<float>& view,
       progress(0.5 * (j + 1) / ny);
     }
   }
+  outlets = outletCount;
+  return unresolved;
+}
 
-  // 2. Flats: breadth-first distance from their draining cells, through cells of equal W.
-  if (unresolved > 0)
+/// The draining cells of the flats (a direction, -1 included, and an unset neighbour of exactly
+/// the same W), in index order, at distance 0: the seeds of FlatDistances.
+void SeedFlatOutlets(const GridView<float>& view,
+  const float* filled,
+  const std::int8_t* direction,
+  std::vector<std::int32_t>& distance,
+  std::vector<std::int32_t>& queue)
+{
+  const int nx = view.nx;
+  const int ny = view.ny;
+  for (int j = 0; j < ny; ++j)
   {
-    std::vector<std::int32_t> distance(n, -1);
-    std::vector<std::int32_t> queue;
-    queue.reserve(unresolved);
-    for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
     {
-      for (int i = 0; i < nx; ++i)
+      const std::size_t k = view.Index(i, j);
+      if (direction[k] < kD8Outlet)
       {
-        const std::size_t k = view.Index(i, j);
-        if (direction[k] < kD8Outlet)
-        {
-          continue; // no data, or a flat cell itself
-        }
-        for (int e = 0; e < 8; ++e)
-        {
-          const int ii = i + kD8Di[e];
-          const int jj = j + kD8Dj[e];
-          if (ii < 0 || ii >= nx || jj < 0 || jj >= ny)
-          {
-            continue;
-          }
-          const std::size_t kk = view.Index(ii, jj);
-          if (direction[kk] == kUnset && filled[kk] == filled[k])
-          {
-            distance[k] = 0;
-            queue.push_back(static_cast<std::int32_t>(k));
-            break;
-          }
-        }
+        continue; // no data, or a flat cell itself
       }
-    }
-    for (std::size_t q = 0; q < queue.size(); ++q)
-    {
-      const std::size_t k = static_cast<std::size_t>(queue[q]);
-      const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
-      const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
       for (int e = 0; e < 8; ++e)
       {
         const int ii = i + kD8Di[e];
@@ -168,56 +154,137 @@ D8Summary D8FlowDirections(const GridView<float>& view,
           continue;
         }
         const std::size_t kk = view.Index(ii, jj);
-        if (direction[kk] == kUnset && distance[kk] < 0 && filled[kk] == filled[k])
+        if (direction[kk] == kUnset && filled[kk] == filled[k])
         {
-          distance[kk] = distance[k] + 1;
-          queue.push_back(static_cast<std::int32_t>(kk));
+          distance[k] = 0;
+          queue.push_back(static_cast<std::int32_t>(k));
+          break;
         }
       }
-      if (progress && q % kProgressStep == kProgressStep - 1)
-      {
-        progress(0.5 + 0.4 * static_cast<double>(q) / static_cast<double>(queue.size()));
-      }
     }
-    // Each reached flat cell drains to its nearest equal neighbour one step closer.
-    for (int j = 0; j < ny; ++j)
+  }
+}
+
+/// Breadth-first distances from the seeds in `queue` through unset cells of equal W.
+void FlatDistances(const GridView<float>& view,
+  const float* filled,
+  const std::int8_t* direction,
+  std::vector<std::int32_t>& distance,
+  std::vector<std::int32_t>& queue,
+  const std::function<void(double)>& progress)
+{
+  const int nx = view.nx;
+  const int ny = view.ny;
+  for (std::size_t q = 0; q < queue.size(); ++q)
+  {
+    const std::size_t k = static_cast<std::size_t>(queue[q]);
+    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
+    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
+    for (int e = 0; e < 8; ++e)
     {
-      StepLengths(view, j, length);
-      for (int i = 0; i < nx; ++i)
+      const int ii = i + kD8Di[e];
+      const int jj = j + kD8Dj[e];
+      if (ii < 0 || ii >= nx || jj < 0 || jj >= ny)
       {
-        const std::size_t k = view.Index(i, j);
-        if (direction[k] != kUnset)
-        {
-          continue;
-        }
-        if (distance[k] < 0)
-        {
-          direction[k] = kD8Outlet; // a pit or closed flat: W was not depression-free
-          ++summary.outlets;
-          ++summary.sinks;
-          continue;
-        }
-        int best = -1;
-        for (int e = 0; e < 8; ++e)
-        {
-          const int ii = i + kD8Di[e];
-          const int jj = j + kD8Dj[e];
-          if (ii < 0 || ii >= nx || jj < 0 || jj >= ny)
-          {
-            continue;
-          }
-          const std::size_t kk = view.Index(ii, jj);
-          if (distance[kk] == distance[k] - 1 && filled[kk] == filled[k] &&
-            (best < 0 || length[e] < length[best]))
-          {
-            best = e;
-          }
-        }
-        // A breadth-first distance d > 0 always has a neighbour at d - 1 in the same flat.
-        direction[k] = static_cast<std::int8_t>(best);
-        ++summary.flatCells;
+        continue;
+      }
+      const std::size_t kk = view.Index(ii, jj);
+      if (direction[kk] == kUnset && distance[kk] < 0 && filled[kk] == filled[k])
+      {
+        distance[kk] = distance[k] + 1;
+        queue.push_back(static_cast<std::int32_t>(kk));
       }
     }
+    if (progress && q % kProgressStep == kProgressStep - 1)
+    {
+      progress(0.5 + 0.4 * static_cast<double>(q) / static_cast<double>(queue.size()));
+    }
+  }
+}
+
+/// Each reached flat cell drains to its nearest equal neighbour one step closer; an unreached
+/// one (a pit or a closed flat) becomes an outlet and a sink.
+FlatCounts DrainFlats(const GridView<float>& view,
+  const float* filled,
+  std::int8_t* direction,
+  const std::vector<std::int32_t>& distance)
+{
+  const int nx = view.nx;
+  const int ny = view.ny;
+  FlatCounts counts;
+  double length[8];
+  for (int j = 0; j < ny; ++j)
+  {
+    StepLengths(view, j, length);
+    for (int i = 0; i < nx; ++i)
+    {
+      const std::size_t k = view.Index(i, j);
+      if (direction[k] != kUnset)
+      {
+        continue;
+      }
+      if (distance[k] < 0)
+      {
+        direction[k] = kD8Outlet; // a pit or closed flat: W was not depression-free
+        ++counts.outlets;
+        ++counts.sinks;
+        continue;
+      }
+      int best = -1;
+      for (int e = 0; e < 8; ++e)
+      {
+        const int ii = i + kD8Di[e];
+        const int jj = j + kD8Dj[e];
+        if (ii < 0 || ii >= nx || jj < 0 || jj >= ny)
+        {
+          continue;
+        }
+        const std::size_t kk = view.Index(ii, jj);
+        if (distance[kk] == distance[k] - 1 && filled[kk] == filled[k] &&
+          (best < 0 || length[e] < length[best]))
+        {
+          best = e;
+        }
+      }
+      // A breadth-first distance d > 0 always has a neighbour at d - 1 in the same flat.
+      direction[k] = static_cast<std::int8_t>(best);
+      ++counts.flatCells;
+    }
+  }
+  return counts;
+}
+} // namespace
+
+D8Summary D8FlowDirections(const GridView<float>& view,
+  const float* filled,
+  std::int8_t* direction,
+  const std::function<void(double)>& progress)
+{
+  detail::CheckCellCount(view, "D8FlowDirections");
+  const std::size_t n = view.Size();
+  auto hasData = [&](std::size_t k) { return HasData(view, k) && !std::isnan(filled[k]); };
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    direction[k] = hasData(k) ? kUnset : kD8NoData;
+  }
+
+  // 1. Steepest descent; outlets without a lower neighbour inside get -1; the rest stay unset.
+  D8Summary summary;
+  const std::size_t unresolved =
+    SteepestDescent(view, filled, direction, progress, summary.outlets);
+
+  // 2. Flats: breadth-first distance from their draining cells, through cells of equal W.
+  if (unresolved > 0)
+  {
+    std::vector<std::int32_t> distance(n, -1);
+    std::vector<std::int32_t> queue;
+    queue.reserve(unresolved);
+    SeedFlatOutlets(view, filled, direction, distance, queue);
+    FlatDistances(view, filled, direction, distance, queue, progress);
+    const FlatCounts flats = DrainFlats(view, filled, direction, distance);
+    summary.outlets += flats.outlets;
+    summary.flatCells += flats.flatCells;
+    summary.sinks += flats.sinks;
   }
   if (progress)
   {
