@@ -657,7 +657,317 @@ struct WaterFlowSimulation::ScratchPool
 {
   std::mutex mutex;
   std::vector<std::unique_ptr<RowScratch>> free;
+
+  /// A scratch from the pool, or a new one for rows of `stride` padded cells.
+  std::unique_ptr<RowScratch> Take(int stride)
+  {
+    std::unique_ptr<RowScratch> scratch;
+    {
+      std::lock_guard<std::mutex> lock(this->mutex);
+      if (!this->free.empty())
+      {
+        scratch = std::move(this->free.back());
+        this->free.pop_back();
+      }
+    }
+    if (!scratch)
+    {
+      scratch.reset(new RowScratch(stride));
+    }
+    return scratch;
+  }
 };
+
+/**
+ * One block of rows of an iteration (RowBlock), on one scratch: what the givers of each padded
+ * row send (Givers), then the gather of each row from its three giver rows (Gather), in a ring
+ * of three giver rows (Rows). Each stage is one call of a row kernel (RowKernels) over a whole
+ * row; the per-row set-up lives here.
+ */
+struct WaterFlowSimulation::RowPass
+{
+  RowPass(WaterFlowSimulation& sim, RowScratch& scratch);
+  /// The rows [begin, end) of the block: RowMoved, RowOutflow and RowEmptied of each.
+  void Rows(int begin, int end);
+
+private:
+  /// What an interior row and the border rows it gathers add up to (m^3, and a cell count).
+  struct Volumes
+  {
+    double moved = 0.0;
+    double outflow = 0.0;
+    double emptied = 0.0;
+  };
+  /// Absolute heights H = T + W of padded row r, from the ring of four rows (computed once).
+  const double* HeightsOf(int r);
+  /// Fills `g` with the givers of padded row r (all zero on the border rows and columns).
+  void Givers(int r, GiverRow& g);
+  /// The cells of `g` flagged -2 (all = W exactly) through the scalar WaterFlowEvacuation.
+  void RareGivers(std::size_t row0,
+    const double* hs,
+    const double* hm,
+    const double* hn,
+    const double close[8],
+    GiverRow& g);
+  /// Gathers padded row r (interior rows update water; outlets add to the outflow).
+  void Gather(int r, const GiverRow& south, const GiverRow& mid, const GiverRow& north, Volumes& v);
+  /// The cells of interior row r that gave all their water (Long (2016)'s stop measure).
+  double EmptiedCells(int r, std::size_t row0);
+
+  static std::size_t RowStart(int r, int stride)
+  {
+    return static_cast<std::size_t>(r) * static_cast<std::size_t>(stride);
+  }
+
+  WaterFlowSimulation& Sim;
+  const RowKernels Kernels;
+  const int NX;
+  const int NY;
+  const int Stride;
+  RowScratch& Buffers;
+  const float* T;
+  const double* W;
+  const std::uint8_t* IsCell;
+  double* Next;
+  double* Discharge;
+  int HeightRow[4] = { -1, -1, -1, -1 };
+};
+
+//------------------------------------------------------------------------------
+WaterFlowSimulation::RowPass::RowPass(WaterFlowSimulation& sim, RowScratch& scratch)
+  : Sim(sim)
+  , Kernels(ChooseRowKernels())
+  , NX(sim.NX)
+  , NY(sim.NY)
+  , Stride(sim.NX + 2)
+  , Buffers(scratch)
+  , T(sim.Terrain.data())
+  , W(sim.Water.data())
+  , IsCell(sim.IsCell.data())
+  , Next(sim.NextWater.data())
+  , Discharge(sim.DischargeDepth.data())
+{
+}
+
+//------------------------------------------------------------------------------
+inline const double* WaterFlowSimulation::RowPass::HeightsOf(int r)
+{
+  // A ring of four rows: the givers of row r + 1 read rows r .. r + 2 while row r gathers.
+  const int k = r & 3;
+  std::vector<double>* heights = this->Buffers.heights;
+  if (this->HeightRow[k] != r)
+  {
+    const std::size_t row0 = RowStart(r, this->Stride);
+    this->Kernels.heights(this->Stride, this->T + row0, this->W + row0, heights[k].data());
+    this->HeightRow[k] = r;
+  }
+  return heights[k].data();
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::RowPass::Givers(int r, GiverRow& g)
+{
+  if (r <= 0 || r >= NY + 1)
+  {
+    std::fill(g.out.begin(), g.out.end(), 0.0);
+    std::fill(g.flow.begin(), g.flow.end(), 0.0);
+    return;
+  }
+  const WaterFlowSimulation& sim = this->Sim;
+  const double close[8] = { sim.CloseEW[r],
+    sim.CloseDiag[r],
+    sim.CloseNS[r],
+    sim.CloseDiag[r],
+    sim.CloseEW[r],
+    sim.CloseDiag[r - 1],
+    sim.CloseNS[r - 1],
+    sim.CloseDiag[r - 1] };
+  const std::size_t row0 = RowStart(r, this->Stride);
+  const double* hs = this->HeightsOf(r - 1);
+  const double* hm = this->HeightsOf(r);
+  const double* hn = this->HeightsOf(r + 1);
+  (sim.LongCapacity ? this->Kernels.giverLiteral : this->Kernels.giver)(NX,
+    this->T + row0,
+    this->W + row0,
+    hs,
+    hm,
+    hn,
+    close,
+    g.out.data(),
+    g.Flow(0),
+    g.Flow(1),
+    g.Flow(2),
+    g.Flow(3),
+    g.Flow(4),
+    g.Flow(5),
+    g.Flow(6),
+    g.Flow(7));
+  // The part cells, gathered into a structure of arrays for the vectorised kernel; the rare
+  // all = W cells through the scalar function.
+  RowScratch& sc = this->Buffers;
+  bool rare = false;
+  const int m = this->Kernels.compact(NX, g.out.data(), sc.partColumn.data(), rare);
+  if (rare)
+  {
+    this->RareGivers(row0, hs, hm, hn, close, g);
+  }
+  if (m == 0)
+  {
+    return;
+  }
+  this->Kernels.part(m,
+    sc.partColumn.data(),
+    hs,
+    hm,
+    hn,
+    sc.partSelf.data(),
+    sc.partHeights.data(),
+    close,
+    sc.partLevel.data(),
+    sc.partNum.data(),
+    sc.partDen.data(),
+    sc.partLowest.data(),
+    sc.partChanged.data(),
+    sc.partScale.data(),
+    g.width,
+    g.out.data(),
+    g.flow.data());
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::RowPass::RareGivers(std::size_t row0,
+  const double* hs,
+  const double* hm,
+  const double* hn,
+  const double close[8],
+  GiverRow& g)
+{
+  for (int pi = 1; pi <= NX; ++pi)
+  {
+    if (g.out[pi + 1] == -2.0)
+    {
+      const double h[8] = {
+        hm[pi + 1], hn[pi + 1], hn[pi], hn[pi - 1], hm[pi - 1], hs[pi - 1], hs[pi], hs[pi + 1]
+      };
+      const WaterFlowGiver v = WaterFlowEvacuation(
+        this->T[row0 + pi], this->W[row0 + pi], h, close, this->Sim.LongCapacity);
+      g.out[pi + 1] = v.out;
+      for (int k = 0; k < kWaterFlowNeighbours; ++k)
+      {
+        g.Flow(k)[pi + 1] = v.scale * close[k] * std::max(0.0, v.level - h[k]);
+      }
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::RowPass::Gather(int r,
+  const GiverRow& south,
+  const GiverRow& mid,
+  const GiverRow& north,
+  Volumes& v)
+{
+  const WaterFlowSimulation& sim = this->Sim;
+  const std::vector<double>& area = sim.Area;
+  RowScratch& sc = this->Buffers;
+  const std::size_t row0 = RowStart(r, this->Stride);
+  GatherRowConstants k;
+  // Volume sent from a neighbouring row becomes depth here through the area ratio.
+  k.fromNorth = r + 1 < NY + 2 ? area[r + 1] / area[r] : 0.0;
+  k.fromSouth = r > 0 ? area[r - 1] / area[r] : 0.0;
+  // Neighbour order E, NE, N, NW, W, SW, S, SE: a cell receives what its row's givers send
+  // east (0) and west (4), what the northern row sends south-east (7), south (6) and
+  // south-west (5), and what the southern row sends north-east (1), north (2), north-west (3).
+  const bool edges = !sim.Edges.empty();
+  double* edge = this->Sim.Edges.data();
+  const std::size_t plane = edges ? sim.Edges.size() / 4 : 0;
+  (edges ? this->Kernels.gatherEdges : this->Kernels.gather)(this->Stride,
+    r >= 1 && r <= NY,
+    k,
+    this->W + row0,
+    this->IsCell + row0,
+    mid.out.data(),
+    mid.Flow(0),
+    mid.Flow(4),
+    north.Flow(7),
+    north.Flow(6),
+    north.Flow(5),
+    south.Flow(1),
+    south.Flow(2),
+    south.Flow(3),
+    this->Next + row0,
+    this->Discharge + row0,
+    sc.cellOut.data(),
+    sc.outletIn.data(),
+    sim.RainField.empty() ? sim.RainRowData.data() : sim.RainField.data() + row0,
+    mid.Flow(1),
+    mid.Flow(2),
+    mid.Flow(3),
+    edges ? edge + row0 : nullptr,
+    edges ? edge + plane + row0 : nullptr,
+    edges ? edge + 2 * plane + row0 : nullptr,
+    edges ? edge + 3 * plane + row0 : nullptr);
+  v.moved += RowSum(sc.cellOut.data(), this->Stride) * area[r];
+  v.outflow += RowSum(sc.outletIn.data(), this->Stride) * area[r];
+  if (sim.CountEmptied)
+  {
+    v.emptied += this->EmptiedCells(r, row0);
+  }
+}
+
+//------------------------------------------------------------------------------
+double WaterFlowSimulation::RowPass::EmptiedCells(int r, std::size_t row0)
+{
+  // Cells that gave all their water (the "all" case gives exactly W): cellOut holds what each
+  // cell gave.
+  RowScratch& sc = this->Buffers;
+  const double* cellOut = sc.cellOut.data();
+  double* cellEmptied = sc.cellEmptied.data();
+  const double* w = this->W + row0;
+  const std::uint8_t* cells = this->IsCell + row0;
+  const bool interior = r >= 1 && r <= NY;
+  const int stride = this->Stride;
+  for (int pi = 0; pi < stride; ++pi)
+  {
+    cellEmptied[pi] = interior && cells[pi] && w[pi] > 0.0 && cellOut[pi] == w[pi] ? 1.0 : 0.0;
+  }
+  return RowSum(cellEmptied, stride);
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::RowPass::Rows(int begin, int end)
+{
+  // Ring of three giver rows: padded rows r - 1, r, r + 1 for interior row r = j + 1. Each
+  // stage runs over a whole row: strips of a few hundred columns, the stages interleaved (to
+  // spread the memory traffic over the arithmetic), and software prefetches a row ahead were
+  // both slower (1024^2: 1.5 ms per iteration whole, 1.65 in strips of 512, 2.2 of 256; 1.6-1.9
+  // with the prefetches).
+  GiverRow* rows = this->Buffers.rows;
+  const GiverRow& zero = this->Buffers.zero;
+  int slot[3] = { 0, 1, 2 };
+  this->Givers(begin, rows[slot[0]]);
+  this->Givers(begin + 1, rows[slot[1]]);
+  for (int j = begin; j < end; ++j)
+  {
+    const int r = j + 1;
+    this->Givers(r + 1, rows[slot[2]]);
+    Volumes v;
+    if (r == 1)
+    {
+      // The southern border row gathers from row 1 only.
+      this->Gather(0, zero, rows[slot[0]], rows[slot[1]], v);
+    }
+    this->Gather(r, rows[slot[0]], rows[slot[1]], rows[slot[2]], v);
+    if (r == NY)
+    {
+      this->Gather(NY + 1, rows[slot[1]], rows[slot[2]], zero, v);
+    }
+    this->Sim.RowMoved[j] = v.moved;
+    this->Sim.RowOutflow[j] = v.outflow;
+    this->Sim.RowEmptied[j] = v.emptied;
+    std::rotate(slot, slot + 1, slot + 3);
+  }
+}
 
 //------------------------------------------------------------------------------
 WaterFlowSimulation::~WaterFlowSimulation() = default;
@@ -808,23 +1118,9 @@ WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const d
 //------------------------------------------------------------------------------
 void WaterFlowSimulation::RowBlock(int begin, int end)
 {
-  const RowKernels kernels = ChooseRowKernels();
-  const int stride = NX + 2;
   // A scratch from the pool (or a new one), given back when the block is done.
   ScratchPool& pool = *this->Scratch;
-  std::unique_ptr<RowScratch> scratch;
-  {
-    std::lock_guard<std::mutex> lock(pool.mutex);
-    if (!pool.free.empty())
-    {
-      scratch = std::move(pool.free.back());
-      pool.free.pop_back();
-    }
-  }
-  if (!scratch)
-  {
-    scratch.reset(new RowScratch(stride));
-  }
+  std::unique_ptr<RowScratch> scratch = pool.Take(NX + 2);
   struct GiveBack
   {
     ScratchPool& pool;
@@ -835,217 +1131,7 @@ void WaterFlowSimulation::RowBlock(int begin, int end)
       pool.free.push_back(std::move(s));
     }
   } giveBack{ pool, scratch };
-  RowScratch& sc = *scratch;
-  GiverRow* rows = sc.rows;
-  const GiverRow& zero = sc.zero;
-  const float* T = this->Terrain.data();
-  const double* W = this->Water.data();
-  const std::uint8_t* isCell = this->IsCell.data();
-  double* next = this->NextWater.data();
-  double* discharge = this->DischargeDepth.data();
-  auto rowStart = [stride](int r)
-  { return static_cast<std::size_t>(r) * static_cast<std::size_t>(stride); };
-
-  // Absolute heights H = T + W of padded rows, computed once per row: a ring of four rows
-  // (the givers of row r + 1 read rows r .. r + 2 while row r gathers).
-  std::vector<double>* heights = sc.heights;
-  int heightRow[4] = { -1, -1, -1, -1 };
-  auto heightsOf = [&](int r) -> const double*
-  {
-    const int k = r & 3;
-    if (heightRow[k] != r)
-    {
-      const std::size_t row0 = rowStart(r);
-      kernels.heights(stride, T + row0, W + row0, heights[k].data());
-      heightRow[k] = r;
-    }
-    return heights[k].data();
-  };
-  std::vector<double>& cellOut = sc.cellOut;
-  std::vector<double>& cellEmptied = sc.cellEmptied;
-  std::vector<double>& outletIn = sc.outletIn;
-  std::vector<int>& partColumn = sc.partColumn;
-  std::vector<double>& partSelf = sc.partSelf;
-  std::vector<double>& partHeights = sc.partHeights;
-  std::vector<double>& partLevel = sc.partLevel;
-  std::vector<double>& partNum = sc.partNum;
-  std::vector<double>& partDen = sc.partDen;
-  std::vector<double>& partLowest = sc.partLowest;
-  std::vector<double>& partChanged = sc.partChanged;
-  std::vector<double>& partScale = sc.partScale;
-
-  // Fills `g` with the givers of padded row r (all zero on the border rows and columns).
-  auto givers = [&](int r, GiverRow& g)
-  {
-    if (r <= 0 || r >= NY + 1)
-    {
-      std::fill(g.out.begin(), g.out.end(), 0.0);
-      std::fill(g.flow.begin(), g.flow.end(), 0.0);
-      return;
-    }
-    const double close[8] = { CloseEW[r],
-      CloseDiag[r],
-      CloseNS[r],
-      CloseDiag[r],
-      CloseEW[r],
-      CloseDiag[r - 1],
-      CloseNS[r - 1],
-      CloseDiag[r - 1] };
-    const std::size_t row0 = rowStart(r);
-    const double* hs = heightsOf(r - 1);
-    const double* hm = heightsOf(r);
-    const double* hn = heightsOf(r + 1);
-    (this->LongCapacity ? kernels.giverLiteral : kernels.giver)(NX,
-      T + row0,
-      W + row0,
-      hs,
-      hm,
-      hn,
-      close,
-      g.out.data(),
-      g.Flow(0),
-      g.Flow(1),
-      g.Flow(2),
-      g.Flow(3),
-      g.Flow(4),
-      g.Flow(5),
-      g.Flow(6),
-      g.Flow(7));
-    // The part cells, gathered into a structure of arrays for the vectorised kernel; the rare
-    // all = W cells through the scalar function.
-    bool rare = false;
-    const int m = kernels.compact(NX, g.out.data(), partColumn.data(), rare);
-    for (int pi = 1; rare && pi <= NX; ++pi)
-    {
-      if (g.out[pi + 1] == -2.0)
-      {
-        const double h[8] = {
-          hm[pi + 1], hn[pi + 1], hn[pi], hn[pi - 1], hm[pi - 1], hs[pi - 1], hs[pi], hs[pi + 1]
-        };
-        const WaterFlowGiver v =
-          WaterFlowEvacuation(T[row0 + pi], W[row0 + pi], h, close, this->LongCapacity);
-        g.out[pi + 1] = v.out;
-        for (int k = 0; k < kWaterFlowNeighbours; ++k)
-        {
-          g.Flow(k)[pi + 1] = v.scale * close[k] * std::max(0.0, v.level - h[k]);
-        }
-      }
-    }
-    if (m == 0)
-    {
-      return;
-    }
-    kernels.part(m,
-      partColumn.data(),
-      hs,
-      hm,
-      hn,
-      partSelf.data(),
-      partHeights.data(),
-      close,
-      partLevel.data(),
-      partNum.data(),
-      partDen.data(),
-      partLowest.data(),
-      partChanged.data(),
-      partScale.data(),
-      g.width,
-      g.out.data(),
-      g.flow.data());
-  };
-
-  // Gathers padded row r (interior rows update water; outlets add to the outflow).
-  auto gather = [&](int r,
-                  const GiverRow& south,
-                  const GiverRow& mid,
-                  const GiverRow& north,
-                  double& moved,
-                  double& outflow,
-                  double& emptied)
-  {
-    const std::size_t row0 = rowStart(r);
-    GatherRowConstants k;
-    // Volume sent from a neighbouring row becomes depth here through the area ratio.
-    k.fromNorth = r + 1 < NY + 2 ? Area[r + 1] / Area[r] : 0.0;
-    k.fromSouth = r > 0 ? Area[r - 1] / Area[r] : 0.0;
-    // Neighbour order E, NE, N, NW, W, SW, S, SE: a cell receives what its row's givers send
-    // east (0) and west (4), what the northern row sends south-east (7), south (6) and
-    // south-west (5), and what the southern row sends north-east (1), north (2), north-west (3).
-    const bool edges = !this->Edges.empty();
-    const std::size_t plane = edges ? this->Edges.size() / 4 : 0;
-    (edges ? kernels.gatherEdges : kernels.gather)(stride,
-      r >= 1 && r <= NY,
-      k,
-      W + row0,
-      isCell + row0,
-      mid.out.data(),
-      mid.Flow(0),
-      mid.Flow(4),
-      north.Flow(7),
-      north.Flow(6),
-      north.Flow(5),
-      south.Flow(1),
-      south.Flow(2),
-      south.Flow(3),
-      next + row0,
-      discharge + row0,
-      cellOut.data(),
-      outletIn.data(),
-      this->RainField.empty() ? this->RainRowData.data() : this->RainField.data() + row0,
-      mid.Flow(1),
-      mid.Flow(2),
-      mid.Flow(3),
-      edges ? this->Edges.data() + row0 : nullptr,
-      edges ? this->Edges.data() + plane + row0 : nullptr,
-      edges ? this->Edges.data() + 2 * plane + row0 : nullptr,
-      edges ? this->Edges.data() + 3 * plane + row0 : nullptr);
-    moved += RowSum(cellOut.data(), stride) * Area[r];
-    outflow += RowSum(outletIn.data(), stride) * Area[r];
-    if (this->CountEmptied)
-    {
-      // Cells that gave all their water (the "all" case gives exactly W), for Long (2016)'s stop
-      // measure: cellOut holds what each cell gave.
-      const double* w = W + row0;
-      const std::uint8_t* cells = isCell + row0;
-      const bool interior = r >= 1 && r <= NY;
-      for (int pi = 0; pi < stride; ++pi)
-      {
-        cellEmptied[pi] = interior && cells[pi] && w[pi] > 0.0 && cellOut[pi] == w[pi] ? 1.0 : 0.0;
-      }
-      emptied += RowSum(cellEmptied.data(), stride);
-    }
-  };
-
-  // Ring of three giver rows: padded rows r - 1, r, r + 1 for interior row r = j + 1. Each
-  // stage runs over a whole row: strips of a few hundred columns, the stages interleaved (to
-  // spread the memory traffic over the arithmetic), and software prefetches a row ahead were
-  // both slower (1024^2: 1.5 ms per iteration whole, 1.65 in strips of 512, 2.2 of 256; 1.6-1.9
-  // with the prefetches).
-  int slot[3] = { 0, 1, 2 };
-  givers(begin, rows[slot[0]]);
-  givers(begin + 1, rows[slot[1]]);
-  for (int j = begin; j < end; ++j)
-  {
-    const int r = j + 1;
-    givers(r + 1, rows[slot[2]]);
-    double moved = 0.0;
-    double outflow = 0.0;
-    double emptied = 0.0;
-    if (r == 1)
-    {
-      // The southern border row gathers from row 1 only.
-      gather(0, zero, rows[slot[0]], rows[slot[1]], moved, outflow, emptied);
-    }
-    gather(r, rows[slot[0]], rows[slot[1]], rows[slot[2]], moved, outflow, emptied);
-    if (r == NY)
-    {
-      gather(NY + 1, rows[slot[1]], rows[slot[2]], zero, moved, outflow, emptied);
-    }
-    this->RowMoved[j] = moved;
-    this->RowOutflow[j] = outflow;
-    this->RowEmptied[j] = emptied;
-    std::rotate(slot, slot + 1, slot + 3);
-  }
+  RowPass(*this, *scratch).Rows(begin, end);
 }
 
 //------------------------------------------------------------------------------

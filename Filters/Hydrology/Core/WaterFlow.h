@@ -458,6 +458,8 @@ public:
 
 private:
   struct ScratchPool;
+  struct RowPass;
+  /// One iteration over the rows [begin, end) (a RowPass on a scratch from the pool).
   void RowBlock(int begin, int end);
 
   int NX = 0;
