@@ -560,15 +560,10 @@ std::string ArrayLabel(const KMeansInputArray& array, std::size_t index)
   return array.name.empty() ? "input array " + std::to_string(index)
                             : "input array '" + array.name + "'";
 }
-} // namespace
 
-//------------------------------------------------------------------------------
-std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansInputArray>& arrays,
-  std::size_t cells,
-  bool standardize,
-  bool allowCollapse,
-  std::vector<float>& out,
-  const KMeansParallelFor& parallelFor)
+/// KMeansPrepareFeatures' checks: every array has values, at least one component and a finite
+/// weight >= 0, and one weight is > 0 (std::invalid_argument otherwise).
+void CheckInputArrays(const std::vector<KMeansInputArray>& arrays)
 {
   bool anyWeight = false;
   for (std::size_t a = 0; a < arrays.size(); ++a)
@@ -596,8 +591,193 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
         ? "k-means: no input array"
         : "k-means: every input array has weight 0 (nothing to cluster)");
   }
+}
 
+/// p.mean of input array `a` (its index, for messages): per block, per component, in cell
+/// order; the blocks added in block order. Throws on a non-finite value.
+void ArrayMeans(const KMeansInputArray& array,
+  std::size_t a,
+  std::size_t cells,
+  const KMeansParallelFor& parallelFor,
+  KMeansPreparedArray& p)
+{
   const std::size_t blocks = BlockCount(cells);
+  const std::size_t nc = static_cast<std::size_t>(array.components);
+  const float* values = array.values;
+  std::vector<double> partial(blocks * nc, 0.0);
+  RunParallel(parallelFor,
+    0,
+    blocks,
+    [&](std::size_t first, std::size_t last)
+    {
+      std::vector<double> acc(nc);
+      for (std::size_t b = first; b < last; ++b)
+      {
+        std::fill(acc.begin(), acc.end(), 0.0);
+        for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
+        {
+          for (std::size_t j = 0; j < nc; ++j)
+          {
+            acc[j] += static_cast<double>(values[c * nc + j]);
+          }
+        }
+        std::copy(acc.begin(), acc.end(), partial.begin() + b * nc);
+      }
+    });
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    for (std::size_t j = 0; j < nc; ++j)
+    {
+      p.mean[j] += partial[b * nc + j];
+    }
+  }
+  for (std::size_t j = 0; j < nc; ++j)
+  {
+    // Finite floats cannot overflow a double sum: a non-finite sum means a non-finite value.
+    if (!std::isfinite(p.mean[j]))
+    {
+      throw std::invalid_argument("k-means: " + ArrayLabel(array, a) + " component " +
+        std::to_string(j) + " has a non-finite value (NaN or infinity)");
+    }
+    p.mean[j] = cells > 0 ? p.mean[j] / static_cast<double>(cells) : 0.0;
+  }
+}
+
+/// p.stddev (population standard deviations: a second pass, in ArrayMeans' order) and
+/// p.collapsed, the collapse test: for every component j > 0 the interval of constants c_j
+/// allowed by every cell, [max(d - tol), min(d + tol)], is not empty.
+void ArrayDeviations(const KMeansInputArray& array,
+  std::size_t cells,
+  bool allowCollapse,
+  const KMeansParallelFor& parallelFor,
+  KMeansPreparedArray& p)
+{
+  const std::size_t blocks = BlockCount(cells);
+  const std::size_t nc = static_cast<std::size_t>(array.components);
+  const float* values = array.values;
+  std::vector<double> partial(blocks * nc, 0.0);
+  const bool tryCollapse = allowCollapse && nc > 1;
+  std::vector<double> lo(tryCollapse ? blocks * nc : 0, -std::numeric_limits<double>::infinity());
+  std::vector<double> hi(tryCollapse ? blocks * nc : 0, std::numeric_limits<double>::infinity());
+  RunParallel(parallelFor,
+    0,
+    blocks,
+    [&](std::size_t first, std::size_t last)
+    {
+      std::vector<double> acc(nc);
+      for (std::size_t b = first; b < last; ++b)
+      {
+        std::fill(acc.begin(), acc.end(), 0.0);
+        for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
+        {
+          for (std::size_t j = 0; j < nc; ++j)
+          {
+            const double d = static_cast<double>(values[c * nc + j]) - p.mean[j];
+            acc[j] += d * d;
+          }
+        }
+        std::copy(acc.begin(), acc.end(), partial.begin() + b * nc);
+        if (tryCollapse)
+        {
+          double* l = lo.data() + b * nc;
+          double* h = hi.data() + b * nc;
+          for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
+          {
+            const float x0 = values[c * nc];
+            for (std::size_t j = 1; j < nc; ++j)
+            {
+              const float xj = values[c * nc + j];
+              const double d = static_cast<double>(xj) - static_cast<double>(x0);
+              const double tol = 4.0 * FloatUlp(std::max(std::fabs(xj), std::fabs(x0)));
+              l[j] = std::max(l[j], d - tol);
+              h[j] = std::min(h[j], d + tol);
+            }
+          }
+        }
+      }
+    });
+  std::vector<double> squares(nc, 0.0);
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    for (std::size_t j = 0; j < nc; ++j)
+    {
+      squares[j] += partial[b * nc + j];
+    }
+  }
+  for (std::size_t j = 0; j < nc; ++j)
+  {
+    p.stddev[j] = cells > 0 ? std::sqrt(squares[j] / static_cast<double>(cells)) : 0.0;
+  }
+  p.collapsed = false;
+  if (tryCollapse)
+  {
+    p.collapsed = true;
+    for (std::size_t j = 1; j < nc && p.collapsed; ++j)
+    {
+      double l = -std::numeric_limits<double>::infinity();
+      double h = std::numeric_limits<double>::infinity();
+      for (std::size_t b = 0; b < blocks; ++b)
+      {
+        l = std::max(l, lo[b * nc + j]);
+        h = std::min(h, hi[b * nc + j]);
+      }
+      p.collapsed = l <= h;
+    }
+  }
+}
+
+/// The p.features rows of `array` in the feature-major matrix, from `dst` on: (x - mean) *
+/// factor, with the mean and 1 / standard deviation when standardising and the square root of
+/// the weight always; one pass over the array for all its features.
+void WriteArrayFeatures(const KMeansInputArray& array,
+  const KMeansPreparedArray& p,
+  std::size_t cells,
+  bool standardize,
+  const KMeansParallelFor& parallelFor,
+  float* dst)
+{
+  const std::size_t nc = static_cast<std::size_t>(array.components);
+  // A collapsed array is component 0 counted `components` times.
+  const double root =
+    std::sqrt(p.collapsed ? array.weight * static_cast<double>(nc) : array.weight);
+  std::vector<double> mean(static_cast<std::size_t>(p.features), 0.0);
+  std::vector<double> factor(static_cast<std::size_t>(p.features), root);
+  for (std::size_t j = 0; j < mean.size(); ++j)
+  {
+    if (standardize)
+    {
+      mean[j] = p.mean[j];
+      factor[j] = p.stddev[j] > 0.0 ? root / p.stddev[j] : 0.0;
+    }
+  }
+  const float* values = array.values;
+  RunParallel(parallelFor,
+    0,
+    BlockCount(cells),
+    [&](std::size_t first, std::size_t last)
+    {
+      const std::size_t c1 = BlockEnd(last - 1, cells);
+      for (std::size_t c = BlockBegin(first); c < c1; ++c)
+      {
+        for (std::size_t j = 0; j < mean.size(); ++j)
+        {
+          const double x = static_cast<double>(values[c * nc + j]);
+          dst[j * cells + c] = static_cast<float>((x - mean[j]) * factor[j]);
+        }
+      }
+    });
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansInputArray>& arrays,
+  std::size_t cells,
+  bool standardize,
+  bool allowCollapse,
+  std::vector<float>& out,
+  const KMeansParallelFor& parallelFor)
+{
+  CheckInputArrays(arrays);
   std::vector<KMeansPreparedArray> prepared(arrays.size());
   int features = 0;
   for (std::size_t a = 0; a < arrays.size(); ++a)
@@ -616,118 +796,10 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
       p.features = 0;
       continue;
     }
-    const float* values = array.values;
-
-    // Means: per block, per component, in cell order; the blocks added in block order.
-    std::vector<double> partial(blocks * nc, 0.0);
-    RunParallel(parallelFor,
-      0,
-      blocks,
-      [&](std::size_t first, std::size_t last)
-      {
-        std::vector<double> acc(nc);
-        for (std::size_t b = first; b < last; ++b)
-        {
-          std::fill(acc.begin(), acc.end(), 0.0);
-          for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
-          {
-            for (std::size_t j = 0; j < nc; ++j)
-            {
-              acc[j] += static_cast<double>(values[c * nc + j]);
-            }
-          }
-          std::copy(acc.begin(), acc.end(), partial.begin() + b * nc);
-        }
-      });
-    for (std::size_t b = 0; b < blocks; ++b)
-    {
-      for (std::size_t j = 0; j < nc; ++j)
-      {
-        p.mean[j] += partial[b * nc + j];
-      }
-    }
-    for (std::size_t j = 0; j < nc; ++j)
-    {
-      // Finite floats cannot overflow a double sum: a non-finite sum means a non-finite value.
-      if (!std::isfinite(p.mean[j]))
-      {
-        throw std::invalid_argument("k-means: " + ArrayLabel(array, a) + " component " +
-          std::to_string(j) + " has a non-finite value (NaN or infinity)");
-      }
-      p.mean[j] = cells > 0 ? p.mean[j] / static_cast<double>(cells) : 0.0;
-    }
-
-    // Population standard deviations (second pass, same order), and the collapse test: the
-    // interval of constants c_j allowed by every cell, [max(d - tol), min(d + tol)].
-    const bool tryCollapse = allowCollapse && nc > 1;
-    std::vector<double> lo(tryCollapse ? blocks * nc : 0, -std::numeric_limits<double>::infinity());
-    std::vector<double> hi(tryCollapse ? blocks * nc : 0, std::numeric_limits<double>::infinity());
-    std::fill(partial.begin(), partial.end(), 0.0);
-    RunParallel(parallelFor,
-      0,
-      blocks,
-      [&](std::size_t first, std::size_t last)
-      {
-        std::vector<double> acc(nc);
-        for (std::size_t b = first; b < last; ++b)
-        {
-          std::fill(acc.begin(), acc.end(), 0.0);
-          for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
-          {
-            for (std::size_t j = 0; j < nc; ++j)
-            {
-              const double d = static_cast<double>(values[c * nc + j]) - p.mean[j];
-              acc[j] += d * d;
-            }
-          }
-          std::copy(acc.begin(), acc.end(), partial.begin() + b * nc);
-          if (tryCollapse)
-          {
-            double* l = lo.data() + b * nc;
-            double* h = hi.data() + b * nc;
-            for (std::size_t c = BlockBegin(b); c < BlockEnd(b, cells); ++c)
-            {
-              const float x0 = values[c * nc];
-              for (std::size_t j = 1; j < nc; ++j)
-              {
-                const float xj = values[c * nc + j];
-                const double d = static_cast<double>(xj) - static_cast<double>(x0);
-                const double tol = 4.0 * FloatUlp(std::max(std::fabs(xj), std::fabs(x0)));
-                l[j] = std::max(l[j], d - tol);
-                h[j] = std::min(h[j], d + tol);
-              }
-            }
-          }
-        }
-      });
-    std::vector<double> squares(nc, 0.0);
-    for (std::size_t b = 0; b < blocks; ++b)
-    {
-      for (std::size_t j = 0; j < nc; ++j)
-      {
-        squares[j] += partial[b * nc + j];
-      }
-    }
-    for (std::size_t j = 0; j < nc; ++j)
-    {
-      p.stddev[j] = cells > 0 ? std::sqrt(squares[j] / static_cast<double>(cells)) : 0.0;
-    }
-    p.collapsed = false;
-    if (tryCollapse)
-    {
-      p.collapsed = true;
-      for (std::size_t j = 1; j < nc && p.collapsed; ++j)
-      {
-        double l = -std::numeric_limits<double>::infinity();
-        double h = std::numeric_limits<double>::infinity();
-        for (std::size_t b = 0; b < blocks; ++b)
-        {
-          l = std::max(l, lo[b * nc + j]);
-          h = std::min(h, hi[b * nc + j]);
-        }
-        p.collapsed = l <= h;
-      }
-    }
+    // Means (per block, per component, in cell order; the blocks added in block order), then
+    // the standard deviations and the collapse test.
+    ArrayMeans(array, a, cells, parallelFor, p);
+    ArrayDeviations(array, cells, allowCollapse, parallelFor, p);
     p.features = p.collapsed ? 1 : array.components;
     features += p.features;
   }
@@ -736,43 +808,17 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
   out.assign(static_cast<std::size_t>(features) * cells, 0.0f);
   for (std::size_t a = 0; a < arrays.size(); ++a)
   {
-    const KMeansInputArray& array = arrays[a];
     const KMeansPreparedArray& p = prepared[a];
     if (p.features == 0)
     {
       continue;
     }
-    const std::size_t nc = static_cast<std::size_t>(array.components);
-    // A collapsed array is component 0 counted `components` times.
-    const double root =
-      std::sqrt(p.collapsed ? array.weight * static_cast<double>(nc) : array.weight);
-    std::vector<double> mean(static_cast<std::size_t>(p.features), 0.0);
-    std::vector<double> factor(static_cast<std::size_t>(p.features), root);
-    for (std::size_t j = 0; j < mean.size(); ++j)
-    {
-      if (standardize)
-      {
-        mean[j] = p.mean[j];
-        factor[j] = p.stddev[j] > 0.0 ? root / p.stddev[j] : 0.0;
-      }
-    }
-    float* dst = out.data() + static_cast<std::size_t>(p.firstFeature) * cells;
-    const float* values = array.values;
-    RunParallel(parallelFor,
-      0,
-      blocks,
-      [&](std::size_t first, std::size_t last)
-      {
-        const std::size_t c1 = BlockEnd(last - 1, cells);
-        for (std::size_t c = BlockBegin(first); c < c1; ++c)
-        {
-          for (std::size_t j = 0; j < mean.size(); ++j)
-          {
-            const double x = static_cast<double>(values[c * nc + j]);
-            dst[j * cells + c] = static_cast<float>((x - mean[j]) * factor[j]);
-          }
-        }
-      });
+    WriteArrayFeatures(arrays[a],
+      p,
+      cells,
+      standardize,
+      parallelFor,
+      out.data() + static_cast<std::size_t>(p.firstFeature) * cells);
   }
   return prepared;
 }
@@ -1205,13 +1251,13 @@ double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFo
   return total / static_cast<double>(nf);
 }
 
-//------------------------------------------------------------------------------
-KMeansResult KMeansLloyd(KMeansEngine& engine,
-  const KMeansFeatures& features,
+namespace
+{
+/// KMeansLloyd's argument checks, in its documented order (std::invalid_argument).
+void CheckLloydArguments(const KMeansFeatures& features,
   const std::vector<float>& initialCentres,
   int k,
-  const KMeansOptions& options,
-  const std::function<void(int, std::size_t)>& progress)
+  const KMeansOptions& options)
 {
   if (k < 1 || k > KMeansMaxClusters)
   {
@@ -1241,6 +1287,126 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
   {
     throw std::invalid_argument("k-means: the tolerance must be a number >= 0");
   }
+}
+
+/**
+ * Step 3 of KMeansLloyd, empty clusters (scikit-learn's _relocate_empty_clusters_dense): the
+ * cells farthest from their centre, largest kept d2 first (ties to the lowest cell), move to
+ * the empty clusters in increasing order (in `sums` and `counts`); nothing when every cell sits
+ * on its centre. Reads the engine's labels and distances only when a cluster is empty. Returns
+ * the number of clusters relocated.
+ */
+int RelocateEmptyClusters(KMeansEngine& engine,
+  const KMeansFeatures& features,
+  std::size_t K,
+  std::vector<double>& sums,
+  std::vector<std::int64_t>& counts)
+{
+  const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
+  std::vector<std::size_t> empty;
+  for (std::size_t kk = 0; kk < K; ++kk)
+  {
+    if (counts[kk] == 0)
+    {
+      empty.push_back(kk);
+    }
+  }
+  if (empty.empty())
+  {
+    return 0;
+  }
+  const float* d = engine.Distances();
+  const std::int32_t* labels = engine.Labels();
+  // The |empty| largest d2, in decreasing order (ties: lower index first). Scanning in cell
+  // order, only a strictly larger d2 passes an entry already kept.
+  std::vector<std::size_t> far;
+  for (std::size_t c = 0; c < features.cells; ++c)
+  {
+    if (far.size() == empty.size() && !(d[c] > d[far.back()]))
+    {
+      continue;
+    }
+    std::size_t pos = far.size();
+    while (pos > 0 && d[c] > d[far[pos - 1]])
+    {
+      --pos;
+    }
+    far.insert(far.begin() + static_cast<std::ptrdiff_t>(pos), c);
+    if (far.size() > empty.size())
+    {
+      far.pop_back();
+    }
+  }
+  int relocated = 0;
+  if (!far.empty() && d[far[0]] > 0.0f)
+  {
+    for (std::size_t e = 0; e < empty.size(); ++e)
+    {
+      const std::size_t kk = empty[e];
+      const std::size_t cell = far[e];
+      const std::size_t old = static_cast<std::size_t>(labels[cell]);
+      for (std::size_t f = 0; f < nf; ++f)
+      {
+        const double x = static_cast<double>(features.At(static_cast<int>(f), cell));
+        sums[old * nf + f] -= x;
+        sums[kk * nf + f] = x;
+      }
+      counts[kk] = 1;
+      counts[old] -= 1;
+      ++relocated;
+    }
+  }
+  return relocated;
+}
+
+/**
+ * Step 4 of KMeansLloyd, the new centres (K * nf) into `next`: sums / counts. A cluster left
+ * empty keeps sums of 0 as its centre (scikit-learn's _average_centers only divides clusters
+ * with members). Returns the squared shift from `centres` (per cluster, then summed).
+ */
+double NewCentres(const std::vector<double>& sums,
+  const std::vector<std::int64_t>& counts,
+  std::size_t K,
+  std::size_t nf,
+  const std::vector<float>& centres,
+  std::vector<float>& next)
+{
+  for (std::size_t kk = 0; kk < K; ++kk)
+  {
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      const double s = sums[kk * nf + f];
+      next[kk * nf + f] =
+        static_cast<float>(counts[kk] > 0 ? s / static_cast<double>(counts[kk]) : s);
+    }
+  }
+  double shift = 0.0;
+  for (std::size_t kk = 0; kk < K; ++kk)
+  {
+    double s = 0.0;
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      const double d =
+        static_cast<double>(next[kk * nf + f]) - static_cast<double>(centres[kk * nf + f]);
+      s += d * d;
+    }
+    shift += s;
+  }
+  return shift;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+KMeansResult KMeansLloyd(KMeansEngine& engine,
+  const KMeansFeatures& features,
+  const std::vector<float>& initialCentres,
+  int k,
+  const KMeansOptions& options,
+  const std::function<void(int, std::size_t)>& progress)
+{
+  CheckLloydArguments(features, initialCentres, k, options);
+  const std::size_t K = static_cast<std::size_t>(k);
+  const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
   // scikit-learn's _tolerance: tol * mean of the features' variances (0 needs no pass).
   const double threshold =
     options.tolerance > 0.0 ? options.tolerance * KMeansMeanVariance(features) : 0.0;
@@ -1261,84 +1427,9 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
     engine.Sums(k, sums, counts, inertia);
     rawCounts = counts;
 
-    // 3. Empty clusters (scikit-learn's _relocate_empty_clusters_dense): the cells farthest
-    // from their centre, largest kept d2 first (ties to the lowest cell), to the empty
-    // clusters in increasing order; nothing when every cell sits on its centre.
-    std::vector<std::size_t> empty;
-    for (std::size_t kk = 0; kk < K; ++kk)
-    {
-      if (counts[kk] == 0)
-      {
-        empty.push_back(kk);
-      }
-    }
-    if (!empty.empty())
-    {
-      const float* d = engine.Distances();
-      const std::int32_t* labels = engine.Labels();
-      // The |empty| largest d2, in decreasing order (ties: lower index first). Scanning in cell
-      // order, only a strictly larger d2 passes an entry already kept.
-      std::vector<std::size_t> far;
-      for (std::size_t c = 0; c < features.cells; ++c)
-      {
-        if (far.size() == empty.size() && !(d[c] > d[far.back()]))
-        {
-          continue;
-        }
-        std::size_t pos = far.size();
-        while (pos > 0 && d[c] > d[far[pos - 1]])
-        {
-          --pos;
-        }
-        far.insert(far.begin() + static_cast<std::ptrdiff_t>(pos), c);
-        if (far.size() > empty.size())
-        {
-          far.pop_back();
-        }
-      }
-      if (!far.empty() && d[far[0]] > 0.0f)
-      {
-        for (std::size_t e = 0; e < empty.size(); ++e)
-        {
-          const std::size_t kk = empty[e];
-          const std::size_t cell = far[e];
-          const std::size_t old = static_cast<std::size_t>(labels[cell]);
-          for (std::size_t f = 0; f < nf; ++f)
-          {
-            const double x = static_cast<double>(features.At(static_cast<int>(f), cell));
-            sums[old * nf + f] -= x;
-            sums[kk * nf + f] = x;
-          }
-          counts[kk] = 1;
-          counts[old] -= 1;
-          ++result.relocated;
-        }
-      }
-    }
-
-    // 4. New centres. A cluster left empty keeps sums of 0 as its centre (scikit-learn's
-    // _average_centers only divides clusters with members).
-    for (std::size_t kk = 0; kk < K; ++kk)
-    {
-      for (std::size_t f = 0; f < nf; ++f)
-      {
-        const double s = sums[kk * nf + f];
-        next[kk * nf + f] =
-          static_cast<float>(counts[kk] > 0 ? s / static_cast<double>(counts[kk]) : s);
-      }
-    }
-    double shift = 0.0;
-    for (std::size_t kk = 0; kk < K; ++kk)
-    {
-      double s = 0.0;
-      for (std::size_t f = 0; f < nf; ++f)
-      {
-        const double d =
-          static_cast<double>(next[kk * nf + f]) - static_cast<double>(centres[kk * nf + f]);
-        s += d * d;
-      }
-      shift += s;
-    }
+    // 3. Empty clusters take the cells farthest from their centres; 4. new centres.
+    result.relocated += RelocateEmptyClusters(engine, features, K, sums, counts);
+    const double shift = NewCentres(sums, counts, K, nf, centres, next);
     std::swap(centres, next); // centres: new; next: those the labels were assigned to
 
     if (progress)
