@@ -97,7 +97,141 @@ vtkSmartPointer<vtkIntArray> IntArray(const char* name, int value)
   a->InsertNextValue(value);
   return a;
 }
+
+/// The core's view of feature `f` over the m = cells.size() cells that take part: the array
+/// itself when it is float and no cell is left out, else a packed float copy in `packed`.
+cl::KMeansInputArray PackFeature(const InputFeature& f,
+  const std::vector<std::size_t>& cells,
+  std::size_t n,
+  std::vector<float>& packed)
+{
+  const std::size_t m = cells.size();
+  cl::KMeansInputArray in;
+  in.name = f.name;
+  in.components = f.array->GetNumberOfComponents();
+  in.weight = f.weight;
+  if (f.array->GetDataType() == VTK_FLOAT && m == n)
+  {
+    in.values = static_cast<const float*>(f.array->GetVoidPointer(0));
+    return in;
+  }
+  const int nc = in.components;
+  packed.resize(m * static_cast<std::size_t>(nc));
+  vtkSMPTools::For(0,
+    static_cast<vtkIdType>(m),
+    [&](vtkIdType b, vtkIdType e)
+    {
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        for (int j = 0; j < nc; ++j)
+        {
+          packed[static_cast<std::size_t>(i) * nc + j] =
+            static_cast<float>(f.array->GetComponent(static_cast<vtkIdType>(cells[i]), j));
+        }
+      }
+    });
+  in.values = packed.data();
+  return in;
+}
+
+/// The columns ClusterId, Color, Cells and Share of the cluster table (k rows, m cells in all);
+/// returns the Share column.
+vtkSmartPointer<vtkDoubleArray> AddMemberColumns(vtkTable* table,
+  const std::vector<std::int64_t>& counts,
+  int k,
+  std::size_t m)
+{
+  auto idColumn = vtkSmartPointer<vtkIntArray>::New();
+  idColumn->SetName("ClusterId");
+  auto colorColumn = vtkSmartPointer<vtkStringArray>::New();
+  colorColumn->SetName("Color");
+  auto cellColumn = vtkSmartPointer<vtkIdTypeArray>::New();
+  cellColumn->SetName("Cells");
+  auto shareColumn = vtkSmartPointer<vtkDoubleArray>::New();
+  shareColumn->SetName("Share");
+  for (int c = 0; c < k; ++c)
+  {
+    idColumn->InsertNextValue(c);
+    colorColumn->InsertNextValue(cl::KMeansClusterColor(c));
+    cellColumn->InsertNextValue(static_cast<vtkIdType>(counts[c]));
+    shareColumn->InsertNextValue(static_cast<double>(counts[c]) / static_cast<double>(m));
+  }
+  table->AddColumn(idColumn);
+  table->AddColumn(colorColumn);
+  table->AddColumn(cellColumn);
+  table->AddColumn(shareColumn);
+  return shareColumn;
+}
+
+/// A column per component of feature `f` in the cluster table: its mean over each cluster's
+/// members (finite values only, double sums in cell order), in the array's units.
+void AddFeatureMeanColumns(vtkTable* table,
+  const InputFeature& f,
+  const std::vector<std::size_t>& cells,
+  const std::vector<std::int32_t>& labels,
+  int k)
+{
+  const std::size_t m = cells.size();
+  const int nc = f.array->GetNumberOfComponents();
+  std::vector<double> sum(static_cast<std::size_t>(k) * nc, 0.0);
+  std::vector<std::int64_t> count(static_cast<std::size_t>(k) * nc, 0);
+  for (std::size_t i = 0; i < m; ++i)
+  {
+    const std::size_t base = static_cast<std::size_t>(labels[i]) * nc;
+    for (int j = 0; j < nc; ++j)
+    {
+      const double value = f.array->GetComponent(static_cast<vtkIdType>(cells[i]), j);
+      if (std::isfinite(value))
+      {
+        sum[base + j] += value;
+        ++count[base + j];
+      }
+    }
+  }
+  const char* units = f.array->GetInformation()->Has(vtkDataArray::UNITS_LABEL())
+    ? f.array->GetInformation()->Get(vtkDataArray::UNITS_LABEL())
+    : nullptr;
+  for (int j = 0; j < nc; ++j)
+  {
+    auto column = vtkSmartPointer<vtkDoubleArray>::New();
+    column->SetName(ColumnName(f.array, j).c_str());
+    if (units)
+    {
+      column->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
+    }
+    for (int c = 0; c < k; ++c)
+    {
+      const std::size_t s = static_cast<std::size_t>(c) * nc + j;
+      column->InsertNextValue(count[s] > 0 ? sum[s] / static_cast<double>(count[s]) : NAN);
+    }
+    table->AddColumn(column);
+  }
+}
 } // namespace
+
+/// The state of one RequestTerrainData, from its steps to the next.
+struct vtkTerroirKMeans::Clustering
+{
+  std::string prefix;                       ///< SourcePrefix of the input, for messages
+  std::size_t n = 0;                        ///< cells of the terrain
+  int k = 0;                                ///< clusters
+  std::vector<InputFeature> features;       ///< the feature arrays, resolved
+  std::vector<std::uint8_t> valid;          ///< per terrain cell: takes part
+  std::vector<std::size_t> cells;           ///< the terrain cells that take part, in order (m)
+  std::vector<std::vector<float>> packed;   ///< packed float copies, until the matrix is made
+  std::vector<cl::KMeansInputArray> inputs; ///< the core's view of the features
+  /// vtkSMPTools over blocks of cells, for the core
+  cl::KMeansParallelFor parallelFor = SMPParallelFor();
+  std::vector<float> matrix;          ///< the prepared, weighted feature matrix
+  cl::KMeansFeatures x;               ///< its view
+  int uncollapsed = 0;                ///< the features without the storage trick
+  std::vector<std::string> collapsed; ///< arrays stored as one feature
+  std::vector<float> centres;         ///< initial centres (k * x.features)
+  cl::KMeansResult result;            ///< final centres, counts, inertia, iterations, stop reason
+  std::vector<std::int32_t> labels;   ///< per cell that takes part
+  std::vector<float> distances;       ///< per cell that takes part (GPU path)
+  vtkSmartPointer<vtkDoubleArray> share; ///< the table's Share column
+};
 
 //------------------------------------------------------------------------------
 vtkTerroirKMeans::vtkTerroirKMeans()
@@ -263,18 +397,11 @@ int vtkTerroirKMeans::RequestData(vtkInformation* request,
 }
 
 //------------------------------------------------------------------------------
-int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
-  const terroir::TerrainInput& terrain,
-  vtkImageData* output)
+bool vtkTerroirKMeans::ResolveFeatures(vtkImageData* input, Clustering& c)
 {
-  const terroir::GridView<float>& v = terrain.view;
-  const std::size_t n = v.Size();
-  const int k = this->NumberOfClusters;
-  const std::string prefix = this->SourcePrefix(input);
+  const std::string& prefix = c.prefix;
   vtkPointData* inPD = input->GetPointData();
-
-  // 1. The features.
-  std::vector<InputFeature> features;
+  std::vector<InputFeature>& features = c.features;
   if (this->Features.empty())
   {
     for (const auto& d : DefaultFeatures)
@@ -289,7 +416,7 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
       vtkErrorMacro(<< prefix << "none of the default features (Slope, Temperature, "
                     << "IlluminationHours, WeightedSoilHumidity) is a point array of the input; "
                     << "add features with AddFeature");
-      return 0;
+      return false;
     }
   }
   for (const Feature& f : this->Features)
@@ -298,40 +425,40 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
     if (!abstract)
     {
       vtkErrorMacro(<< prefix << "feature '" << f.name << "' names no point array of the input");
-      return 0;
+      return false;
     }
     vtkDataArray* a = vtkDataArray::SafeDownCast(abstract);
     if (!a)
     {
       vtkErrorMacro(<< prefix << "feature '" << f.name << "' is not numeric ("
                     << abstract->GetClassName() << ")");
-      return 0;
+      return false;
     }
     features.push_back({ f.name, f.weight, a });
   }
   for (const InputFeature& f : features)
   {
-    if (f.array->GetNumberOfTuples() != static_cast<vtkIdType>(n))
+    if (f.array->GetNumberOfTuples() != static_cast<vtkIdType>(c.n))
     {
       vtkErrorMacro(<< prefix << "feature '" << f.name << "' has " << f.array->GetNumberOfTuples()
-                    << " tuples, the terrain " << n << " cells");
-      return 0;
+                    << " tuples, the terrain " << c.n << " cells");
+      return false;
     }
   }
+  return true;
+}
 
-  const int backend = this->SelectBackend(this->HasGPUPath());
-  if (backend < 0)
-  {
-    return 0;
-  }
-
-  // 2. Cells that take part: valid terrain and finite values of every weighted feature.
-  std::vector<std::uint8_t> valid(n, 1);
+//------------------------------------------------------------------------------
+bool vtkTerroirKMeans::SelectCells(const terroir::GridView<float>& v, Clustering& c)
+{
+  const std::size_t n = c.n;
+  std::vector<std::uint8_t>& valid = c.valid;
+  valid.assign(n, 1);
   if (v.valid)
   {
     std::copy(v.valid, v.valid + n, valid.begin());
   }
-  for (const InputFeature& f : features)
+  for (const InputFeature& f : c.features)
   {
     if (f.weight <= 0.0)
     {
@@ -342,245 +469,171 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
       static_cast<vtkIdType>(n),
       [&](vtkIdType b, vtkIdType e)
       {
-        for (vtkIdType c = b; c < e; ++c)
+        for (vtkIdType i = b; i < e; ++i)
         {
-          for (int j = 0; j < nc && valid[c]; ++j)
+          for (int j = 0; j < nc && valid[i]; ++j)
           {
-            if (!std::isfinite(f.array->GetComponent(c, j)))
+            if (!std::isfinite(f.array->GetComponent(i, j)))
             {
-              valid[c] = 0;
+              valid[i] = 0;
             }
           }
         }
       });
   }
-  std::vector<std::size_t> cells;
-  cells.reserve(n);
-  for (std::size_t c = 0; c < n; ++c)
+  c.cells.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
   {
-    if (valid[c])
+    if (valid[i])
     {
-      cells.push_back(c);
+      c.cells.push_back(i);
     }
   }
-  const std::size_t m = cells.size();
-  if (m < static_cast<std::size_t>(k))
+  const std::size_t m = c.cells.size();
+  if (m < static_cast<std::size_t>(c.k))
   {
-    vtkErrorMacro(<< prefix << m << " cell(s) have data for every feature, fewer than the " << k
+    vtkErrorMacro(<< c.prefix << m << " cell(s) have data for every feature, fewer than the " << c.k
                   << " clusters asked for");
-    return 0;
+    return false;
   }
-  this->UpdateProgress(0.05);
+  return true;
+}
 
-  // 3. Packed float copies (float arrays without excluded cells are used in place), then the
-  // prepared, weighted feature matrix.
-  std::vector<std::vector<float>> packed(features.size());
-  std::vector<cl::KMeansInputArray> inputs;
-  for (std::size_t a = 0; a < features.size(); ++a)
+//------------------------------------------------------------------------------
+void vtkTerroirKMeans::PackFeatures(Clustering& c)
+{
+  c.packed.assign(c.features.size(), std::vector<float>());
+  for (std::size_t a = 0; a < c.features.size(); ++a)
   {
-    const InputFeature& f = features[a];
-    cl::KMeansInputArray in;
-    in.name = f.name;
-    in.components = f.array->GetNumberOfComponents();
-    in.weight = f.weight;
-    if (f.array->GetDataType() == VTK_FLOAT && m == n)
-    {
-      in.values = static_cast<const float*>(f.array->GetVoidPointer(0));
-    }
-    else
-    {
-      std::vector<float>& p = packed[a];
-      const int nc = in.components;
-      p.resize(m * static_cast<std::size_t>(nc));
-      vtkSMPTools::For(0,
-        static_cast<vtkIdType>(m),
-        [&](vtkIdType b, vtkIdType e)
-        {
-          for (vtkIdType i = b; i < e; ++i)
-          {
-            for (int j = 0; j < nc; ++j)
-            {
-              p[static_cast<std::size_t>(i) * nc + j] =
-                static_cast<float>(f.array->GetComponent(static_cast<vtkIdType>(cells[i]), j));
-            }
-          }
-        });
-      in.values = p.data();
-    }
-    inputs.push_back(in);
+    c.inputs.push_back(PackFeature(c.features[a], c.cells, c.n, c.packed[a]));
   }
-  std::vector<float> matrix;
-  std::vector<cl::KMeansPreparedArray> prepared;
-  cl::KMeansResult result;
-  std::vector<std::int32_t> labels;
-  std::vector<float> distances;
-  std::vector<std::string> collapsed;
-  try
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirKMeans::PrepareMatrix(Clustering& c)
+{
+  const std::size_t m = c.cells.size();
+  const std::vector<cl::KMeansPreparedArray> prepared = cl::KMeansPrepareFeatures(
+    c.inputs, m, this->Standardize, this->CollapseConstantOffsets, c.matrix, c.parallelFor);
+  c.packed.clear();
+  c.packed.shrink_to_fit();
+  int total = 0;
+  c.uncollapsed = 0; // the features without the storage trick
+  for (const cl::KMeansPreparedArray& p : prepared)
   {
-    const cl::KMeansParallelFor parallelFor = SMPParallelFor();
-    prepared = cl::KMeansPrepareFeatures(
-      inputs, m, this->Standardize, this->CollapseConstantOffsets, matrix, parallelFor);
-    packed.clear();
-    packed.shrink_to_fit();
-    int total = 0;
-    int uncollapsed = 0; // the features without the storage trick
-    for (const cl::KMeansPreparedArray& p : prepared)
+    total += p.features;
+    c.uncollapsed += p.features > 0 ? p.components : 0;
+    if (p.collapsed)
     {
-      total += p.features;
-      uncollapsed += p.features > 0 ? p.components : 0;
-      if (p.collapsed)
-      {
-        collapsed.push_back(p.name);
-        vtkDebugMacro(<< "storage trick: '" << p.name << "' (" << p.components
-                      << " components) differs by constants; stored as one feature");
-      }
-    }
-    cl::KMeansFeatures x;
-    x.data = matrix.data();
-    x.cells = m;
-    x.features = total;
-    this->UpdateProgress(0.15);
-
-    // 4. Seeds.
-    std::vector<std::size_t> seeds;
-    if (this->Seeding == Diagonal)
-    {
-      vtkDebugMacro(<< "seeds: Long (2016)'s diagonal cells (Long (2016))");
-      for (std::size_t g : cl::KMeansDiagonalSeedCells(v.nx, v.ny, valid.data(), k))
-      {
-        seeds.push_back(static_cast<std::size_t>(
-          std::lower_bound(cells.begin(), cells.end(), g) - cells.begin()));
-      }
-    }
-    else
-    {
-      vtkDebugMacro(<< "seeds: k-means++ (Arthur & Vassilvitskii 2007), seed " << this->RandomSeed);
-      seeds =
-        cl::KMeansPlusPlusSeeds(x, k, static_cast<std::uint64_t>(this->RandomSeed), parallelFor);
-    }
-    const std::vector<float> centres = cl::KMeansCentresFromCells(x, seeds);
-    this->UpdateProgress(0.2);
-
-    // 5. Lloyd iterations.
-    cl::KMeansOptions options;
-    options.maximumIterations = this->MaximumIterations;
-    // Tolerance is relative to the mean variance per feature of the uncollapsed features (as
-    // scikit-learn would see them): a collapsed array carries its components' total variance
-    // in one feature, so the core's mean over `total` features is scaled back.
-    options.tolerance = this->Tolerance * static_cast<double>(total) / uncollapsed;
-    vtkDebugMacro(<< "Lloyd (1982) iterations, K = " << k << ", " << total << " features, " << m
-                  << " cells");
-    int ran = backend;
-    if (backend == vtkTerroirComputeContext::GPU)
-    {
-      ran = this->RunGPUPath(
-        [&] { result = cl::RunKMeansGPU(x, centres, k, options, labels, distances); });
-      if (ran < 0)
-      {
-        return 0;
-      }
-    }
-    if (ran == 1)
-    {
-      cl::KMeansCPUEngine engine(x, parallelFor);
-      const double maxIterations = this->MaximumIterations;
-      result = cl::KMeansLloyd(engine,
-        x,
-        centres,
-        k,
-        options,
-        [this, maxIterations](int it, std::size_t)
-        { this->UpdateProgress(0.2 + 0.7 * std::min(1.0, it / maxIterations)); });
-      labels.assign(engine.Labels(), engine.Labels() + m);
+      c.collapsed.push_back(p.name);
+      vtkDebugMacro(<< "storage trick: '" << p.name << "' (" << p.components
+                    << " components) differs by constants; stored as one feature");
     }
   }
-  catch (const std::invalid_argument& e)
+  c.x.data = c.matrix.data();
+  c.x.cells = m;
+  c.x.features = total;
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirKMeans::SeedCentres(const terroir::GridView<float>& v, Clustering& c)
+{
+  std::vector<std::size_t> seeds;
+  if (this->Seeding == Diagonal)
   {
-    vtkErrorMacro(<< prefix << e.what());
-    return 0;
+    vtkDebugMacro(<< "seeds: Long (2016)'s diagonal cells (Long (2016))");
+    for (std::size_t g : cl::KMeansDiagonalSeedCells(v.nx, v.ny, c.valid.data(), c.k))
+    {
+      seeds.push_back(static_cast<std::size_t>(
+        std::lower_bound(c.cells.begin(), c.cells.end(), g) - c.cells.begin()));
+    }
   }
+  else
+  {
+    vtkDebugMacro(<< "seeds: k-means++ (Arthur & Vassilvitskii 2007), seed " << this->RandomSeed);
+    seeds = cl::KMeansPlusPlusSeeds(
+      c.x, c.k, static_cast<std::uint64_t>(this->RandomSeed), c.parallelFor);
+  }
+  c.centres = cl::KMeansCentresFromCells(c.x, seeds);
+}
 
-  // 6. ClusterId.
+//------------------------------------------------------------------------------
+bool vtkTerroirKMeans::RunLloyd(int backend, Clustering& c)
+{
+  const int k = c.k;
+  const std::size_t m = c.cells.size();
+  const int total = c.x.features;
+  cl::KMeansOptions options;
+  options.maximumIterations = this->MaximumIterations;
+  // Tolerance is relative to the mean variance per feature of the uncollapsed features (as
+  // scikit-learn would see them): a collapsed array carries its components' total variance
+  // in one feature, so the core's mean over `total` features is scaled back.
+  options.tolerance = this->Tolerance * static_cast<double>(total) / c.uncollapsed;
+  vtkDebugMacro(<< "Lloyd (1982) iterations, K = " << k << ", " << total << " features, " << m
+                << " cells");
+  int ran = backend;
+  if (backend == vtkTerroirComputeContext::GPU)
+  {
+    ran = this->RunGPUPath(
+      [&] { c.result = cl::RunKMeansGPU(c.x, c.centres, k, options, c.labels, c.distances); });
+    if (ran < 0)
+    {
+      return false;
+    }
+  }
+  if (ran == 1)
+  {
+    cl::KMeansCPUEngine engine(c.x, c.parallelFor);
+    const double maxIterations = this->MaximumIterations;
+    c.result = cl::KMeansLloyd(engine,
+      c.x,
+      c.centres,
+      k,
+      options,
+      [this, maxIterations](int it, std::size_t)
+      { this->UpdateProgress(0.2 + 0.7 * std::min(1.0, it / maxIterations)); });
+    c.labels.assign(engine.Labels(), engine.Labels() + m);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirKMeans::AddClusterIds(vtkImageData* output, const Clustering& c)
+{
   auto ids = vtkSmartPointer<vtkIntArray>::New();
   ids->SetName(ClusterIdName());
-  ids->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  ids->SetNumberOfTuples(static_cast<vtkIdType>(c.n));
   int* id = ids->GetPointer(0);
-  std::fill(id, id + n, -1);
-  for (std::size_t i = 0; i < m; ++i)
+  std::fill(id, id + c.n, -1);
+  for (std::size_t i = 0; i < c.cells.size(); ++i)
   {
-    id[cells[i]] = labels[i];
+    id[c.cells[i]] = c.labels[i];
   }
   output->GetPointData()->AddArray(ids);
-  this->UpdateProgress(0.92);
+}
 
-  // 7. The cluster table: id, colour, members, share, and the mean of every component of every
-  // feature array over the members, in its own units (double sums in cell order).
+//------------------------------------------------------------------------------
+void vtkTerroirKMeans::FillClusterTable(Clustering& c)
+{
   vtkTable* table = this->GetClusterTable();
-  auto idColumn = vtkSmartPointer<vtkIntArray>::New();
-  idColumn->SetName("ClusterId");
-  auto colorColumn = vtkSmartPointer<vtkStringArray>::New();
-  colorColumn->SetName("Color");
-  auto cellColumn = vtkSmartPointer<vtkIdTypeArray>::New();
-  cellColumn->SetName("Cells");
-  auto shareColumn = vtkSmartPointer<vtkDoubleArray>::New();
-  shareColumn->SetName("Share");
-  for (int c = 0; c < k; ++c)
+  c.share = AddMemberColumns(table, c.result.counts, c.k, c.cells.size());
+  for (const InputFeature& f : c.features)
   {
-    idColumn->InsertNextValue(c);
-    colorColumn->InsertNextValue(cl::KMeansClusterColor(c));
-    cellColumn->InsertNextValue(static_cast<vtkIdType>(result.counts[c]));
-    shareColumn->InsertNextValue(static_cast<double>(result.counts[c]) / static_cast<double>(m));
+    AddFeatureMeanColumns(table, f, c.cells, c.labels, c.k);
   }
-  table->AddColumn(idColumn);
-  table->AddColumn(colorColumn);
-  table->AddColumn(cellColumn);
-  table->AddColumn(shareColumn);
-  for (const InputFeature& f : features)
-  {
-    const int nc = f.array->GetNumberOfComponents();
-    std::vector<double> sum(static_cast<std::size_t>(k) * nc, 0.0);
-    std::vector<std::int64_t> count(static_cast<std::size_t>(k) * nc, 0);
-    for (std::size_t i = 0; i < m; ++i)
-    {
-      const std::size_t base = static_cast<std::size_t>(labels[i]) * nc;
-      for (int j = 0; j < nc; ++j)
-      {
-        const double value = f.array->GetComponent(static_cast<vtkIdType>(cells[i]), j);
-        if (std::isfinite(value))
-        {
-          sum[base + j] += value;
-          ++count[base + j];
-        }
-      }
-    }
-    const char* units = f.array->GetInformation()->Has(vtkDataArray::UNITS_LABEL())
-      ? f.array->GetInformation()->Get(vtkDataArray::UNITS_LABEL())
-      : nullptr;
-    for (int j = 0; j < nc; ++j)
-    {
-      auto column = vtkSmartPointer<vtkDoubleArray>::New();
-      column->SetName(ColumnName(f.array, j).c_str());
-      if (units)
-      {
-        column->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), units);
-      }
-      for (int c = 0; c < k; ++c)
-      {
-        const std::size_t s = static_cast<std::size_t>(c) * nc + j;
-        column->InsertNextValue(count[s] > 0 ? sum[s] / static_cast<double>(count[s]) : NAN);
-      }
-      table->AddColumn(column);
-    }
-  }
+}
 
-  // 8. Field data.
+//------------------------------------------------------------------------------
+void vtkTerroirKMeans::AddFieldData(vtkImageData* output, const Clustering& c)
+{
+  const cl::KMeansResult& result = c.result;
   vtkFieldData* fd = output->GetFieldData();
   fd->AddArray(ScalarArray("KMeansWithinClusterSumOfSquares", result.inertia));
   fd->AddArray(IntArray("KMeansIterations", result.iterations));
   fd->AddArray(IntArray("KMeansRelocatedClusters", result.relocated));
   auto share = vtkSmartPointer<vtkDoubleArray>::New();
   share->SetName("KMeansClusterShare");
-  share->DeepCopy(shareColumn);
+  share->DeepCopy(c.share);
   share->SetName("KMeansClusterShare");
   fd->AddArray(share);
   auto reason = vtkSmartPointer<vtkStringArray>::New();
@@ -589,10 +642,69 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
   fd->AddArray(reason);
   auto collapsedArray = vtkSmartPointer<vtkStringArray>::New();
   collapsedArray->SetName("KMeansCollapsedArrays");
-  for (const std::string& name : collapsed)
+  for (const std::string& name : c.collapsed)
   {
     collapsedArray->InsertNextValue(name);
   }
   fd->AddArray(collapsedArray);
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  const terroir::GridView<float>& v = terrain.view;
+  Clustering c;
+  c.n = v.Size();
+  c.k = this->NumberOfClusters;
+  c.prefix = this->SourcePrefix(input);
+
+  // 1. The features.
+  if (!this->ResolveFeatures(input, c))
+  {
+    return 0;
+  }
+  const int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
+  }
+
+  // 2. Cells that take part: valid terrain and finite values of every weighted feature.
+  if (!this->SelectCells(v, c))
+  {
+    return 0;
+  }
+  this->UpdateProgress(0.05);
+
+  // 3. Packed float copies (float arrays without excluded cells are used in place), then the
+  // prepared, weighted feature matrix; 4. seeds; 5. Lloyd iterations.
+  this->PackFeatures(c);
+  try
+  {
+    this->PrepareMatrix(c);
+    this->UpdateProgress(0.15);
+    this->SeedCentres(v, c);
+    this->UpdateProgress(0.2);
+    if (!this->RunLloyd(backend, c))
+    {
+      return 0;
+    }
+  }
+  catch (const std::invalid_argument& e)
+  {
+    vtkErrorMacro(<< c.prefix << e.what());
+    return 0;
+  }
+
+  // 6. ClusterId.
+  this->AddClusterIds(output, c);
+  this->UpdateProgress(0.92);
+  // 7. The cluster table: id, colour, members, share, and the mean of every component of every
+  // feature array over the members, in its own units (double sums in cell order).
+  this->FillClusterTable(c);
+  // 8. Field data.
+  this->AddFieldData(output, c);
   return 1;
 }

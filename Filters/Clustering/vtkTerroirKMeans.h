@@ -74,6 +74,12 @@
 #include <string> // For std::string
 #include <vector> // For std::vector
 
+namespace terroir
+{
+template<typename T>
+struct GridView;
+}
+
 class vtkTable;
 
 class VTKTERROIRFILTERSCLUSTERING_EXPORT vtkTerroirKMeans : public vtkTerroirImageAlgorithm
@@ -194,6 +200,29 @@ private:
   std::vector<Feature> Features;
   /// Feature components of the current input (set by RequestData, for EstimateMemory).
   int InputComponents = 0;
+
+#ifndef __VTK_WRAP__
+  // RequestTerrainData in steps, over the state of one request (Clustering).
+  struct Clustering;
+  /// Step 1: the feature arrays (the defaults when none was added), checked against the terrain.
+  bool ResolveFeatures(vtkImageData* input, Clustering& c);
+  /// Step 2: the cells with valid terrain and finite values of every weighted feature (>= k).
+  bool SelectCells(const terroir::GridView<float>& v, Clustering& c);
+  /// Step 3a: the core's view of each feature, packed into floats where needed.
+  void PackFeatures(Clustering& c);
+  /// Step 3b: the prepared, weighted feature matrix (KMeansPrepareFeatures); frees the copies.
+  void PrepareMatrix(Clustering& c);
+  /// Step 4: the initial centres (Long (2016)'s diagonal cells or k-means++).
+  void SeedCentres(const terroir::GridView<float>& v, Clustering& c);
+  /// Step 5: the Lloyd iterations on the GPU or the CPU; false when the GPU path failed.
+  bool RunLloyd(int backend, Clustering& c);
+  /// Step 6: the ClusterId point array (-1 on the cells left out).
+  void AddClusterIds(vtkImageData* output, const Clustering& c);
+  /// Step 7: the cluster table (output port 1): members, share and feature means per cluster.
+  void FillClusterTable(Clustering& c);
+  /// Step 8: the run's field data (inertia, iterations, relocations, shares, stop reason, ...).
+  void AddFieldData(vtkImageData* output, const Clustering& c);
+#endif
 };
 
 #endif
