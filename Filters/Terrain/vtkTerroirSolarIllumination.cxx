@@ -310,6 +310,124 @@ const char* const kSunComponents[6] = { "Month",
   "Azimuth",
   "Elevation",
   "GridAzimuth" };
+
+/// Surface normals (Horn 1981, grid frame; 3 per cell), on the CPU for both backends.
+std::vector<float> SurfaceNormals(const terroir::GridView<float>& v)
+{
+  std::vector<float> normals(3 * v.Size());
+  tt::SlopeParams sp;
+  vtkSMPTools::For(0,
+    v.ny,
+    64,
+    [&](vtkIdType r0, vtkIdType r1)
+    {
+      tt::SlopeHorn1981Rows(v,
+        sp,
+        static_cast<float*>(nullptr),
+        static_cast<float*>(nullptr),
+        normals.data(),
+        static_cast<int>(r0),
+        static_cast<int>(r1));
+    });
+  return normals;
+}
+
+/// An output array of `slots` components, named after the months when there are 12.
+vtkSmartPointer<vtkFloatArray> NewSlotArray(const char* name,
+  int slots,
+  std::size_t n,
+  const char* units)
+{
+  vtkSmartPointer<vtkFloatArray> array = vtkSmartPointer<vtkFloatArray>::Take(
+    terroir::NewOutputArray(name, slots, static_cast<long long>(n), units));
+  if (slots == 12)
+  {
+    for (int m = 0; m < 12; ++m)
+    {
+      array->SetComponentName(m, vtkTerroirTemperature::GetMonthName(m));
+    }
+  }
+  return array;
+}
+
+/// NaN in every slot of the no-data cells.
+void MaskNoData(const terroir::GridView<float>& v, int slots, float* hours, float* energy)
+{
+  const std::size_t n = v.Size();
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    if ((v.valid && !v.valid[c]) || std::isnan(v.data[c]))
+    {
+      std::fill(hours + slots * c, hours + slots * (c + 1), std::nanf(""));
+      std::fill(energy + slots * c, energy + slots * (c + 1), std::nanf(""));
+    }
+  }
+}
+
+/// The HorizonAngle array: the horizon map's k sectors per cell as elevation angles, degrees.
+vtkSmartPointer<vtkFloatArray> HorizonAngles(const float* map, int k, std::size_t n)
+{
+  vtkSmartPointer<vtkFloatArray> angles =
+    vtkSmartPointer<vtkFloatArray>::Take(terroir::NewOutputArray(
+      vtkTerroirSolarIllumination::HorizonAngleName(), k, static_cast<long long>(n), "deg"));
+  float* a = angles->GetPointer(0);
+  vtkSMPTools::For(0,
+    static_cast<vtkIdType>(n),
+    4096,
+    [&](vtkIdType c0, vtkIdType c1)
+    {
+      for (vtkIdType c = c0; c < c1; ++c)
+      {
+        for (int s = 0; s < k; ++s)
+        {
+          a[c * k + s] = static_cast<float>(
+            std::atan(static_cast<double>(map[static_cast<std::size_t>(s) * n + c])) * 180.0 /
+            3.14159265358979323846);
+        }
+      }
+    });
+  return angles;
+}
+
+/// Field data: the sun positions used (SunPositions) and the frame (SolarFrame; no latitude
+/// and longitude when no place was needed).
+void AddSunFieldData(vtkFieldData* fd,
+  const std::vector<tt::SunStep>& steps,
+  const tt::SunFrame& frame,
+  bool needPlace)
+{
+  vtkNew<vtkDoubleArray> sun;
+  sun->SetName(vtkTerroirSolarIllumination::SunPositionsName());
+  sun->SetNumberOfComponents(6);
+  for (int c = 0; c < 6; ++c)
+  {
+    sun->SetComponentName(c, kSunComponents[c]);
+  }
+  sun->SetNumberOfTuples(static_cast<vtkIdType>(steps.size()));
+  for (std::size_t s = 0; s < steps.size(); ++s)
+  {
+    const double row[6] = { static_cast<double>(steps[s].month),
+      static_cast<double>(steps[s].day),
+      steps[s].utcHours,
+      steps[s].azimuthDeg,
+      steps[s].elevationDeg,
+      steps[s].gridAzimuthDeg };
+    sun->SetTypedTuple(static_cast<vtkIdType>(s), row);
+  }
+  fd->AddArray(sun);
+  vtkNew<vtkDoubleArray> frameArray;
+  frameArray->SetName(vtkTerroirSolarIllumination::SolarFrameName());
+  frameArray->SetNumberOfComponents(3);
+  frameArray->SetComponentName(0, "Latitude");
+  frameArray->SetComponentName(1, "Longitude");
+  frameArray->SetComponentName(2, "GridNorthBearing");
+  // With a place needed, the observer's latitude and longitude are the finite ones used.
+  const double f[3] = { needPlace ? frame.observer.latitudeDeg : kNaN,
+    needPlace ? frame.observer.longitudeDeg : kNaN,
+    frame.gridNorthBearing };
+  frameArray->InsertNextTypedTuple(f);
+  fd->AddArray(frameArray);
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -443,28 +561,24 @@ std::string vtkTerroirSolarIllumination::CheckParameters()
 }
 
 //------------------------------------------------------------------------------
-int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
-  const terroir::TerrainInput& terrain,
-  vtkImageData* output)
+bool vtkTerroirSolarIllumination::MakeFrame(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  tt::SunFrame& frame,
+  float& zMax)
 {
-  const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
-
-  // Frame: where the sun is seen from and how grid north is turned.
   double latLon[2] = { kNaN, kNaN };
   const bool hasCentre = vtkTerroirGeoreference::GetCenterLatLon(input, latLon);
   const double lat = std::isnan(this->Latitude) ? latLon[0] : this->Latitude;
   const double lon = std::isnan(this->Longitude) ? latLon[1] : this->Longitude;
-  const bool needPlace = !(this->Mode == Instant && this->UseSunDirection);
-  if (needPlace && (!std::isfinite(lat) || !std::isfinite(lon)))
+  if (this->NeedsPlace() && (!std::isfinite(lat) || !std::isfinite(lon)))
   {
     vtkErrorMacro(<< this->SourcePrefix(input)
                   << (hasCentre ? "the georeference has no usable centre latitude/longitude"
                                 : "the terrain has no georeference")
                   << ": set Latitude and Longitude (and Orientation, the bearing of grid north)");
-    return 0;
+    return false;
   }
-  tt::SunFrame frame;
   frame.gridNorthBearing = !std::isnan(this->Orientation)
     ? this->Orientation
     : vtkTerroirGeoreference::GetMeridianConvergence(input);
@@ -474,7 +588,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
   frame.transmittance = this->Transmittance;
   double zSum = 0.0;
   std::size_t zCount = 0;
-  float zMax = -std::numeric_limits<float>::infinity();
+  zMax = -std::numeric_limits<float>::infinity();
   for (std::size_t c = 0; c < n; ++c)
   {
     if ((!v.valid || v.valid[c]) && !std::isnan(v.data[c]))
@@ -494,10 +608,15 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
   frame.observer.temperatureC = this->AirTemperature;
   frame.observer.refraction = this->Refraction;
   frame.observer.deltaTSeconds = this->DeltaT;
+  return true;
+}
 
-  // Sun steps.
+//------------------------------------------------------------------------------
+std::vector<tt::SunStep> vtkTerroirSolarIllumination::SunSteps(const tt::SunFrame& frame,
+  int& slots)
+{
   std::vector<tt::SunStep> steps;
-  int slots = 1;
+  slots = 1;
   if (this->Mode == Instant)
   {
     tt::SunStep s;
@@ -540,120 +659,80 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
       steps.insert(steps.end(), d.begin(), d.end());
     }
   }
+  return steps;
+}
 
-  int backend = this->SelectBackend(this->HasGPUPath());
-  if (backend < 0)
-  {
-    return 0;
-  }
-
-  // Horizon map (cached while the input and its settings stay the same).
-  const bool useMap = this->ShadowMethod == HorizonMap;
-  const float curvature = tt::CurvatureCoefficient(this->EarthCurvature);
-  this->LastHorizonMapSeconds = 0.0;
+//------------------------------------------------------------------------------
+bool vtkTerroirSolarIllumination::UpdateHorizonMap(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  float curvature,
+  int& backend)
+{
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
   Internals& cache = *this->Impl;
-  if (useMap || this->OutputHorizonMap)
+  const bool fresh = cache.InputData == static_cast<const void*>(v.data) &&
+    cache.InputTime == input->GetMTime() && cache.Sectors == this->HorizonSectors &&
+    cache.Curvature == this->EarthCurvature && cache.Cells == n && cache.Backend == backend &&
+    cache.Map.size() == static_cast<std::size_t>(this->HorizonSectors) * n;
+  if (fresh)
   {
-    const bool fresh = cache.InputData == static_cast<const void*>(v.data) &&
-      cache.InputTime == input->GetMTime() && cache.Sectors == this->HorizonSectors &&
-      cache.Curvature == this->EarthCurvature && cache.Cells == n && cache.Backend == backend &&
-      cache.Map.size() == static_cast<std::size_t>(this->HorizonSectors) * n;
-    if (!fresh)
-    {
-      cache.Map.clear();
-      cache.InputData = nullptr;
-      cache.Map.resize(static_cast<std::size_t>(this->HorizonSectors) * n);
-      const auto t0 = std::chrono::steady_clock::now();
-      float* map = cache.Map.data();
-      const int sectors = this->HorizonSectors;
-      // Every map computed gets a new stamp: its device copy (HorizonMapGPU) is keyed on it.
-      static std::atomic<unsigned long long> mapStamps{ 0 };
-      const unsigned long long mapStamp = ++mapStamps;
-      cache.Stamp = mapStamp;
-      if (backend == vtkTerroirComputeContext::GPU)
-      {
-        backend =
-          this->RunGPUPath([&] { HorizonMapGPU(terrain, sectors, curvature, map, mapStamp); });
-        if (backend < 0)
-        {
-          return 0;
-        }
-      }
-      if (backend == vtkTerroirComputeContext::CPU)
-      {
-        vtkSMPTools::For(0,
-          sectors,
-          1,
-          [&](vtkIdType k0, vtkIdType k1) {
-            tt::HorizonMapSectors(
-              v, sectors, curvature, map, static_cast<int>(k0), static_cast<int>(k1));
-          });
-      }
-      this->LastHorizonMapSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      cache.InputData = v.data;
-      cache.InputTime = input->GetMTime();
-      cache.Sectors = sectors;
-      cache.Curvature = this->EarthCurvature;
-      cache.Cells = n;
-      cache.Backend = backend;
-      vtkLog(TRACE,
-        << "horizon map of " << sectors << " sectors: " << this->LastHorizonMapSeconds << " s");
-    }
-    this->UpdateProgress(0.5);
+    return true;
   }
-
-  // Surface normals (Horn 1981, grid frame), on the CPU for both backends.
-  std::vector<float> normals(3 * n);
+  cache.Map.clear();
+  cache.InputData = nullptr;
+  cache.Map.resize(static_cast<std::size_t>(this->HorizonSectors) * n);
+  const auto t0 = std::chrono::steady_clock::now();
+  float* map = cache.Map.data();
+  const int sectors = this->HorizonSectors;
+  // Every map computed gets a new stamp: its device copy (HorizonMapGPU) is keyed on it.
+  static std::atomic<unsigned long long> mapStamps{ 0 };
+  const unsigned long long mapStamp = ++mapStamps;
+  cache.Stamp = mapStamp;
+  if (backend == vtkTerroirComputeContext::GPU)
   {
-    tt::SlopeParams sp;
+    backend = this->RunGPUPath([&] { HorizonMapGPU(terrain, sectors, curvature, map, mapStamp); });
+    if (backend < 0)
+    {
+      return false;
+    }
+  }
+  if (backend == vtkTerroirComputeContext::CPU)
+  {
     vtkSMPTools::For(0,
-      v.ny,
-      64,
-      [&](vtkIdType r0, vtkIdType r1)
-      {
-        tt::SlopeHorn1981Rows(v,
-          sp,
-          static_cast<float*>(nullptr),
-          static_cast<float*>(nullptr),
-          normals.data(),
-          static_cast<int>(r0),
-          static_cast<int>(r1));
+      sectors,
+      1,
+      [&](vtkIdType k0, vtkIdType k1) {
+        tt::HorizonMapSectors(
+          v, sectors, curvature, map, static_cast<int>(k0), static_cast<int>(k1));
       });
   }
+  this->LastHorizonMapSeconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  cache.InputData = v.data;
+  cache.InputTime = input->GetMTime();
+  cache.Sectors = sectors;
+  cache.Curvature = this->EarthCurvature;
+  cache.Cells = n;
+  cache.Backend = backend;
+  vtkLog(
+    TRACE, << "horizon map of " << sectors << " sectors: " << this->LastHorizonMapSeconds << " s");
+  return true;
+}
 
-  // Accumulation.
-  const bool instant = this->Mode == Instant;
-  vtkSmartPointer<vtkFloatArray> hoursArray = vtkSmartPointer<vtkFloatArray>::Take(
-    terroir::NewOutputArray(instant ? IlluminatedName() : IlluminationHoursName(),
-      slots,
-      static_cast<long long>(n),
-      instant ? nullptr : "h"));
-  vtkSmartPointer<vtkFloatArray> energyArray = vtkSmartPointer<vtkFloatArray>::Take(
-    terroir::NewOutputArray(instant ? SunIncidenceName() : InsolationName(),
-      slots,
-      static_cast<long long>(n),
-      instant ? nullptr : "Wh/m2"));
-  if (slots == 12)
-  {
-    for (int m = 0; m < 12; ++m)
-    {
-      hoursArray->SetComponentName(m, vtkTerroirTemperature::GetMonthName(m));
-      energyArray->SetComponentName(m, vtkTerroirTemperature::GetMonthName(m));
-    }
-  }
-  float* hours = hoursArray->GetPointer(0);
-  float* energy = energyArray->GetPointer(0);
-  std::fill(hours, hours + slots * n, 0.0f);
-  std::fill(energy, energy + slots * n, 0.0f);
-  const float* map = cache.Map.empty() ? nullptr : cache.Map.data();
-  tt::ShadowSource<float> source;
-  source.map = useMap ? map : nullptr;
-  // An instant costs one lookup: where the interpolation between sectors cannot decide, march.
-  source.refine = useMap && this->Mode == Instant;
-  source.curvature = curvature;
-  source.zMax = zMax;
-
+//------------------------------------------------------------------------------
+bool vtkTerroirSolarIllumination::Accumulate(const terroir::TerrainInput& terrain,
+  const tt::ShadowSource<float>& source,
+  const std::vector<float>& normals,
+  const std::vector<tt::SunStep>& steps,
+  int slots,
+  int& backend,
+  float* hours,
+  float* energy)
+{
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+  const bool useMap = this->ShadowMethod == HorizonMap;
   if (backend == vtkTerroirComputeContext::GPU)
   {
     backend = this->RunGPUPath(
@@ -662,7 +741,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
         AccumulateGPU(terrain,
           source,
           this->HorizonSectors,
-          cache.Stamp,
+          this->Impl->Stamp,
           normals.data(),
           steps,
           slots,
@@ -671,7 +750,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
       });
     if (backend < 0)
     {
-      return 0;
+      return false;
     }
     if (backend == vtkTerroirComputeContext::CPU)
     {
@@ -707,70 +786,82 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
       this->UpdateProgress(p0 + (0.95 - p0) * (slice + 1) / 10.0);
     }
   }
-  // No-data cells: NaN.
-  for (std::size_t c = 0; c < n; ++c)
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output)
+{
+  const terroir::GridView<float>& v = terrain.view;
+  const std::size_t n = v.Size();
+
+  // Frame: where the sun is seen from and how grid north is turned.
+  tt::SunFrame frame;
+  float zMax = 0.0f;
+  if (!this->MakeFrame(input, v, frame, zMax))
   {
-    if ((v.valid && !v.valid[c]) || std::isnan(v.data[c]))
-    {
-      std::fill(hours + slots * c, hours + slots * (c + 1), std::nanf(""));
-      std::fill(energy + slots * c, energy + slots * (c + 1), std::nanf(""));
-    }
+    return 0;
   }
+  // Sun steps.
+  int slots = 1;
+  const std::vector<tt::SunStep> steps = this->SunSteps(frame, slots);
+
+  int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
+  }
+
+  // Horizon map (cached while the input and its settings stay the same).
+  const bool useMap = this->ShadowMethod == HorizonMap;
+  const float curvature = tt::CurvatureCoefficient(this->EarthCurvature);
+  this->LastHorizonMapSeconds = 0.0;
+  if (useMap || this->OutputHorizonMap)
+  {
+    if (!this->UpdateHorizonMap(input, terrain, curvature, backend))
+    {
+      return 0;
+    }
+    this->UpdateProgress(0.5);
+  }
+
+  // Surface normals (Horn 1981, grid frame), on the CPU for both backends.
+  const std::vector<float> normals = SurfaceNormals(v);
+
+  // Accumulation.
+  const bool instant = this->Mode == Instant;
+  vtkSmartPointer<vtkFloatArray> hoursArray = NewSlotArray(
+    instant ? IlluminatedName() : IlluminationHoursName(), slots, n, instant ? nullptr : "h");
+  vtkSmartPointer<vtkFloatArray> energyArray = NewSlotArray(
+    instant ? SunIncidenceName() : InsolationName(), slots, n, instant ? nullptr : "Wh/m2");
+  float* hours = hoursArray->GetPointer(0);
+  float* energy = energyArray->GetPointer(0);
+  std::fill(hours, hours + slots * n, 0.0f);
+  std::fill(energy, energy + slots * n, 0.0f);
+  const float* map = this->Impl->Map.empty() ? nullptr : this->Impl->Map.data();
+  tt::ShadowSource<float> source;
+  source.map = useMap ? map : nullptr;
+  // An instant costs one lookup: where the interpolation between sectors cannot decide, march.
+  source.refine = useMap && this->Mode == Instant;
+  source.curvature = curvature;
+  source.zMax = zMax;
+  if (!this->Accumulate(terrain, source, normals, steps, slots, backend, hours, energy))
+  {
+    return 0;
+  }
+  // No-data cells: NaN.
+  MaskNoData(v, slots, hours, energy);
   output->GetPointData()->AddArray(hoursArray);
   output->GetPointData()->AddArray(energyArray);
 
   if (this->OutputHorizonMap)
   {
-    const int k = this->HorizonSectors;
-    vtkSmartPointer<vtkFloatArray> angles = vtkSmartPointer<vtkFloatArray>::Take(
-      terroir::NewOutputArray(HorizonAngleName(), k, static_cast<long long>(n), "deg"));
-    float* a = angles->GetPointer(0);
-    vtkSMPTools::For(0,
-      static_cast<vtkIdType>(n),
-      4096,
-      [&](vtkIdType c0, vtkIdType c1)
-      {
-        for (vtkIdType c = c0; c < c1; ++c)
-        {
-          for (int s = 0; s < k; ++s)
-          {
-            a[c * k + s] = static_cast<float>(
-              std::atan(static_cast<double>(map[static_cast<std::size_t>(s) * n + c])) * 180.0 /
-              3.14159265358979323846);
-          }
-        }
-      });
-    output->GetPointData()->AddArray(angles);
+    output->GetPointData()->AddArray(HorizonAngles(map, this->HorizonSectors, n));
   }
 
   // Field data: the sun positions used and the frame.
-  vtkNew<vtkDoubleArray> sun;
-  sun->SetName(SunPositionsName());
-  sun->SetNumberOfComponents(6);
-  for (int c = 0; c < 6; ++c)
-  {
-    sun->SetComponentName(c, kSunComponents[c]);
-  }
-  sun->SetNumberOfTuples(static_cast<vtkIdType>(steps.size()));
-  for (std::size_t s = 0; s < steps.size(); ++s)
-  {
-    const double row[6] = { static_cast<double>(steps[s].month),
-      static_cast<double>(steps[s].day),
-      steps[s].utcHours,
-      steps[s].azimuthDeg,
-      steps[s].elevationDeg,
-      steps[s].gridAzimuthDeg };
-    sun->SetTypedTuple(static_cast<vtkIdType>(s), row);
-  }
-  output->GetFieldData()->AddArray(sun);
-  vtkNew<vtkDoubleArray> frameArray;
-  frameArray->SetName(SolarFrameName());
-  frameArray->SetNumberOfComponents(3);
-  frameArray->SetComponentName(0, "Latitude");
-  frameArray->SetComponentName(1, "Longitude");
-  frameArray->SetComponentName(2, "GridNorthBearing");
-  const double f[3] = { needPlace ? lat : kNaN, needPlace ? lon : kNaN, frame.gridNorthBearing };
-  frameArray->InsertNextTypedTuple(f);
-  output->GetFieldData()->AddArray(frameArray);
+  AddSunFieldData(output->GetFieldData(), steps, frame, this->NeedsPlace());
   return 1;
 }

@@ -65,6 +65,20 @@
 #include "vtkTerroirImageAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
+#include <vector> // For std::vector
+
+namespace terroir
+{
+template<typename T>
+struct GridView;
+namespace terrain
+{
+struct SunFrame;
+struct SunStep;
+template<typename T>
+struct ShadowSource;
+}
+}
 
 class VTKTERROIRFILTERSTERRAIN_EXPORT vtkTerroirSolarIllumination : public vtkTerroirImageAlgorithm
 {
@@ -269,6 +283,37 @@ private:
 
   struct Internals;
   std::unique_ptr<Internals> Impl;
+
+#ifndef __VTK_WRAP__
+  // RequestTerrainData in steps.
+  /// Whether the run needs the terrain's place (all but an instant from SunDirection).
+  bool NeedsPlace() const
+  {
+    return !(this->Mode == Instant && this->UseSunDirection);
+  }
+  /// The sun's frame (place, grid north, mean elevation, refraction) and the highest cell.
+  bool MakeFrame(vtkImageData* input,
+    const terroir::GridView<float>& v,
+    terroir::terrain::SunFrame& frame,
+    float& zMax);
+  /// The sun steps of the Mode and the number of output slots (12 months, or 1).
+  std::vector<terroir::terrain::SunStep> SunSteps(const terroir::terrain::SunFrame& frame,
+    int& slots);
+  /// The horizon map in the cache, computed again unless it is fresh (CPU or GPU).
+  bool UpdateHorizonMap(vtkImageData* input,
+    const terroir::TerrainInput& terrain,
+    float curvature,
+    int& backend);
+  /// Hours and energy of every slot, on the GPU (falling back to the CPU) or the CPU.
+  bool Accumulate(const terroir::TerrainInput& terrain,
+    const terroir::terrain::ShadowSource<float>& source,
+    const std::vector<float>& normals,
+    const std::vector<terroir::terrain::SunStep>& steps,
+    int slots,
+    int& backend,
+    float* hours,
+    float* energy);
+#endif
 };
 
 #endif
