@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,194 @@ vtkDataArray* OperandArray(vtkImageData* image, const std::string& name)
 bool RateOK(double r)
 {
   return r >= 0.0 && r <= vtkTerroirInfiltration::GetMaximumRate();
+}
+
+/// The default recipe, used when no operation was added: Fill 15, SlopeRule 30.
+std::vector<Operation> DefaultOperations()
+{
+  Operation fill{ OperationType::Fill };
+  fill.Value = 15.0;
+  Operation rule{ OperationType::SlopeRule };
+  rule.Value = 30.0;
+  return { fill, rule };
+}
+
+/// SlopeRule at `degrees`: the input's Slope array (in its units, degrees or %), else the slope
+/// of the terrain (computed once into slopeStorage). An error message, or empty.
+std::string ApplySlopeRule(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  double degrees,
+  std::vector<float>& slopeStorage,
+  float* rate)
+{
+  const std::size_t n = v.Size();
+  vtkDataArray* slopeArray = input->GetPointData()->GetArray("Slope");
+  double threshold = degrees;
+  const float* slope = nullptr;
+  std::vector<float> converted;
+  if (slopeArray && slopeArray->GetNumberOfComponents() == 1 &&
+    slopeArray->GetNumberOfTuples() == static_cast<vtkIdType>(n))
+  {
+    vtkInformation* info = slopeArray->GetInformation();
+    const char* units =
+      info->Has(vtkDataArray::UNITS_LABEL()) ? info->Get(vtkDataArray::UNITS_LABEL()) : "";
+    if (std::string(units) == "%")
+    {
+      threshold = degrees >= 90.0 ? std::numeric_limits<double>::infinity()
+                                  : 100.0 * std::tan(degrees * M_PI / 180.0);
+    }
+    if (auto* f = vtkFloatArray::FastDownCast(slopeArray))
+    {
+      slope = f->GetPointer(0);
+    }
+    else
+    {
+      converted.resize(n);
+      for (std::size_t c = 0; c < n; ++c)
+      {
+        converted[c] = static_cast<float>(slopeArray->GetComponent(c, 0));
+      }
+      slope = converted.data();
+    }
+  }
+  else
+  {
+    if (v.nx < 2 || v.ny < 2)
+    {
+      return "the slope rule needs a terrain of at least 2 x 2 cells or a Slope array";
+    }
+    if (slopeStorage.empty())
+    {
+      slopeStorage.resize(n);
+      terroir::terrain::SlopeParams params;
+      terroir::terrain::SlopeHorn1981(
+        v, params, slopeStorage.data(), static_cast<float*>(nullptr), static_cast<float*>(nullptr));
+    }
+    slope = slopeStorage.data();
+  }
+  terroir::terrain::ApplySlopeRule(slope, threshold, rate, 0, n);
+  return std::string();
+}
+
+/// PaintMask, PaintMaskArray, SoilTypes and SoilTypeArray: the rate where the operand array (of
+/// the operation's image or of the input) is non-zero, or the rate of its soil type 1..5. An
+/// error message, or empty.
+std::string PaintFromArray(vtkImageData* input,
+  const Operation& op,
+  std::size_t n,
+  const double soilTypeRates[5],
+  float* rate)
+{
+  const bool fromInput =
+    op.Type == OperationType::PaintMaskArray || op.Type == OperationType::SoilTypeArray;
+  vtkImageData* source = fromInput ? input : op.Image.Get();
+  vtkDataArray* a = OperandArray(source, op.ArrayName);
+  if (!a)
+  {
+    return fromInput ? "the terrain has no point array '" + op.ArrayName + "'"
+                     : std::string("the image has no point array");
+  }
+  if (!fromInput)
+  {
+    int dims[3];
+    input->GetDimensions(dims);
+    int d[3];
+    source->GetDimensions(d);
+    if (d[0] != dims[0] || d[1] != dims[1] || d[2] != 1)
+    {
+      std::ostringstream message;
+      message << "the image has " << d[0] << " x " << d[1] << " x " << d[2]
+              << " cells, the terrain " << dims[0] << " x " << dims[1]
+              << "; resample it onto the terrain's grid first";
+      return message.str();
+    }
+  }
+  if (a->GetNumberOfComponents() != 1 || a->GetNumberOfTuples() != static_cast<vtkIdType>(n))
+  {
+    std::ostringstream message;
+    message << "array '" << (a->GetName() ? a->GetName() : "") << "' must have 1 component and "
+            << n << " tuples, not " << a->GetNumberOfComponents() << " and "
+            << a->GetNumberOfTuples();
+    return message.str();
+  }
+  const bool soil = op.Type == OperationType::SoilTypes || op.Type == OperationType::SoilTypeArray;
+  const float value = static_cast<float>(op.Value);
+  vtkSMPTools::For(0,
+    static_cast<vtkIdType>(n),
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType c = begin; c < end; ++c)
+      {
+        const double m = a->GetComponent(c, 0);
+        if (soil)
+        {
+          const double code = std::round(m);
+          if (m == code && code >= 1.0 && code <= 5.0)
+          {
+            rate[c] = static_cast<float>(soilTypeRates[static_cast<int>(code) - 1]);
+          }
+        }
+        else if (m != 0.0 && !std::isnan(m))
+        {
+          rate[c] = value;
+        }
+      }
+    });
+  return std::string();
+}
+
+/// PaintStencil: `value` on the cells inside the stencil (in the input's extent).
+void PaintStencil(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  vtkImageStencilData* stencil,
+  float value,
+  float* rate)
+{
+  int extent[6];
+  input->GetExtent(extent);
+  for (int j = 0; j < v.ny; ++j)
+  {
+    int iter = 0;
+    int r1 = 0;
+    int r2 = 0;
+    const int y = extent[2] + j;
+    while (stencil->GetNextExtent(r1, r2, extent[0], extent[1], y, extent[4], iter))
+    {
+      for (int i = r1; i <= r2; ++i)
+      {
+        rate[v.Index(i - extent[0], j)] = value;
+      }
+    }
+  }
+}
+
+/// Operation `op` on `rate` (the terrain's cells); an error message, or empty.
+std::string ApplyOperation(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  const Operation& op,
+  const double soilTypeRates[5],
+  std::vector<float>& slopeStorage,
+  float* rate)
+{
+  const std::size_t n = v.Size();
+  const float value = static_cast<float>(op.Value);
+  switch (op.Type)
+  {
+    case OperationType::Fill:
+      std::fill(rate, rate + n, value);
+      break;
+    case OperationType::SlopeRule:
+      return ApplySlopeRule(input, v, op.Value, slopeStorage, rate);
+    case OperationType::PaintMask:
+    case OperationType::PaintMaskArray:
+    case OperationType::SoilTypes:
+    case OperationType::SoilTypeArray:
+      return PaintFromArray(input, op, n, soilTypeRates, rate);
+    case OperationType::PaintStencil:
+      PaintStencil(input, v, op.Stencil, value, rate);
+      break;
+  }
+  return std::string();
 }
 } // namespace
 
@@ -330,167 +519,19 @@ int vtkTerroirInfiltration::RequestTerrainData(vtkImageData* input,
   std::fill(rate, rate + n, 0.0f);
   this->SelectBackend(false);
 
-  std::vector<Operation> ops = this->Impl->Operations;
-  if (ops.empty())
-  {
-    Operation fill{ OperationType::Fill };
-    fill.Value = 15.0;
-    Operation rule{ OperationType::SlopeRule };
-    rule.Value = 30.0;
-    ops = { fill, rule };
-  }
-
-  int dims[3];
-  input->GetDimensions(dims);
-  int extent[6];
-  input->GetExtent(extent);
+  const std::vector<Operation> ops =
+    this->Impl->Operations.empty() ? DefaultOperations() : this->Impl->Operations;
   const std::string prefix = this->SourcePrefix(input);
   std::vector<float> slopeStorage; // computed once, when the input has no Slope array
   for (std::size_t k = 0; k < ops.size(); ++k)
   {
     const Operation& op = ops[k];
-    const std::string which =
-      "operation " + std::to_string(k + 1) + " (" + OperationName(op.Type) + "): ";
-    const float value = static_cast<float>(op.Value);
-    switch (op.Type)
+    const std::string error = ApplyOperation(input, v, op, this->SoilTypeRates, slopeStorage, rate);
+    if (!error.empty())
     {
-      case OperationType::Fill:
-        std::fill(rate, rate + n, value);
-        break;
-      case OperationType::SlopeRule:
-      {
-        vtkDataArray* slopeArray = input->GetPointData()->GetArray("Slope");
-        double threshold = op.Value;
-        const float* slope = nullptr;
-        std::vector<float> converted;
-        if (slopeArray && slopeArray->GetNumberOfComponents() == 1 &&
-          slopeArray->GetNumberOfTuples() == static_cast<vtkIdType>(n))
-        {
-          vtkInformation* info = slopeArray->GetInformation();
-          const char* units =
-            info->Has(vtkDataArray::UNITS_LABEL()) ? info->Get(vtkDataArray::UNITS_LABEL()) : "";
-          if (std::string(units) == "%")
-          {
-            threshold = op.Value >= 90.0 ? std::numeric_limits<double>::infinity()
-                                         : 100.0 * std::tan(op.Value * M_PI / 180.0);
-          }
-          if (auto* f = vtkFloatArray::FastDownCast(slopeArray))
-          {
-            slope = f->GetPointer(0);
-          }
-          else
-          {
-            converted.resize(n);
-            for (std::size_t c = 0; c < n; ++c)
-            {
-              converted[c] = static_cast<float>(slopeArray->GetComponent(c, 0));
-            }
-            slope = converted.data();
-          }
-        }
-        else
-        {
-          if (v.nx < 2 || v.ny < 2)
-          {
-            vtkErrorMacro(<< prefix << which << "the slope rule needs a terrain of at least 2 x 2 "
-                          << "cells or a Slope array");
-            return 0;
-          }
-          if (slopeStorage.empty())
-          {
-            slopeStorage.resize(n);
-            terroir::terrain::SlopeParams params;
-            terroir::terrain::SlopeHorn1981(v,
-              params,
-              slopeStorage.data(),
-              static_cast<float*>(nullptr),
-              static_cast<float*>(nullptr));
-          }
-          slope = slopeStorage.data();
-        }
-        terroir::terrain::ApplySlopeRule(slope, threshold, rate, 0, n);
-        break;
-      }
-      case OperationType::PaintMask:
-      case OperationType::PaintMaskArray:
-      case OperationType::SoilTypes:
-      case OperationType::SoilTypeArray:
-      {
-        const bool fromInput =
-          op.Type == OperationType::PaintMaskArray || op.Type == OperationType::SoilTypeArray;
-        vtkImageData* source = fromInput ? input : op.Image.Get();
-        vtkDataArray* a = OperandArray(source, op.ArrayName);
-        if (!a)
-        {
-          vtkErrorMacro(<< prefix << which
-                        << (fromInput ? "the terrain has no point array '" + op.ArrayName + "'"
-                                      : std::string("the image has no point array")));
-          return 0;
-        }
-        if (!fromInput)
-        {
-          int d[3];
-          source->GetDimensions(d);
-          if (d[0] != dims[0] || d[1] != dims[1] || d[2] != 1)
-          {
-            vtkErrorMacro(<< prefix << which << "the image has " << d[0] << " x " << d[1] << " x "
-                          << d[2] << " cells, the terrain " << dims[0] << " x " << dims[1]
-                          << "; resample it onto the terrain's grid first");
-            return 0;
-          }
-        }
-        if (a->GetNumberOfComponents() != 1 || a->GetNumberOfTuples() != static_cast<vtkIdType>(n))
-        {
-          vtkErrorMacro(<< prefix << which << "array '" << (a->GetName() ? a->GetName() : "")
-                        << "' must have 1 component and " << n << " tuples, not "
-                        << a->GetNumberOfComponents() << " and " << a->GetNumberOfTuples());
-          return 0;
-        }
-        const bool soil =
-          op.Type == OperationType::SoilTypes || op.Type == OperationType::SoilTypeArray;
-        const double* table = this->SoilTypeRates;
-        vtkSMPTools::For(0,
-          static_cast<vtkIdType>(n),
-          [&](vtkIdType begin, vtkIdType end)
-          {
-            for (vtkIdType c = begin; c < end; ++c)
-            {
-              const double m = a->GetComponent(c, 0);
-              if (soil)
-              {
-                const double code = std::round(m);
-                if (m == code && code >= 1.0 && code <= 5.0)
-                {
-                  rate[c] = static_cast<float>(table[static_cast<int>(code) - 1]);
-                }
-              }
-              else if (m != 0.0 && !std::isnan(m))
-              {
-                rate[c] = value;
-              }
-            }
-          });
-        break;
-      }
-      case OperationType::PaintStencil:
-      {
-        vtkImageStencilData* stencil = op.Stencil;
-        for (int j = 0; j < v.ny; ++j)
-        {
-          int iter = 0;
-          int r1 = 0;
-          int r2 = 0;
-          const int y = extent[2] + j;
-          while (stencil->GetNextExtent(r1, r2, extent[0], extent[1], y, extent[4], iter))
-          {
-            for (int i = r1; i <= r2; ++i)
-            {
-              rate[v.Index(i - extent[0], j)] = value;
-            }
-          }
-        }
-        break;
-      }
+      vtkErrorMacro(<< prefix << "operation " << (k + 1) << " (" << OperationName(op.Type)
+                    << "): " << error);
+      return 0;
     }
     this->UpdateProgress(0.9 * static_cast<double>(k + 1) / static_cast<double>(ops.size()));
   }
