@@ -69,7 +69,9 @@ target_link_libraries(TerroirViewerSession PUBLIC TerroirCommandLine VTK::Common
   PRIVATE TerroirTerrainCore Threads::Threads)
 set_target_properties(TerroirCommandLine PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
-add_library(terroir-viewer MODULE TerroirViewerWindow.cxx TerroirViewerPlugin.h)
+add_library(terroir-viewer MODULE TerroirViewerWindow.cxx TerroirViewerWindowCamera.cxx
+  TerroirViewerWindowOverlay.cxx TerroirViewerWindowScript.cxx TerroirViewerWindowTools.cxx
+  TerroirViewerWindowPrivate.h TerroirViewerPlugin.h)
 set_target_properties(terroir-viewer PROPERTIES PREFIX "" OUTPUT_NAME "terroir-viewer"
   CXX_VISIBILITY_PRESET hidden)
 target_compile_options(terroir-viewer PRIVATE -Wall -Wextra)

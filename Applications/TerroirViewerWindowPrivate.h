@@ -1,0 +1,226 @@
+/**
+ * @file TerroirViewerWindowPrivate.h
+ * @brief The window of `terroir view` (terroir-viewer.so), shared by its source files:
+ * TerroirViewerWindow.cxx (construction, widgets, the module's entry point),
+ * TerroirViewerWindowOverlay.cxx (overlay, legend, cluster table, texts),
+ * TerroirViewerWindowCamera.cxx (camera, sun, compass, navigation styles, sliders),
+ * TerroirViewerWindowTools.cxx (picking, tools, keys and mouse) and
+ * TerroirViewerWindowScript.cxx (the --script actions replayed as interactor events).
+ */
+#ifndef TerroirViewerWindowPrivate_h
+#define TerroirViewerWindowPrivate_h
+
+#include "TerroirViewerPlugin.h"
+#include "TerroirViewerScript.h"
+#include "TerroirViewerSession.h"
+
+#include "vtkActor2D.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCellPicker.h"
+#include "vtkLight.h"
+#include "vtkNew.h"
+#include "vtkPolyData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
+#include "vtkRenderer.h"
+#include "vtkSliderWidget.h"
+#include "vtkSmartPointer.h"
+#include "vtkTerroirInteractorStyleFirstPerson.h"
+#include "vtkTerroirInteractorStyleTerrain.h"
+#include "vtkTerroirReliefSurface.h"
+#include "vtkTerroirXDisplay.h"
+#include "vtkTextActor.h"
+
+#include <string>
+#include <vector>
+
+namespace terroir
+{
+namespace app
+{
+struct CommandLine;
+}
+namespace viewer
+{
+
+/// The tool a click applies.
+enum class Tool
+{
+  Navigate,
+  Lake,
+  Brush
+};
+
+/// The on-screen buttons, in ViewerButtonNames() order: their labels.
+const char* const ButtonLabels[] = { "Navigate",
+  "Lake",
+  "Brush",
+  "Fill",
+  "Slope rule",
+  "Water flow",
+  "Undo",
+  "Table" };
+constexpr int ButtonCount = static_cast<int>(sizeof(ButtonLabels) / sizeof(ButtonLabels[0]));
+
+/// Name of a tool as the texts and the state line spell it.
+const char* ToolName(Tool t);
+
+/// Button k's rectangle in the button pane's normalised viewport coordinates (x0, y0, x1, y1):
+/// a grid of two columns, row 0 at the top, with margins.
+void ButtonCell(int k, double cell[4]);
+
+/// The window over a ViewerSession: its renderers and widgets, and the observers that turn
+/// keys, clicks, drags, wheel notches and slider moves into session calls.
+class ViewerWindow
+{
+public:
+  ViewerWindow(ViewerSession& session, const terroir::app::CommandLine& line)
+    : Session(session)
+    , Line(line)
+  {
+  }
+
+  ~ViewerWindow()
+  {
+    for (auto& s : this->Sliders)
+    {
+      s->Off();
+    }
+    if (this->Window)
+    {
+      this->Window->Finalize();
+    }
+    this->Interactor = nullptr;
+    this->Window = nullptr;
+    terroir::rendering::CloseXDisplay(this->Display);
+  }
+
+  int Run(TerroirViewerRequest* request);
+
+private:
+  // ---- set-up ------------------------------------------------------------------------------
+  bool Build(const std::string& title, std::string& error);
+  void BuildLayout(double right);  ///< the renderers' viewports (panes right of `right`)
+  void BuildTexts(int font);       ///< status, settings, help and the overlay list
+  void BuildInteraction();         ///< the interactor, the styles and the observers
+  void BuildSliders(double right); ///< latitude, month, hour, brush rate under the terrain
+  vtkSmartPointer<vtkSliderWidget> AddSlider(const char* title,
+    double lo,
+    double hi,
+    double value,
+    double x0,
+    double x1,
+    const char* format);
+  void BuildCompass();
+  void BuildButtons(int font);
+
+  /// Quads in normalised viewport coordinates of their renderer, one RGB colour each.
+  static vtkSmartPointer<vtkActor2D> MakeQuads(vtkPolyData* quads);
+  static void SetQuad(vtkPolyData* quads, vtkIdType k, const double cell[4], const double rgb[3]);
+
+  // ---- state to screen ---------------------------------------------------------------------
+  void ApplyOverlay(const OverlayResult& result);
+  void Recolour();
+  void UpdateLight();
+  void UpdateCompass();
+  void UpdateTexts();
+  void UpdateOverlayList();
+  void UpdateButtons();
+  void UpdateTable();
+  void ResetCamera(bool map);
+  void CollectResults();
+  double EffectiveOrientation() const;
+
+  // ---- commands ----------------------------------------------------------------------------
+  void SetOverlay(ViewerOverlay overlay);
+  void ParametersChanged(bool affectsOverlay);
+  void SetStyle(bool firstPerson);
+  void Undo();
+  bool PickCell(int x, int y, int& i, int& j);
+  void Click(int x, int y);
+  void PressButton(int k);
+  void InfiltrationChanged();
+  void ShowTable(bool show);
+  bool Screenshot(const std::string& path, std::string& error);
+  std::string NextScreenshotName();
+
+  // ---- observers ---------------------------------------------------------------------------
+  void OnKey(vtkObject* caller, unsigned long event, void* callData);
+  void OnWheel(vtkObject* caller, unsigned long event, void* callData);
+  void OnClick(vtkObject* caller, unsigned long event, void* callData);
+  void OnTimer(vtkObject* caller, unsigned long event, void* callData);
+  void OnSlider(vtkObject* caller, unsigned long event, void* callData);
+  void OnCamera(vtkObject* caller, unsigned long event, void* callData);
+  void OnMouse(vtkObject* caller, unsigned long event, void* callData);
+
+  // ---- script ------------------------------------------------------------------------------
+  bool RunAction(const ViewerAction& a, const std::string& where, bool& quit, std::string& error);
+  /// latitude ... slope-threshold: sets the parameter and redraws (the overlay if it depends).
+  void SetParameter(const ViewerAction& a);
+  /// A click at the middle of the named button; false when this window has no such button.
+  bool SendButton(const ViewerAction& a, const std::string& where, std::string& error);
+  void SendWheel(int notches); ///< notches (< 0: backward) at the centre of the terrain view
+  void PrintCamera();          ///< the `camera` line: position and focal point
+  void SendKey(const std::string& symbol, bool control, bool shift);
+  void SendDrag(int x0, int y0, int x1, int y1, int steps, bool control, bool shift);
+  void PrintState();
+
+  ViewerSession& Session;
+  const terroir::app::CommandLine& Line;
+  void* Display = nullptr;
+  int Width = 1024;
+  int Height = 768;
+  vtkSmartPointer<vtkRenderWindow> Window;
+  vtkSmartPointer<vtkRenderWindowInteractor> Interactor;
+  vtkNew<vtkRenderer> Scene;
+  vtkNew<vtkRenderer> Panel;
+  vtkNew<vtkRenderer> ListPane;
+  vtkNew<vtkRenderer> ButtonPane;
+  vtkNew<vtkRenderer> LegendPane;
+  vtkNew<vtkRenderer> TablePane;
+  vtkNew<vtkTerroirReliefSurface> Relief;
+  vtkNew<vtkLight> Sun;
+  vtkNew<vtkTerroirInteractorStyleTerrain> TerrainStyle;
+  vtkNew<vtkTerroirInteractorStyleFirstPerson> FirstPersonStyle;
+  bool FirstPerson = false;
+  vtkNew<vtkTextActor> Status;
+  vtkNew<vtkTextActor> Settings;
+  vtkNew<vtkTextActor> Help;
+  std::vector<vtkSmartPointer<vtkTextActor>> ListEntries;
+  vtkNew<vtkPolyData> ButtonQuads;
+  std::vector<vtkSmartPointer<vtkTextActor>> ButtonTexts;
+  std::vector<vtkSmartPointer<vtkSliderWidget>> Sliders; // latitude, month, hour, brush rate
+  vtkNew<vtkPolyData> CompassArrow;
+  vtkNew<vtkActor2D> CompassActor;
+  vtkNew<vtkTextActor> CompassLabel;
+  vtkNew<vtkCellPicker> Picker;
+  vtkNew<vtkCallbackCommand> KeyCommand;
+  vtkNew<vtkCallbackCommand> WheelCommand;
+  vtkNew<vtkCallbackCommand> MouseCommand;
+  OverlayResult Shown; ///< the overlay on screen
+  Tool CurrentTool = Tool::Navigate;
+  std::string Message;
+  bool Computing = false;
+  unsigned long WaterShown = 0;   ///< water version on screen
+  unsigned long DisplayShown = 0; ///< displayed-water version on screen (flow frames)
+  bool QuitRequested = false;     ///< Q or Escape was pressed
+  int FontSize = 12;
+  // The compass on screen (display pixels) and its drag.
+  double CompassCentre[2] = { 0.0, 0.0 };
+  double CompassRadius = 1.0;
+  bool TurningCompass = false;
+  double TurnStartAngle = 0.0;       ///< pointer angle at the press, degrees
+  double TurnStartOrientation = 0.0; ///< orientation at the press, degrees
+  // A brush stroke under way: the last cell painted.
+  bool Painting = false;
+  int LastCell[2] = { 0, 0 };
+  bool HaveLastCell = false;
+  // The cluster table.
+  bool TableWanted = true; ///< T / the Table button; shown when the overlay is clusters
+  ClusterTable Table;
+};
+
+} // namespace viewer
+} // namespace terroir
+
+#endif

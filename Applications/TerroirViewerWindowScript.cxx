@@ -1,0 +1,280 @@
+// The window of `terroir view` (TerroirViewerWindowPrivate.h): the --script actions, replayed
+// as real interactor events (SetEventInformation + InvokeEvent) or session calls, and the
+// `state` and `camera` lines they print.
+#include "TerroirViewerWindowPrivate.h"
+
+#include "vtkCamera.h"
+#include "vtkCommand.h"
+#include "vtkFloatArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace terroir
+{
+namespace viewer
+{
+
+//------------------------------------------------------------------------------
+void ViewerWindow::SendKey(const std::string& symbol, bool control, bool shift)
+{
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  const int* last = rwi->GetEventPosition();
+  const char code = symbol.size() == 1 ? symbol[0] : (symbol == "space" ? ' ' : 0);
+  rwi->SetEventInformation(last[0], last[1], control, shift, code, 1, symbol.c_str());
+  rwi->InvokeEvent(vtkCommand::KeyPressEvent, nullptr);
+  rwi->InvokeEvent(vtkCommand::CharEvent, nullptr);
+  rwi->InvokeEvent(vtkCommand::KeyReleaseEvent, nullptr);
+}
+
+void ViewerWindow::SendDrag(int x0, int y0, int x1, int y1, int steps, bool control, bool shift)
+{
+  // Display coordinates (origin bottom left): press at (x0, y0), `steps` moves to (x1, y1),
+  // release there (a click: the same point and no steps).
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  rwi->SetEventInformation(x0, y0, control, shift);
+  rwi->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
+  rwi->SetEventInformation(x0, y0, control, shift);
+  rwi->InvokeEvent(vtkCommand::LeftButtonPressEvent, nullptr);
+  for (int k = 1; k <= steps; ++k)
+  {
+    rwi->SetEventInformation(
+      x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps, control, shift);
+    rwi->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
+  }
+  rwi->SetEventInformation(x1, y1, control, shift);
+  rwi->InvokeEvent(vtkCommand::LeftButtonReleaseEvent, nullptr);
+}
+
+void ViewerWindow::PrintState()
+{
+  // One line for scripts and tests: the parameters, the tool, the undo depth, the sums of the
+  // water (m) and infiltration (mm/h) arrays over the cells, and whether the table is shown.
+  const auto& p = this->Session.Parameters();
+  auto sum = [](vtkFloatArray* a)
+  {
+    double total = 0.0;
+    for (vtkIdType k = 0; k < a->GetNumberOfValues(); ++k)
+    {
+      const float v = a->GetValue(k);
+      total += std::isfinite(v) ? v : 0.0f;
+    }
+    return total;
+  };
+  std::printf("state overlay %s tool %s latitude %.6g month %d hour %.6g orientation %.6g "
+              "lake-depth %.6g brush-size %.6g brush-rate %.6g slope-threshold %.6g undo %zu "
+              "water-sum %.9g infiltration-sum %.9g table %s\n",
+    terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
+    ToolName(this->CurrentTool),
+    p.Latitude,
+    p.Month,
+    p.Hour,
+    this->EffectiveOrientation(),
+    p.LakeDepth,
+    p.BrushRadius,
+    p.BrushRate,
+    p.SlopeThreshold,
+    this->Session.GetUndoDepth(),
+    sum(this->Session.GetWater()),
+    sum(this->Session.GetInfiltration()),
+    this->TablePane->GetDraw() ? "shown" : "hidden");
+  std::fflush(stdout);
+}
+
+void ViewerWindow::SetParameter(const ViewerAction& a)
+{
+  auto& p = this->Session.Parameters();
+  const auto& n = a.Numbers;
+  if (a.Verb == "latitude" || a.Verb == "longitude" || a.Verb == "month" || a.Verb == "hour" ||
+    a.Verb == "orientation" || a.Verb == "clusters")
+  {
+    if (a.Verb == "month" || a.Verb == "clusters")
+    {
+      (a.Verb == "month" ? p.Month : p.Clusters) = static_cast<int>(n[0]);
+    }
+    else
+    {
+      (a.Verb == "latitude"       ? p.Latitude
+          : a.Verb == "longitude" ? p.Longitude
+          : a.Verb == "hour"      ? p.Hour
+                                  : p.Orientation) = n[0];
+    }
+    this->ParametersChanged(true);
+  }
+  else if (a.Verb == "lake-depth" || a.Verb == "brush-size" || a.Verb == "brush-rate" ||
+    a.Verb == "slope-threshold")
+  {
+    (a.Verb == "lake-depth"      ? p.LakeDepth
+        : a.Verb == "brush-size" ? p.BrushRadius
+        : a.Verb == "brush-rate" ? p.BrushRate
+                                 : p.SlopeThreshold) = n[0];
+    this->ParametersChanged(false);
+  }
+}
+
+bool ViewerWindow::SendButton(const ViewerAction& a, const std::string& where, std::string& error)
+{
+  // A real click at the middle of the button.
+  const auto& names = terroir::viewer::ViewerButtonNames();
+  const int k = static_cast<int>(std::find(names.begin(), names.end(), a.Text) - names.begin());
+  if (k >= ButtonCount)
+  {
+    error = where + ": 'button': no button '" + a.Text + "' in this window";
+    return false;
+  }
+  double cell[4];
+  ButtonCell(k, cell);
+  const int* size = this->Window->GetSize();
+  const double* vp = this->ButtonPane->GetViewport();
+  const double u = 0.5 * (cell[0] + cell[2]), v = 0.5 * (cell[1] + cell[3]);
+  const int x = static_cast<int>((vp[0] + u * (vp[2] - vp[0])) * size[0]);
+  const int y = static_cast<int>((vp[1] + v * (vp[3] - vp[1])) * size[1]);
+  this->SendDrag(x, y, x, y, 0, false, false);
+  return true;
+}
+
+void ViewerWindow::SendWheel(int notches)
+{
+  // At the centre of the terrain view.
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  const int* size = this->Window->GetSize();
+  const double* vp = this->Scene->GetViewport();
+  const int x = static_cast<int>(0.5 * (vp[0] + vp[2]) * size[0]);
+  const int y = static_cast<int>(0.5 * (vp[1] + vp[3]) * size[1]);
+  for (int k = 0; k < std::abs(notches); ++k)
+  {
+    rwi->SetEventInformation(x, y, 0, 0);
+    rwi->InvokeEvent(
+      notches > 0 ? vtkCommand::MouseWheelForwardEvent : vtkCommand::MouseWheelBackwardEvent,
+      nullptr);
+  }
+}
+
+void ViewerWindow::PrintCamera()
+{
+  vtkCamera* c = this->Scene->GetActiveCamera();
+  double pos[3], focal[3];
+  c->GetPosition(pos);
+  c->GetFocalPoint(focal);
+  std::printf("camera position %.3f %.3f %.3f focal %.3f %.3f %.3f\n",
+    pos[0],
+    pos[1],
+    pos[2],
+    focal[0],
+    focal[1],
+    focal[2]);
+  std::fflush(stdout);
+}
+
+bool ViewerWindow::RunAction(const ViewerAction& a,
+  const std::string& where,
+  bool& quit,
+  std::string& error)
+{
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  const auto& n = a.Numbers;
+  // What finished meanwhile reaches the screen, as the timer would do it.
+  this->CollectResults();
+  if (a.Verb == "overlay")
+  {
+    ViewerOverlay overlay = ViewerOverlay::None;
+    terroir::viewer::OverlayFromName(a.Text, overlay);
+    this->SetOverlay(overlay);
+  }
+  else if (a.Verb == "latitude" || a.Verb == "longitude" || a.Verb == "month" || a.Verb == "hour" ||
+    a.Verb == "orientation" || a.Verb == "clusters" || a.Verb == "lake-depth" ||
+    a.Verb == "brush-size" || a.Verb == "brush-rate" || a.Verb == "slope-threshold")
+  {
+    this->SetParameter(a);
+  }
+  else if (a.Verb == "button")
+  {
+    if (!this->SendButton(a, where, error))
+    {
+      return false;
+    }
+  }
+  else if (a.Verb == "state")
+  {
+    this->PrintState();
+  }
+  else if (a.Verb == "sensitivity")
+  {
+    this->TerrainStyle->SetMouseSensitivity(n[0]);
+    this->FirstPersonStyle->SetMouseSensitivity(n[0]);
+  }
+  else if (a.Verb == "style")
+  {
+    this->SetStyle(a.Text == "first-person");
+    this->UpdateTexts();
+  }
+  else if (a.Verb == "tool")
+  {
+    this->CurrentTool = a.Text == "lake" ? Tool::Lake
+      : a.Text == "brush"                ? Tool::Brush
+                                         : Tool::Navigate;
+    this->UpdateTexts();
+  }
+  else if (a.Verb == "view")
+  {
+    this->ResetCamera(a.Text == "map");
+    this->UpdateCompass();
+  }
+  else if (a.Verb == "click" || a.Verb == "drag")
+  {
+    // Script coordinates have their origin at the top left (as SetEventInformationFlipY).
+    const int top = rwi->GetSize()[1] - 1;
+    const int x0 = static_cast<int>(n[0]), y0 = top - static_cast<int>(n[1]);
+    const bool drag = a.Verb == "drag";
+    const int x1 = drag ? static_cast<int>(n[2]) : x0;
+    const int y1 = drag ? top - static_cast<int>(n[3]) : y0;
+    this->SendDrag(x0, y0, x1, y1, drag ? 10 : 0, a.Control, a.Shift);
+  }
+  else if (a.Verb == "wheel")
+  {
+    this->SendWheel(static_cast<int>(n[0]));
+  }
+  else if (a.Verb == "key")
+  {
+    this->SendKey(a.Text, a.Control, a.Shift);
+  }
+  else if (a.Verb == "undo")
+  {
+    this->Undo();
+  }
+  else if (a.Verb == "flow")
+  {
+    this->PressButton(5);
+  }
+  else if (a.Verb == "wait")
+  {
+    this->Session.Wait();
+    this->CollectResults();
+  }
+  else if (a.Verb == "camera")
+  {
+    this->PrintCamera();
+  }
+  else if (a.Verb == "screenshot")
+  {
+    this->UpdateTexts();
+    if (!this->Screenshot(a.Text, error))
+    {
+      error = where + ": " + error;
+      return false;
+    }
+  }
+  else if (a.Verb == "quit")
+  {
+    quit = true;
+  }
+  this->UpdateTexts();
+  this->Window->Render();
+  return true;
+}
+
+} // namespace viewer
+} // namespace terroir

@@ -1,0 +1,468 @@
+// The window of `terroir view` (TerroirViewerWindowPrivate.h): picking cells, the tools (lake,
+// brush, fill, slope rule, water flow, undo, table), screenshots, and the observers of keys,
+// the wheel, clicks, the timer and the mouse (list, buttons, compass turns, brush strokes).
+#include "TerroirViewerWindowPrivate.h"
+
+#include "TerroirCommandLine.h"
+#include "TerroirSafeOutput.h"
+
+#include "vtkCommand.h"
+#include "vtkImageData.h"
+#include "vtkMath.h"
+#include "vtkPNGWriter.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace terroir
+{
+namespace viewer
+{
+namespace
+{
+/// Display coordinates (pixels, origin bottom left) to the normalised viewport coordinates of
+/// `renderer`; false when outside its viewport.
+bool ToViewport(vtkRenderer* renderer, const int* windowSize, int x, int y, double& u, double& v)
+{
+  const double* vp = renderer->GetViewport();
+  u = (x / static_cast<double>(windowSize[0]) - vp[0]) / (vp[2] - vp[0]);
+  v = (y / static_cast<double>(windowSize[1]) - vp[1]) / (vp[3] - vp[1]);
+  return u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0;
+}
+} // namespace
+
+void ViewerWindow::Undo()
+{
+  const unsigned long soil = this->Session.GetInfiltrationVersion();
+  if (this->Session.Undo())
+  {
+    this->Message = "Undone (" + std::to_string(this->Session.GetUndoDepth()) + " step(s) left)";
+    this->Recolour();
+    if (this->Session.GetInfiltrationVersion() != soil)
+    {
+      this->InfiltrationChanged();
+    }
+  }
+  else
+  {
+    this->Message = "Nothing to undo";
+  }
+  this->UpdateTexts();
+}
+
+bool ViewerWindow::PickCell(int x, int y, int& i, int& j)
+{
+  if (!this->Picker->Pick(x, y, 0.0, this->Scene))
+  {
+    return false;
+  }
+  double world[3];
+  this->Picker->GetPickPosition(world);
+  vtkImageData* terrain = this->Session.GetTerrain();
+  double origin[3], spacing[3];
+  terrain->GetOrigin(origin);
+  terrain->GetSpacing(spacing);
+  i = static_cast<int>(std::lround((world[0] - origin[0]) / spacing[0]));
+  j = static_cast<int>(std::lround((world[1] - origin[1]) / spacing[1]));
+  return true;
+}
+
+void ViewerWindow::Click(int x, int y)
+{
+  if (this->CurrentTool != Tool::Lake)
+  {
+    return; // the brush paints on press and drag (OnMouse)
+  }
+  int i = 0, j = 0;
+  if (!this->PickCell(x, y, i, j))
+  {
+    this->Message = "No terrain under the pointer";
+    this->UpdateTexts();
+    return;
+  }
+  std::string error;
+  if (this->Session.FloodFillAt(i, j, error))
+  {
+    this->Message =
+      "Lake at cell (" + std::to_string(i) + ", " + std::to_string(j) + ") (Ctrl+Z undoes it)";
+    this->Recolour();
+  }
+  else
+  {
+    this->Message = error;
+  }
+  this->UpdateTexts();
+}
+
+void ViewerWindow::InfiltrationChanged()
+{
+  if (this->Session.GetCurrentOverlay() == ViewerOverlay::Humidity)
+  {
+    this->Session.RequestOverlay();
+  }
+}
+
+void ViewerWindow::PressButton(int k)
+{
+  const auto& p = this->Session.Parameters();
+  char line[160];
+  switch (k)
+  {
+    case 0:
+    case 1:
+    case 2:
+      this->CurrentTool = k == 1 ? Tool::Lake : k == 2 ? Tool::Brush : Tool::Navigate;
+      this->Message = std::string("Tool: ") + ToolName(this->CurrentTool);
+      break;
+    case 3:
+    {
+      const long long changed = this->Session.FillInfiltration();
+      std::snprintf(line,
+        sizeof(line),
+        "Fill: %lld cells changed to %.0f mm/h (Ctrl+Z undoes it)",
+        changed,
+        p.BrushRate);
+      this->Message = line;
+      this->InfiltrationChanged();
+      break;
+    }
+    case 4:
+    {
+      std::string error;
+      const long long changed = this->Session.ApplySlopeRule(error);
+      if (changed < 0)
+      {
+        this->Message = "error: " + error;
+        break;
+      }
+      std::snprintf(line,
+        sizeof(line),
+        "Slope rule: %lld cells steeper than %.0f\xc2\xb0 set to 0 mm/h (Ctrl+Z undoes it)",
+        changed,
+        p.SlopeThreshold);
+      this->Message = line;
+      this->InfiltrationChanged();
+      break;
+    }
+    case 5:
+      this->Session.RequestWaterFlow();
+      this->Message = "Water flow started";
+      break;
+    case 6:
+      this->Undo();
+      break;
+    case 7:
+      this->ShowTable(this->TablePane->GetDraw() == 0);
+      if (this->TableWanted && this->Shown.Overlay != ViewerOverlay::Clusters)
+      {
+        this->Message = "The cluster table comes with the clusters overlay (key 7)";
+      }
+      break;
+    default:
+      break;
+  }
+  this->UpdateTexts();
+}
+
+std::string ViewerWindow::NextScreenshotName()
+{
+  const std::string dir =
+    this->Line.View.ScreenshotDir.empty() ? "." : this->Line.View.ScreenshotDir;
+  for (int k = 1;; ++k)
+  {
+    char name[64];
+    std::snprintf(name, sizeof(name), "terroir-view-%03d.png", k);
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec))
+    {
+      return path;
+    }
+  }
+}
+
+bool ViewerWindow::Screenshot(const std::string& path, std::string& error)
+{
+  this->Window->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(this->Window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->ShouldRerenderOff();
+  grab->Update();
+  const std::string temp = terroir::TemporaryNameFor(path);
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(temp.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0)
+  {
+    terroir::DiscardTemporary(temp);
+    error = path + ": could not be written";
+    return false;
+  }
+  if (!terroir::CommitTemporary(temp, path, error))
+  {
+    error = path + ": " + error;
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
+{
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  const std::string sym = rwi->GetKeySym() ? rwi->GetKeySym() : "";
+  const bool control = rwi->GetControlKey() != 0;
+  auto& p = this->Session.Parameters();
+  bool handled = true;
+  if (control && (sym == "z" || sym == "Z"))
+  {
+    this->Undo();
+  }
+  else if (control)
+  {
+    handled = false;
+  }
+  else if (sym.size() == 1 && sym[0] >= '0' && sym[0] <= '7')
+  {
+    this->SetOverlay(static_cast<ViewerOverlay>(sym[0] - '0'));
+  }
+  else if (sym == "Tab")
+  {
+    this->SetStyle(!this->FirstPerson);
+    this->Message = this->FirstPerson ? "First-person: W/A/S/D move, R/F up/down, drag to look"
+                                      : "Terrain: drag pans, wheel zooms, Ctrl+drag rotates";
+    this->UpdateTexts();
+  }
+  else if (sym == "l" || sym == "b" || sym == "n")
+  {
+    this->CurrentTool = sym == "l" ? Tool::Lake : sym == "b" ? Tool::Brush : Tool::Navigate;
+    this->Message = std::string("Tool: ") + ToolName(this->CurrentTool);
+    this->UpdateTexts();
+  }
+  else if (sym == "g")
+  {
+    this->PressButton(5);
+  }
+  else if (sym == "t")
+  {
+    this->PressButton(7);
+  }
+  else if (sym == "bracketleft" || sym == "bracketright")
+  {
+    const double current = this->EffectiveOrientation();
+    p.Orientation = std::fmod(current + (sym == "bracketleft" ? -5.0 : 5.0) + 360.0, 360.0);
+    this->ParametersChanged(true);
+  }
+  else if (sym == "v" || sym == "m")
+  {
+    this->ResetCamera(sym == "m");
+    this->UpdateCompass();
+  }
+  else if (sym == "p" || sym == "F12")
+  {
+    std::string error;
+    const std::string path = this->NextScreenshotName();
+    this->Message = this->Screenshot(path, error) ? "Saved " + path : error;
+    this->UpdateTexts();
+  }
+  else if (sym == "q" || sym == "Escape")
+  {
+    this->QuitRequested = true; // a script's `key q` ends the session too
+    rwi->TerminateApp();
+  }
+  else
+  {
+    handled = false; // W/A/S/D/R/F go on to the first-person style
+  }
+  if (handled)
+  {
+    // The navigation style does not see it.
+    this->KeyCommand->SetAbortFlag(1);
+    this->Window->Render();
+  }
+}
+
+void ViewerWindow::OnWheel(vtkObject*, unsigned long event, void*)
+{
+  if (this->CurrentTool != Tool::Brush)
+  {
+    return; // zoom or move
+  }
+  auto& p = this->Session.Parameters();
+  const double factor = event == vtkCommand::MouseWheelForwardEvent ? 1.25 : 0.8;
+  p.BrushRadius = std::max(0.0, std::min(1000.0, std::round(p.BrushRadius * factor * 4) / 4));
+  if (event == vtkCommand::MouseWheelForwardEvent && p.BrushRadius < 1.0)
+  {
+    p.BrushRadius = 1.0;
+  }
+  this->WheelCommand->SetAbortFlag(1);
+  this->UpdateTexts();
+  this->Window->Render();
+}
+
+void ViewerWindow::OnClick(vtkObject*, unsigned long, void* callData)
+{
+  const int* position = static_cast<const int*>(callData);
+  this->Click(position[0], position[1]);
+  this->Window->Render();
+}
+
+void ViewerWindow::OnTimer(vtkObject*, unsigned long, void*)
+{
+  const bool busy = !this->Session.IsIdle();
+  this->CollectResults();
+  if (busy || this->Computing)
+  {
+    this->UpdateTexts();
+    this->Window->Render();
+  }
+  this->Computing = !this->Session.IsIdle();
+}
+
+void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
+{
+  vtkRenderWindowInteractor* rwi = this->Interactor;
+  const int* position = rwi->GetEventPosition();
+  const int x = position[0], y = position[1];
+  const int* size = this->Window->GetSize();
+  // Pointer angle about the compass centre, degrees clockwise from screen up.
+  auto pointerAngle = [this, x, y]()
+  {
+    return vtkMath::DegreesFromRadians(
+      std::atan2(x - this->CompassCentre[0], y - this->CompassCentre[1]));
+  };
+  bool handled = false;
+  if (event == vtkCommand::LeftButtonPressEvent)
+  {
+    double u = 0.0, v = 0.0;
+    if (ToViewport(this->ListPane, size, x, y, u, v))
+    {
+      // The list's entries hang from 0.84 - k h, h = 0.84 / count apart (Build); the band of
+      // entry k is [0.84 - (k + 1) h, 0.84 - k h].
+      const int count = static_cast<int>(ViewerOverlay::Count);
+      const double h = 0.84 / count;
+      const int row = static_cast<int>(std::floor((0.84 - v) / h));
+      if (row >= 0 && row < count)
+      {
+        this->SetOverlay(static_cast<ViewerOverlay>(row));
+      }
+      handled = true;
+    }
+    else if (ToViewport(this->ButtonPane, size, x, y, u, v))
+    {
+      for (int k = 0; k < ButtonCount; ++k)
+      {
+        double cell[4];
+        ButtonCell(k, cell);
+        if (u >= cell[0] && u <= cell[2] && v >= cell[1] && v <= cell[3])
+        {
+          this->PressButton(k);
+        }
+      }
+      handled = true;
+    }
+    else if (this->TablePane->GetDraw() && ToViewport(this->TablePane, size, x, y, u, v))
+    {
+      handled = true; // the table is not the terrain
+    }
+    else if (ToViewport(this->Scene, size, x, y, u, v) &&
+      std::hypot(x - this->CompassCentre[0], y - this->CompassCentre[1]) <=
+        1.9 * this->CompassRadius)
+    {
+      this->TurningCompass = true;
+      this->TurnStartAngle = pointerAngle();
+      this->TurnStartOrientation = this->EffectiveOrientation();
+      this->Message = "Turning the compass";
+      handled = true;
+    }
+    else if (this->CurrentTool == Tool::Brush && !rwi->GetControlKey() &&
+      ToViewport(this->Scene, size, x, y, u, v))
+    {
+      this->Painting = true;
+      this->Session.BeginStroke();
+      this->HaveLastCell = this->PickCell(x, y, this->LastCell[0], this->LastCell[1]);
+      if (this->HaveLastCell)
+      {
+        this->Session.PaintInfiltration(this->LastCell[0], this->LastCell[1]);
+      }
+      handled = true;
+    }
+  }
+  else if (event == vtkCommand::MouseMoveEvent && (this->TurningCompass || this->Painting))
+  {
+    if (this->TurningCompass)
+    {
+      // The arrow follows the pointer about the compass centre: turning it clockwise on the
+      // screen turns grid north anticlockwise from true north.
+      const double turned = pointerAngle() - this->TurnStartAngle;
+      auto& p = this->Session.Parameters();
+      p.Orientation = std::fmod(this->TurnStartOrientation - turned + 720.0, 360.0);
+      this->ParametersChanged(true);
+    }
+    else
+    {
+      int i = 0, j = 0;
+      if (this->PickCell(x, y, i, j))
+      {
+        if (this->HaveLastCell)
+        {
+          this->Session.PaintInfiltrationAlong(this->LastCell[0], this->LastCell[1], i, j);
+        }
+        else
+        {
+          this->Session.PaintInfiltration(i, j);
+        }
+        this->LastCell[0] = i;
+        this->LastCell[1] = j;
+        this->HaveLastCell = true;
+      }
+    }
+    handled = true;
+  }
+  else if (event == vtkCommand::LeftButtonReleaseEvent && (this->TurningCompass || this->Painting))
+  {
+    if (this->TurningCompass)
+    {
+      this->TurningCompass = false;
+      char line[96];
+      std::snprintf(line,
+        sizeof(line),
+        "Grid north %.1f\xc2\xb0 from true north",
+        this->Session.Parameters().Orientation);
+      this->Message = line;
+    }
+    else
+    {
+      this->Painting = false;
+      const long long changed = this->Session.EndStroke();
+      char line[128];
+      std::snprintf(line,
+        sizeof(line),
+        "Painted %lld cells at %.0f mm/h (Ctrl+Z undoes the stroke)",
+        changed,
+        this->Session.Parameters().BrushRate);
+      this->Message = line;
+      if (changed > 0)
+      {
+        this->InfiltrationChanged();
+      }
+    }
+    handled = true;
+  }
+  if (handled)
+  {
+    this->MouseCommand->SetAbortFlag(1);
+    this->UpdateTexts();
+    this->Window->Render();
+  }
+}
+
+} // namespace viewer
+} // namespace terroir
