@@ -57,7 +57,9 @@ install(TARGETS terroir-overlay LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")
 
 # `terroir view`: the window-free model (unit-tested by Testing/Pipeline/TestViewerSession.cxx)
 # and the window module, loaded with dlopen like the overlay module.
-add_library(TerroirViewerSession STATIC TerroirViewerSession.cxx TerroirViewerSession.h)
+add_library(TerroirViewerSession STATIC TerroirViewerSession.cxx TerroirViewerSession.h
+  TerroirViewerSessionEdits.cxx TerroirViewerSessionOverlays.cxx TerroirViewerSessionWorker.cxx
+  TerroirViewerSessionPrivate.h)
 set_target_properties(TerroirViewerSession PROPERTIES POSITION_INDEPENDENT_CODE ON)
 target_include_directories(TerroirViewerSession PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}")
 target_compile_options(TerroirViewerSession PRIVATE -Wall -Wextra)

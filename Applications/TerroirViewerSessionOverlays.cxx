@@ -1,0 +1,290 @@
+// The model of `terroir view` (TerroirViewerSessionPrivate.h): the overlays' filters, run on a
+// snapshot (synchronously or by the worker), the sun's direction, and the cluster table.
+#include "TerroirViewerSessionPrivate.h"
+
+#include "vtkDataArray.h"
+#include "vtkInformation.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+
+#include "vtkTerroirGeoreference.h"
+#include "vtkTerroirKMeans.h"
+#include "vtkTerroirSlope.h"
+#include "vtkTerroirSoilHumidity.h"
+#include "vtkTerroirSolarIllumination.h"
+#include "vtkTerroirTemperature.h"
+#include "vtkTerroirWaterFlow.h"
+
+#include "SolarPosition.h"
+
+#include <cmath>
+#include <map>
+
+namespace terroir
+{
+namespace viewer
+{
+namespace
+{
+/// Hemisphere of the temperature model from a latitude.
+int HemisphereOf(double latitude)
+{
+  return latitude < 0.0 ? vtkTerroirTemperature::South : vtkTerroirTemperature::North;
+}
+
+/// Sets the place and time of a solar filter from the parameters (clock = local mean time).
+void ConfigureSun(vtkTerroirSolarIllumination* sun, const ViewerParameters& p)
+{
+  sun->SetLatitude(p.Latitude);
+  sun->SetLongitude(p.Longitude);
+  sun->SetOrientation(p.Orientation);
+  sun->SetYear(2025);
+  sun->SetMonth(p.Month);
+  sun->SetDay(15);
+  sun->SetMonthlyDay(15);
+  sun->SetTime(p.Hour);
+  sun->SetUTCOffset(std::max(-14.0, std::min(14.0, p.Longitude / 15.0)));
+}
+} // namespace
+
+vtkDataArray* OverlayResult::GetValues() const
+{
+  return this->Output && !this->ArrayName.empty()
+    ? this->Output->GetPointData()->GetArray(this->ArrayName.c_str())
+    : nullptr;
+}
+
+//------------------------------------------------------------------------------
+/// The overlay's filters on `input` (a snapshot: terrain, WaterHeight, InfiltrationRate).
+OverlayResult ComputeOverlayOn(vtkImageData* input,
+  ViewerOverlay overlay,
+  const ViewerParameters& p,
+  std::atomic<double>& progress)
+{
+  OverlayResult r;
+  r.Overlay = overlay;
+  JobMonitor monitor;
+  monitor.Progress = &progress;
+  const int month = std::max(1, std::min(12, p.Month));
+  switch (overlay)
+  {
+    case ViewerOverlay::None:
+      r.Output = input;
+      return r;
+    case ViewerOverlay::Water:
+      r.ArrayName = vtkTerroirWaterFlow::WaterHeightName();
+      r.Preset = "Water";
+      r.Output = input;
+      return r;
+    case ViewerOverlay::Slope:
+    {
+      vtkNew<vtkTerroirSlope> slope;
+      slope->SetInputData(input);
+      if (RunFilter(slope, monitor, 0.0, 1.0))
+      {
+        r.Output = slope->GetOutput();
+      }
+      r.ArrayName = vtkTerroirSlope::SlopeName();
+      r.Preset = "Slope";
+      break;
+    }
+    case ViewerOverlay::Illumination:
+    case ViewerOverlay::SunHours:
+    {
+      vtkNew<vtkTerroirSolarIllumination> sun;
+      sun->SetInputData(input);
+      ConfigureSun(sun, p);
+      const bool instant = overlay == ViewerOverlay::Illumination;
+      if (instant)
+      {
+        sun->SetModeToInstant();
+      }
+      else
+      {
+        sun->SetModeToDaily();
+      }
+      if (RunFilter(sun, monitor, 0.0, 1.0))
+      {
+        r.Output = sun->GetOutput();
+      }
+      r.ArrayName = instant ? vtkTerroirSolarIllumination::IlluminatedName()
+                            : vtkTerroirSolarIllumination::IlluminationHoursName();
+      r.Preset = instant ? "Sunlit" : "Illumination";
+      break;
+    }
+    case ViewerOverlay::Temperature:
+    {
+      vtkNew<vtkTerroirTemperature> temperature;
+      temperature->SetInputData(input);
+      temperature->SetHemisphere(HemisphereOf(p.Latitude));
+      if (RunFilter(temperature, monitor, 0.0, 1.0))
+      {
+        r.Output = temperature->GetOutput();
+      }
+      r.ArrayName = vtkTerroirTemperature::TemperatureName();
+      r.Component = month - 1;
+      r.Preset = "Temperature";
+      break;
+    }
+    case ViewerOverlay::Humidity:
+    {
+      vtkNew<vtkTerroirSoilHumidity> humidity;
+      humidity->SetInputData(input);
+      humidity->ComputeWeightedSoilHumidityOff();
+      humidity->ComputeStandingWaterOff();
+      if (RunFilter(humidity, monitor, 0.0, 1.0))
+      {
+        r.Output = humidity->GetOutput();
+      }
+      r.ArrayName = vtkTerroirSoilHumidity::SoilHumidityName();
+      r.Component = month - 1;
+      r.Preset = "Humidity";
+      break;
+    }
+    case ViewerOverlay::Clusters:
+    {
+      vtkNew<vtkTerroirSlope> slope;
+      slope->SetInputData(input);
+      vtkNew<vtkTerroirTemperature> temperature;
+      temperature->SetInputConnection(slope->GetOutputPort());
+      temperature->SetHemisphere(HemisphereOf(p.Latitude));
+      vtkNew<vtkTerroirSolarIllumination> sun;
+      sun->SetInputConnection(temperature->GetOutputPort());
+      ConfigureSun(sun, p);
+      sun->SetModeToMonthly();
+      vtkNew<vtkTerroirKMeans> kmeans;
+      kmeans->SetInputConnection(sun->GetOutputPort());
+      kmeans->SetNumberOfClusters(std::max(1, std::min(64, p.Clusters)));
+      if (RunFilter(slope, monitor, 0.0, 0.05) && RunFilter(temperature, monitor, 0.05, 0.05) &&
+        RunFilter(sun, monitor, 0.1, 0.8) && RunFilter(kmeans, monitor, 0.9, 0.1))
+      {
+        r.Output = kmeans->GetOutput();
+        r.Table = kmeans->GetClusterTable();
+      }
+      r.ArrayName = vtkTerroirKMeans::ClusterIdName();
+      r.Preset = "Clusters";
+      break;
+    }
+    case ViewerOverlay::Count:
+      break;
+  }
+  r.Error = monitor.Error;
+  if (r.Error.empty() && !r.GetValues())
+  {
+    r.Error = std::string("the ") + OverlayName(overlay) + " overlay produced no '" + r.ArrayName +
+      "' array";
+  }
+  return r;
+}
+
+OverlayResult ViewerSession::ComputeOverlay(ViewerOverlay overlay, const ViewerParameters& p) const
+{
+  if (!this->Impl->Terrain)
+  {
+    OverlayResult r;
+    r.Overlay = overlay;
+    r.Error = "no terrain";
+    return r;
+  }
+  std::atomic<double> progress{ 0.0 };
+  return ComputeOverlayOn(this->Impl->Snapshot(), overlay, p, progress);
+}
+
+//------------------------------------------------------------------------------
+void ViewerSession::SunDirection(const ViewerParameters& p,
+  double& gridAzimuth,
+  double& elevation) const
+{
+  terroir::terrain::UTCInstant when;
+  when.year = 2025;
+  when.month = std::max(1, std::min(12, p.Month));
+  when.day = 15;
+  when.hours = p.Hour - std::max(-14.0, std::min(14.0, p.Longitude / 15.0));
+  terroir::terrain::Observer where;
+  where.latitudeDeg = p.Latitude;
+  where.longitudeDeg = p.Longitude;
+  const terroir::terrain::SolarPosition sun = terroir::terrain::SolarPositionNREL2004(when, where);
+  double gridNorth = p.Orientation;
+  if (!std::isfinite(gridNorth))
+  {
+    gridNorth =
+      this->Impl->Terrain && vtkTerroirGeoreference::HasMeridianConvergence(this->Impl->Terrain)
+      ? vtkTerroirGeoreference::GetMeridianConvergence(this->Impl->Terrain)
+      : 0.0;
+  }
+  // True azimuth = grid azimuth + bearing of grid north.
+  gridAzimuth = std::fmod(sun.azimuthDeg - gridNorth + 720.0, 360.0);
+  elevation = sun.elevationDeg;
+}
+
+//------------------------------------------------------------------------------
+ClusterTable ClusterTable::FromKMeans(vtkTable* table, int month)
+{
+  ClusterTable t;
+  if (!table)
+  {
+    return t;
+  }
+  const char* monthName = vtkTerroirTemperature::GetMonthName(std::max(1, std::min(12, month)) - 1);
+  const std::string suffix = std::string("_") + (monthName ? monthName : "");
+  const std::map<std::string, std::string> shortNames = { { "Slope", "Slope" },
+    { "Temperature", "Temp" },
+    { "IlluminationHours", "Sun" },
+    { "WeightedSoilHumidity", "Humidity" } };
+  std::vector<vtkDataArray*> columns;
+  for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
+  {
+    auto* column = vtkDataArray::SafeDownCast(table->GetColumn(c));
+    const std::string name = table->GetColumnName(c) ? table->GetColumnName(c) : "";
+    if (!column || name == "ClusterId" || name == "Cells" || name == "Share")
+    {
+      continue;
+    }
+    std::string base = name;
+    std::string when;
+    if (name.size() > suffix.size() &&
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    {
+      base = name.substr(0, name.size() - suffix.size());
+      when = std::string(" ") + (monthName ? monthName : "");
+    }
+    else if (name.find('_') != std::string::npos)
+    {
+      continue; // another month's component
+    }
+    auto known = shortNames.find(base);
+    std::string title = (known != shortNames.end() ? known->second : base) + when;
+    vtkInformation* info = column->GetInformation();
+    if (info->Has(vtkDataArray::UNITS_LABEL()))
+    {
+      const std::string units = info->Get(vtkDataArray::UNITS_LABEL());
+      // Degrees as the sign, as in the legends: "deg" and "degC" become ° and °C.
+      const bool degrees = units == "deg" || units == "degC";
+      const std::string sign = degrees ? "\xc2\xb0" + units.substr(3) : units;
+      title += " (" + sign + ")";
+    }
+    t.Columns.push_back(title);
+    columns.push_back(column);
+  }
+  auto* ids = vtkDataArray::SafeDownCast(table->GetColumnByName("ClusterId"));
+  auto* colors = vtkStringArray::SafeDownCast(table->GetColumnByName("Color"));
+  auto* cells = vtkDataArray::SafeDownCast(table->GetColumnByName("Cells"));
+  auto* shares = vtkDataArray::SafeDownCast(table->GetColumnByName("Share"));
+  for (vtkIdType r = 0; r < table->GetNumberOfRows(); ++r)
+  {
+    ClusterTableRow row;
+    row.Id = ids ? static_cast<int>(ids->GetComponent(r, 0)) : static_cast<int>(r);
+    row.Color = colors ? colors->GetValue(r) : std::string("#808080");
+    row.Cells = cells ? static_cast<long long>(cells->GetComponent(r, 0)) : 0;
+    row.Share = shares ? shares->GetComponent(r, 0) : 0.0;
+    for (vtkDataArray* column : columns)
+    {
+      row.Means.push_back(column->GetComponent(r, 0));
+    }
+    t.Rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+} // namespace viewer
+} // namespace terroir
