@@ -102,6 +102,298 @@ bool ToNumber(const std::string& token, double& value)
   return end == token.c_str() + token.size() && errno == 0 && std::isfinite(value);
 }
 
+/// One line of a script being parsed: its words, the action they make, and where a problem
+/// is reported ("NAME:LINE: problem").
+struct ScriptLine
+{
+  const std::string& Name;
+  int Number; ///< 1-based line
+  int Width;
+  int Height;
+  std::vector<ViewerAction>& Actions; ///< cleared on failure
+  std::string& Error;
+  std::vector<std::string> W; ///< the words, the verb first
+  ViewerAction A;
+  std::size_t Args = 0; ///< words after the verb
+
+  /// Sets Error to the problem on this line, clears Actions; returns false.
+  bool Fail(const std::string& problem)
+  {
+    this->Error = this->Name + ":" + std::to_string(this->Number) + ": " + problem;
+    this->Actions.clear();
+    return false;
+  }
+
+  /// Between lo and hi arguments, else fails with the verb's usage.
+  bool WantArgs(std::size_t lo, std::size_t hi, const char* usage)
+  {
+    const std::size_t args = this->Args;
+    if (args < lo || args > hi)
+    {
+      return this->Fail("'" + this->A.Verb + "' takes " + usage + ", got " + std::to_string(args) +
+        " argument" + (args == 1 ? "" : "s"));
+    }
+    return true;
+  }
+
+  /// Numbers at W[first .. first+count), each in [lo, hi] (x and y: within the window).
+  bool Numbers(std::size_t first,
+    std::size_t count,
+    double lo,
+    double hi,
+    bool integer,
+    const char* what)
+  {
+    const std::vector<std::string>& w = this->W;
+    ViewerAction& a = this->A;
+    for (std::size_t k = first; k < first + count; ++k)
+    {
+      double v = 0.0;
+      if (!ToNumber(w[k], v))
+      {
+        return this->Fail("'" + a.Verb + "': " + what + " '" + w[k] + "' is not a finite number");
+      }
+      if (integer && v != std::floor(v))
+      {
+        return this->Fail("'" + a.Verb + "': " + what + " " + w[k] + " is not a whole number");
+      }
+      const double top = std::strcmp(what, "x") == 0 ? this->Width - 1
+        : std::strcmp(what, "y") == 0                ? this->Height - 1
+                                                     : hi;
+      if (v < lo || v > top)
+      {
+        return this->Fail("'" + a.Verb + "': " + what + " " + w[k] + " is outside [" +
+          terroir::NumberText(lo, 6) + ", " + terroir::NumberText(top, 6) + "]");
+      }
+      a.Numbers.push_back(v);
+    }
+    return true;
+  }
+
+  /// Trailing modifiers of click and drag.
+  bool Modifiers(std::size_t first)
+  {
+    const std::vector<std::string>& w = this->W;
+    ViewerAction& a = this->A;
+    for (std::size_t k = first; k < w.size(); ++k)
+    {
+      if (w[k] == "ctrl")
+      {
+        a.Control = true;
+      }
+      else if (w[k] == "shift")
+      {
+        a.Shift = true;
+      }
+      else
+      {
+        return this->Fail("'" + a.Verb + "': unknown modifier '" + w[k] + "' (ctrl or shift)");
+      }
+    }
+    return true;
+  }
+};
+
+/// overlay NAME.
+bool ParseOverlay(ScriptLine& s)
+{
+  const std::vector<std::string>& w = s.W;
+  ViewerAction& a = s.A;
+  ViewerOverlay overlay;
+  if (!s.WantArgs(1, 1, "one overlay name"))
+  {
+    return false;
+  }
+  if (!OverlayFromName(w[1], overlay))
+  {
+    return s.Fail("unknown overlay '" + w[1] + "' (" + OverlayNameList() + ")");
+  }
+  a.Text = w[1];
+  return true;
+}
+
+/// style, tool, view and button: one word of a fixed list.
+bool ParseChoice(ScriptLine& s)
+{
+  const std::vector<std::string>& w = s.W;
+  ViewerAction& a = s.A;
+  const std::vector<std::string> allowed = a.Verb == "style"
+    ? std::vector<std::string>{ "terrain", "first-person" }
+    : a.Verb == "tool"   ? std::vector<std::string>{ "navigate", "lake", "brush" }
+    : a.Verb == "button" ? ViewerButtonNames()
+                         : std::vector<std::string>{ "relief", "map" };
+  std::string list;
+  for (const std::string& name : allowed)
+  {
+    list += (list.empty() ? "" : ", ") + name;
+  }
+  if (!s.WantArgs(1, 1, ("one of " + list).c_str()))
+  {
+    return false;
+  }
+  if (std::find(allowed.begin(), allowed.end(), w[1]) == allowed.end())
+  {
+    return s.Fail("'" + a.Verb + "': unknown value '" + w[1] + "' (" + list + ")");
+  }
+  a.Text = w[1];
+  return true;
+}
+
+/// click X Y [ctrl] [shift].
+bool ParseClick(ScriptLine& s)
+{
+  if (s.Args < 2)
+  {
+    return s.Fail("'click' takes X Y [ctrl] [shift]");
+  }
+  if (!s.Numbers(1, 1, 0.0, 0.0, true, "x") || !s.Numbers(2, 1, 0.0, 0.0, true, "y") ||
+    !s.Modifiers(3))
+  {
+    return false;
+  }
+  return true;
+}
+
+/// drag X0 Y0 X1 Y1 [ctrl] [shift].
+bool ParseDrag(ScriptLine& s)
+{
+  if (s.Args < 4)
+  {
+    return s.Fail("'drag' takes X0 Y0 X1 Y1 [ctrl] [shift]");
+  }
+  if (!s.Numbers(1, 1, 0.0, 0.0, true, "x") || !s.Numbers(2, 1, 0.0, 0.0, true, "y") ||
+    !s.Numbers(3, 1, 0.0, 0.0, true, "x") || !s.Numbers(4, 1, 0.0, 0.0, true, "y") ||
+    !s.Modifiers(5))
+  {
+    return false;
+  }
+  return true;
+}
+
+/// wheel NOTCHES (negative: backward, not 0).
+bool ParseWheel(ScriptLine& s)
+{
+  if (!s.WantArgs(1, 1, "one whole number of notches (negative: backward)") ||
+    !s.Numbers(1, 1, -100.0, 100.0, true, "notches"))
+  {
+    return false;
+  }
+  if (s.A.Numbers[0] == 0.0)
+  {
+    return s.Fail("'wheel': 0 notches does nothing");
+  }
+  return true;
+}
+
+/// key [ctrl+][shift+]KEY.
+bool ParseKey(ScriptLine& s)
+{
+  const std::vector<std::string>& w = s.W;
+  ViewerAction& a = s.A;
+  KeySpec key;
+  std::string why;
+  if (!s.WantArgs(1, 1, "one key (e.g. ctrl+z)"))
+  {
+    return false;
+  }
+  if (!ParseKeySpec(w[1], key, why))
+  {
+    return s.Fail(why);
+  }
+  a.Text = key.Symbol;
+  a.Control = key.Control;
+  a.Shift = key.Shift;
+  return true;
+}
+
+/// screenshot FILE.png.
+bool ParseScreenshot(ScriptLine& s)
+{
+  const std::vector<std::string>& w = s.W;
+  ViewerAction& a = s.A;
+  if (!s.WantArgs(1, 1, "one file name ending in .png"))
+  {
+    return false;
+  }
+  const std::string& f = w[1];
+  std::string lower = f;
+  std::transform(lower.begin(),
+    lower.end(),
+    lower.begin(),
+    [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); });
+  if (lower.size() <= 4 || lower.compare(lower.size() - 4, 4, ".png") != 0)
+  {
+    return s.Fail("'screenshot': '" + f + "' does not end in .png");
+  }
+  a.Text = f;
+  return true;
+}
+
+/// The arguments of the line's verb into its action; false with the error on a bad line.
+bool ParseArguments(ScriptLine& s)
+{
+  const ViewerAction& a = s.A;
+  const NumericVerb* numeric = nullptr;
+  for (const NumericVerb& v : NumericVerbs)
+  {
+    if (a.Verb == v.Verb)
+    {
+      numeric = &v;
+    }
+  }
+  if (numeric)
+  {
+    if (!s.WantArgs(1, 1, "one number") ||
+      !s.Numbers(1, 1, numeric->Lo, numeric->Hi, numeric->Integer, "value"))
+    {
+      return false;
+    }
+  }
+  else if (a.Verb == "overlay")
+  {
+    return ParseOverlay(s);
+  }
+  else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button")
+  {
+    return ParseChoice(s);
+  }
+  else if (a.Verb == "click")
+  {
+    return ParseClick(s);
+  }
+  else if (a.Verb == "drag")
+  {
+    return ParseDrag(s);
+  }
+  else if (a.Verb == "wheel")
+  {
+    return ParseWheel(s);
+  }
+  else if (a.Verb == "key")
+  {
+    return ParseKey(s);
+  }
+  else if (a.Verb == "screenshot")
+  {
+    return ParseScreenshot(s);
+  }
+  else if (a.Verb == "wait" || a.Verb == "quit" || a.Verb == "flow" || a.Verb == "undo" ||
+    a.Verb == "camera" || a.Verb == "state")
+  {
+    if (!s.WantArgs(0, 0, "no argument"))
+    {
+      return false;
+    }
+  }
+  else
+  {
+    return s.Fail("unknown action '" + a.Verb +
+      "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
+      "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
+      "drag, wheel, key, flow, undo, wait, camera, state, screenshot, quit)");
+  }
+  return true;
+}
 } // namespace
 
 const char* OverlayName(ViewerOverlay overlay)
@@ -199,229 +491,29 @@ bool ParseViewerScript(const std::string& text,
   while (std::getline(lines, line))
   {
     ++number;
-    const auto fail = [&](const std::string& problem)
-    {
-      error = name + ":" + std::to_string(number) + ": " + problem;
-      actions.clear();
-      return false;
-    };
     const std::size_t hash = line.find('#');
     if (hash != std::string::npos)
     {
       line.resize(hash);
     }
     std::istringstream words(line);
-    std::vector<std::string> w;
+    ScriptLine s{ name, number, width, height, actions, error, {}, {}, 0 };
     for (std::string word; words >> word;)
     {
-      w.push_back(word);
+      s.W.push_back(word);
     }
-    if (w.empty())
+    if (s.W.empty())
     {
       continue;
     }
-    ViewerAction a;
-    a.Verb = w[0];
-    a.Line = number;
-    const std::size_t args = w.size() - 1;
-    const auto wantArgs = [&](std::size_t lo, std::size_t hi, const char* usage) -> bool
+    s.A.Verb = s.W[0];
+    s.A.Line = number;
+    s.Args = s.W.size() - 1;
+    if (!ParseArguments(s))
     {
-      if (args < lo || args > hi)
-      {
-        return fail("'" + a.Verb + "' takes " + usage + ", got " + std::to_string(args) +
-          " argument" + (args == 1 ? "" : "s"));
-      }
-      return true;
-    };
-    // Numbers at w[first .. first+count), each in [lo, hi].
-    const auto numbers = [&](std::size_t first,
-                           std::size_t count,
-                           double lo,
-                           double hi,
-                           bool integer,
-                           const char* what) -> bool
-    {
-      for (std::size_t k = first; k < first + count; ++k)
-      {
-        double v = 0.0;
-        if (!ToNumber(w[k], v))
-        {
-          return fail("'" + a.Verb + "': " + what + " '" + w[k] + "' is not a finite number");
-        }
-        if (integer && v != std::floor(v))
-        {
-          return fail("'" + a.Verb + "': " + what + " " + w[k] + " is not a whole number");
-        }
-        const double top = std::strcmp(what, "x") == 0 ? width - 1
-          : std::strcmp(what, "y") == 0                ? height - 1
-                                                       : hi;
-        if (v < lo || v > top)
-        {
-          return fail("'" + a.Verb + "': " + what + " " + w[k] + " is outside [" +
-            terroir::NumberText(lo, 6) + ", " + terroir::NumberText(top, 6) + "]");
-        }
-        a.Numbers.push_back(v);
-      }
-      return true;
-    };
-    // Trailing modifiers of click and drag.
-    const auto modifiers = [&](std::size_t first) -> bool
-    {
-      for (std::size_t k = first; k < w.size(); ++k)
-      {
-        if (w[k] == "ctrl")
-        {
-          a.Control = true;
-        }
-        else if (w[k] == "shift")
-        {
-          a.Shift = true;
-        }
-        else
-        {
-          return fail("'" + a.Verb + "': unknown modifier '" + w[k] + "' (ctrl or shift)");
-        }
-      }
-      return true;
-    };
-
-    const NumericVerb* numeric = nullptr;
-    for (const NumericVerb& v : NumericVerbs)
-    {
-      if (a.Verb == v.Verb)
-      {
-        numeric = &v;
-      }
+      return false;
     }
-    if (numeric)
-    {
-      if (!wantArgs(1, 1, "one number") ||
-        !numbers(1, 1, numeric->Lo, numeric->Hi, numeric->Integer, "value"))
-      {
-        return false;
-      }
-    }
-    else if (a.Verb == "overlay")
-    {
-      ViewerOverlay overlay;
-      if (!wantArgs(1, 1, "one overlay name"))
-      {
-        return false;
-      }
-      if (!OverlayFromName(w[1], overlay))
-      {
-        return fail("unknown overlay '" + w[1] + "' (" + OverlayNameList() + ")");
-      }
-      a.Text = w[1];
-    }
-    else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button")
-    {
-      const std::vector<std::string> allowed = a.Verb == "style"
-        ? std::vector<std::string>{ "terrain", "first-person" }
-        : a.Verb == "tool"   ? std::vector<std::string>{ "navigate", "lake", "brush" }
-        : a.Verb == "button" ? ViewerButtonNames()
-                             : std::vector<std::string>{ "relief", "map" };
-      std::string list;
-      for (const std::string& name : allowed)
-      {
-        list += (list.empty() ? "" : ", ") + name;
-      }
-      if (!wantArgs(1, 1, ("one of " + list).c_str()))
-      {
-        return false;
-      }
-      if (std::find(allowed.begin(), allowed.end(), w[1]) == allowed.end())
-      {
-        return fail("'" + a.Verb + "': unknown value '" + w[1] + "' (" + list + ")");
-      }
-      a.Text = w[1];
-    }
-    else if (a.Verb == "click")
-    {
-      if (args < 2)
-      {
-        return fail("'click' takes X Y [ctrl] [shift]");
-      }
-      if (!numbers(1, 1, 0.0, 0.0, true, "x") || !numbers(2, 1, 0.0, 0.0, true, "y") ||
-        !modifiers(3))
-      {
-        return false;
-      }
-    }
-    else if (a.Verb == "drag")
-    {
-      if (args < 4)
-      {
-        return fail("'drag' takes X0 Y0 X1 Y1 [ctrl] [shift]");
-      }
-      if (!numbers(1, 1, 0.0, 0.0, true, "x") || !numbers(2, 1, 0.0, 0.0, true, "y") ||
-        !numbers(3, 1, 0.0, 0.0, true, "x") || !numbers(4, 1, 0.0, 0.0, true, "y") || !modifiers(5))
-      {
-        return false;
-      }
-    }
-    else if (a.Verb == "wheel")
-    {
-      if (!wantArgs(1, 1, "one whole number of notches (negative: backward)") ||
-        !numbers(1, 1, -100.0, 100.0, true, "notches"))
-      {
-        return false;
-      }
-      if (a.Numbers[0] == 0.0)
-      {
-        return fail("'wheel': 0 notches does nothing");
-      }
-    }
-    else if (a.Verb == "key")
-    {
-      KeySpec key;
-      std::string why;
-      if (!wantArgs(1, 1, "one key (e.g. ctrl+z)"))
-      {
-        return false;
-      }
-      if (!ParseKeySpec(w[1], key, why))
-      {
-        return fail(why);
-      }
-      a.Text = key.Symbol;
-      a.Control = key.Control;
-      a.Shift = key.Shift;
-    }
-    else if (a.Verb == "screenshot")
-    {
-      if (!wantArgs(1, 1, "one file name ending in .png"))
-      {
-        return false;
-      }
-      const std::string& f = w[1];
-      std::string lower = f;
-      std::transform(lower.begin(),
-        lower.end(),
-        lower.begin(),
-        [](char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); });
-      if (lower.size() <= 4 || lower.compare(lower.size() - 4, 4, ".png") != 0)
-      {
-        return fail("'screenshot': '" + f + "' does not end in .png");
-      }
-      a.Text = f;
-    }
-    else if (a.Verb == "wait" || a.Verb == "quit" || a.Verb == "flow" || a.Verb == "undo" ||
-      a.Verb == "camera" || a.Verb == "state")
-    {
-      if (!wantArgs(0, 0, "no argument"))
-      {
-        return false;
-      }
-    }
-    else
-    {
-      return fail("unknown action '" + a.Verb +
-        "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
-        "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
-        "drag, wheel, key, flow, undo, wait, camera, state, screenshot, quit)");
-    }
-    actions.push_back(a);
+    actions.push_back(s.A);
   }
   return true;
 }
