@@ -36,6 +36,132 @@ namespace app
 {
 namespace hy = terroir::hydrology;
 
+namespace
+{
+/// The classic baselines scored into `methods` (their river cells into `simulated`).
+void ScoreBaselines(vtkImageData* terrain,
+  const GridView<std::uint8_t>& refView,
+  const std::vector<std::uint8_t>& area,
+  std::vector<MethodScores>& methods,
+  std::vector<std::uint8_t>& simulated)
+{
+  // The classic baselines: D8, MFD (Freeman 1991 and the adaptive MFD-md of Qin et al. 2007)
+  // and D-infinity by accumulation, and the slope-area score of each.
+  const struct
+  {
+    int method;
+    bool adaptive;
+    const char* name;
+  } baselines[] = { { vtkTerroirFlowAccumulation::D8, false, "D8" },
+    { vtkTerroirFlowAccumulation::MFD, false, "MFD" },
+    { vtkTerroirFlowAccumulation::MFD, true, "MFD-md" },
+    { vtkTerroirFlowAccumulation::DInfinity, false, "D-infinity" } };
+  for (const auto& b : baselines)
+  {
+    vtkNew<vtkTerroirFlowAccumulation> acc;
+    acc->SetMethod(b.method);
+    acc->SetMFDAdaptiveExponent(b.adaptive);
+    acc->SetInputData(terrain);
+    UpdateOrThrow(acc, "flow accumulation");
+    vtkPointData* pd = acc->GetOutput()->GetPointData();
+    methods.push_back(Score(b.name,
+      "FlowAccumulation (cells)",
+      AsDoubles(pd->GetArray(vtkTerroirFlowAccumulation::FlowAccumulationName()), false),
+      std::nan(""),
+      refView,
+      area,
+      simulated));
+    if (b.adaptive)
+    {
+      continue;
+    }
+    methods.push_back(Score(std::string(b.name) + " A*S",
+      "ChannelInitiation (m2)",
+      AsDoubles(pd->GetArray(vtkTerroirFlowAccumulation::ChannelInitiationName()), false),
+      std::nan(""),
+      refView,
+      area,
+      simulated));
+  }
+}
+
+/// The peers' accumulation grids (--peer NAME=FILE) scored into `methods`.
+void ScorePeers(const CommandLine& c,
+  vtkImageData* terrain,
+  const GridView<std::uint8_t>& refView,
+  const std::vector<std::uint8_t>& area,
+  std::vector<MethodScores>& methods,
+  std::vector<std::uint8_t>& simulated)
+{
+  const ValidateSettings& v = c.Validate;
+  for (const std::string& peer : v.Peers)
+  {
+    const std::size_t eq = peer.find('=');
+    const std::string name = peer.substr(0, eq);
+    const std::string path = peer.substr(eq + 1);
+    vtkSmartPointer<vtkImageData> acc = ReadGridOperand(path, terrain, c.AllowNetwork, "Peer");
+    // r.watershed marks cells with off-map contributions by a negative accumulation.
+    methods.push_back(Score(name,
+      "accumulation |value| of " + path,
+      AsDoubles(acc->GetPointData()->GetScalars(), true),
+      std::nan(""),
+      refView,
+      area,
+      simulated));
+  }
+}
+
+/// The table of scores on the standard output.
+void PrintScores(const std::string& dem,
+  const std::string& reference,
+  const std::string& maskPath,
+  std::size_t refCells,
+  const std::vector<MethodScores>& methods,
+  std::size_t simulationRows)
+{
+  std::cout << "terroir validate: " << dem << "\n  reference " << reference << ": " << refCells
+            << " river cells inside the area" << (maskPath.empty() ? "" : " (" + maskPath + ")")
+            << "\n";
+  std::cout
+    << "  method                     threshold      P@30   R@30  F1@30   P@60   R@60  F1@60\n";
+  for (const MethodScores& m : methods)
+  {
+    std::ostringstream th;
+    th << std::setprecision(4) << m.threshold << (m.lengthMatched ? "*" : "");
+    std::cout << "  " << std::left << std::setw(26) << m.name.substr(0, 26) << std::right
+              << std::setw(10) << th.str() << "  " << std::setw(6) << Fixed(m.at30.precision, 3)
+              << " " << std::setw(6) << Fixed(m.at30.recall, 3) << " " << std::setw(6)
+              << Fixed(m.at30.f1, 3) << " " << std::setw(6) << Fixed(m.at60.precision, 3) << " "
+              << std::setw(6) << Fixed(m.at60.recall, 3) << " " << std::setw(6)
+              << Fixed(m.at60.f1, 3) << "\n";
+  }
+  std::cout << "  (* threshold chosen so that the river cells equal the reference's in number;\n"
+               "   A*S: contributing area times slope, Montgomery & Dietrich 1988; the first "
+            << simulationRows << " row(s): the water-flow simulation)\n";
+}
+
+/// --png: the first simulation's rivers against the reference within 60 m, over the terrain.
+void WriteRiverComparison(const OverlayWriterFunction& writeOverlay,
+  const std::string& png,
+  vtkImageData* terrain,
+  const GridView<std::uint8_t>& refView,
+  const std::vector<std::uint8_t>& flowRivers,
+  const std::vector<std::uint8_t>& area)
+{
+  const std::size_t n = static_cast<std::size_t>(terrain->GetNumberOfPoints());
+  std::vector<std::uint8_t> category(n, 0);
+  hy::RiverComparisonCategories(refView, flowRivers.data(), area.data(), 60.0, category.data());
+  auto picture = vtkSmartPointer<vtkImageData>::New();
+  picture->ShallowCopy(terrain);
+  vtkNew<vtkUnsignedCharArray> cat;
+  cat->SetName("RiverComparison");
+  cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  std::copy(category.begin(), category.end(), cat->GetPointer(0));
+  picture->GetPointData()->AddArray(cat);
+  writeOverlay(picture, "RiverComparison", "RiverComparison", "Rivers within 60 m", png, true);
+}
+} // namespace
+
 //------------------------------------------------------------------------------
 int CommandValidate(const CommandLine& c)
 {
@@ -63,7 +189,6 @@ int CommandValidate(const CommandLine& c)
   }
   CheckWritable(outs, c.Overwrite);
   vtkSmartPointer<vtkImageData> terrain = ReadTerrain(dem, c.AllowNetwork, c.ZUnit);
-  const std::size_t n = static_cast<std::size_t>(terrain->GetNumberOfPoints());
   RiverReference rr(terrain, dem, reference, maskPath, c.AllowNetwork);
   const std::vector<std::uint8_t>& area = rr.Area;
   const GridView<std::uint8_t>& refView = rr.View;
@@ -120,81 +245,12 @@ int CommandValidate(const CommandLine& c)
   }
   const std::size_t simulationRows = methods.size();
 
-  // The classic baselines: D8, MFD (Freeman 1991 and the adaptive MFD-md of Qin et al. 2007)
-  // and D-infinity by accumulation, and the slope-area score of each.
-  const struct
-  {
-    int method;
-    bool adaptive;
-    const char* name;
-  } baselines[] = { { vtkTerroirFlowAccumulation::D8, false, "D8" },
-    { vtkTerroirFlowAccumulation::MFD, false, "MFD" },
-    { vtkTerroirFlowAccumulation::MFD, true, "MFD-md" },
-    { vtkTerroirFlowAccumulation::DInfinity, false, "D-infinity" } };
-  for (const auto& b : baselines)
-  {
-    vtkNew<vtkTerroirFlowAccumulation> acc;
-    acc->SetMethod(b.method);
-    acc->SetMFDAdaptiveExponent(b.adaptive);
-    acc->SetInputData(terrain);
-    UpdateOrThrow(acc, "flow accumulation");
-    vtkPointData* pd = acc->GetOutput()->GetPointData();
-    methods.push_back(Score(b.name,
-      "FlowAccumulation (cells)",
-      AsDoubles(pd->GetArray(vtkTerroirFlowAccumulation::FlowAccumulationName()), false),
-      std::nan(""),
-      refView,
-      area,
-      simulated));
-    if (b.adaptive)
-    {
-      continue;
-    }
-    methods.push_back(Score(std::string(b.name) + " A*S",
-      "ChannelInitiation (m2)",
-      AsDoubles(pd->GetArray(vtkTerroirFlowAccumulation::ChannelInitiationName()), false),
-      std::nan(""),
-      refView,
-      area,
-      simulated));
-  }
-  for (const std::string& peer : v.Peers)
-  {
-    const std::size_t eq = peer.find('=');
-    const std::string name = peer.substr(0, eq);
-    const std::string path = peer.substr(eq + 1);
-    vtkSmartPointer<vtkImageData> acc = ReadGridOperand(path, terrain, c.AllowNetwork, "Peer");
-    // r.watershed marks cells with off-map contributions by a negative accumulation.
-    methods.push_back(Score(name,
-      "accumulation |value| of " + path,
-      AsDoubles(acc->GetPointData()->GetScalars(), true),
-      std::nan(""),
-      refView,
-      area,
-      simulated));
-  }
+  ScoreBaselines(terrain, refView, area, methods, simulated);
+  ScorePeers(c, terrain, refView, area, methods, simulated);
 
   // Text.
   const std::size_t refCells = rr.Cells;
-  std::cout << "terroir validate: " << dem << "\n  reference " << reference << ": " << refCells
-            << " river cells inside the area" << (maskPath.empty() ? "" : " (" + maskPath + ")")
-            << "\n";
-  std::cout
-    << "  method                     threshold      P@30   R@30  F1@30   P@60   R@60  F1@60\n";
-  for (const MethodScores& m : methods)
-  {
-    std::ostringstream th;
-    th << std::setprecision(4) << m.threshold << (m.lengthMatched ? "*" : "");
-    std::cout << "  " << std::left << std::setw(26) << m.name.substr(0, 26) << std::right
-              << std::setw(10) << th.str() << "  " << std::setw(6) << Fixed(m.at30.precision, 3)
-              << " " << std::setw(6) << Fixed(m.at30.recall, 3) << " " << std::setw(6)
-              << Fixed(m.at30.f1, 3) << " " << std::setw(6) << Fixed(m.at60.precision, 3) << " "
-              << std::setw(6) << Fixed(m.at60.recall, 3) << " " << std::setw(6)
-              << Fixed(m.at60.f1, 3) << "\n";
-  }
-  std::cout << "  (* threshold chosen so that the river cells equal the reference's in number;\n"
-               "   A*S: contributing area times slope, Montgomery & Dietrich 1988; the first "
-            << simulationRows << " row(s): the water-flow simulation)\n";
+  PrintScores(dem, reference, maskPath, refCells, methods, simulationRows);
 
   if (!v.Json.empty())
   {
@@ -217,16 +273,7 @@ int CommandValidate(const CommandLine& c)
   }
   if (!v.Png.empty())
   {
-    std::vector<std::uint8_t> category(n, 0);
-    hy::RiverComparisonCategories(refView, flowRivers.data(), area.data(), 60.0, category.data());
-    auto picture = vtkSmartPointer<vtkImageData>::New();
-    picture->ShallowCopy(terrain);
-    vtkNew<vtkUnsignedCharArray> cat;
-    cat->SetName("RiverComparison");
-    cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
-    std::copy(category.begin(), category.end(), cat->GetPointer(0));
-    picture->GetPointData()->AddArray(cat);
-    writeOverlay(picture, "RiverComparison", "RiverComparison", "Rivers within 60 m", v.Png, true);
+    WriteRiverComparison(writeOverlay, v.Png, terrain, refView, flowRivers, area);
   }
   return 0;
 }
