@@ -217,34 +217,15 @@ void vtkTerroirColorPresets::GetNanColor(double rgba[4])
   rgba[3] = 1.0;
 }
 
-//------------------------------------------------------------------------------
-bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
-  const char* preset,
+namespace
+{
+/// The categorical presets (Sunlit, RiverComparison, Rivers, Clusters): an indexed table with
+/// one annotated colour per class; false for any other preset (lut untouched).
+bool ConfigureCategorical(vtkLookupTable* lut,
+  const std::string& name,
   double minValue,
   double maxValue)
 {
-  const PresetInfo* p = Find(preset);
-  if (!lut || !p || !std::isfinite(minValue) || !std::isfinite(maxValue) || maxValue < minValue)
-  {
-    return false;
-  }
-  if (minValue == maxValue)
-  {
-    minValue -= 0.5;
-    maxValue += 0.5;
-  }
-  double nan[4];
-  vtkTerroirColorPresets::GetNanColor(nan);
-
-  lut->SetIndexedLookup(0);
-  lut->ResetAnnotations();
-  lut->SetScaleToLinear();
-  lut->SetRampToLinear();
-  lut->SetUseBelowRangeColor(0);
-  lut->SetUseAboveRangeColor(0);
-  lut->SetNanColor(nan);
-
-  const std::string name = p->Name;
   if (name == "Sunlit")
   {
     // Two fixed classes whatever the range: 0 shadow (black), 1 lit (white).
@@ -312,8 +293,15 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     return true;
   }
 
-  vtkNew<vtkColorTransferFunction> ctf;
-  ctf->SetColorSpaceToRGB();
+  return false;
+}
+
+/// The control points of a continuous preset's ramp over [0, 1] of the range [minValue, maxValue].
+void AddRampPoints(vtkColorTransferFunction* ctf,
+  const std::string& name,
+  double minValue,
+  double maxValue)
+{
   if (name == "Elevation")
   {
     // Hypsometric "terrain" colours (after GRASS/gdaldem elevation ramps).
@@ -362,6 +350,44 @@ bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
     ctf->AddRGBPoint(0.0, 0.70, 0.85, 1.00);
     ctf->AddRGBPoint(1.0, 0.00, 0.12, 0.50);
   }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+bool vtkTerroirColorPresets::ConfigureLookupTable(vtkLookupTable* lut,
+  const char* preset,
+  double minValue,
+  double maxValue)
+{
+  const PresetInfo* p = Find(preset);
+  if (!lut || !p || !std::isfinite(minValue) || !std::isfinite(maxValue) || maxValue < minValue)
+  {
+    return false;
+  }
+  if (minValue == maxValue)
+  {
+    minValue -= 0.5;
+    maxValue += 0.5;
+  }
+  double nan[4];
+  vtkTerroirColorPresets::GetNanColor(nan);
+
+  lut->SetIndexedLookup(0);
+  lut->ResetAnnotations();
+  lut->SetScaleToLinear();
+  lut->SetRampToLinear();
+  lut->SetUseBelowRangeColor(0);
+  lut->SetUseAboveRangeColor(0);
+  lut->SetNanColor(nan);
+
+  const std::string name = p->Name;
+  if (ConfigureCategorical(lut, name, minValue, maxValue))
+  {
+    return true;
+  }
+  vtkNew<vtkColorTransferFunction> ctf;
+  ctf->SetColorSpaceToRGB();
+  AddRampPoints(ctf, name, minValue, maxValue);
   SampleInto(lut, ctf);
   if (name == "Water")
   {

@@ -127,13 +127,10 @@ bool vtkTerroirOverlayView::Fail(const std::string& message)
 }
 
 //------------------------------------------------------------------------------
-bool vtkTerroirOverlayView::Render()
+bool vtkTerroirOverlayView::CheckInput(vtkImageData* image,
+  vtkDataArray*& values,
+  const char*& preset)
 {
-  this->LastError.clear();
-  this->Internal->ReleaseWindow();
-
-  // ---- validate the input -------------------------------------------------------------
-  vtkImageData* image = this->Internal->Input;
   if (!image)
   {
     return this->Fail("vtkTerroirOverlayView: no input terrain (call SetInputData)");
@@ -154,7 +151,7 @@ bool vtkTerroirOverlayView::Render()
       "vtkTerroirOverlayView: the terrain has no one-component 'Elevation' point array");
   }
   const char* arrayName = this->ArrayName ? this->ArrayName : "";
-  vtkDataArray* values = pd->GetArray(arrayName);
+  values = pd->GetArray(arrayName);
   if (!values)
   {
     return this->Fail(
@@ -166,36 +163,27 @@ bool vtkTerroirOverlayView::Render()
       std::to_string(values->GetNumberOfComponents()) + " component(s); component " +
       std::to_string(this->ArrayComponent) + " requested");
   }
-  const char* preset = this->GetEffectivePreset();
+  preset = this->GetEffectivePreset();
   if (!vtkTerroirColorPresets::HasPreset(preset))
   {
     return this->Fail(std::string("vtkTerroirOverlayView: unknown colour preset '") + preset + "'");
   }
+  return true;
+}
 
-  // ---- surface (points, validity, normals, no-data holes) --------------------------------
-  const bool parallel = this->Mode == Map;
-  vtkNew<vtkTerroirReliefSurface> relief;
-  relief->SetInputData(image);
-  relief->SetVerticalExaggeration(this->VerticalExaggeration);
-  relief->SetAmbient(this->Ambient);
-  relief->SetDiffuse(this->Diffuse);
-  relief->SetSpecular(this->Specular);
-  relief->SetSpecularPower(this->SpecularPower);
-  relief->SetParallelView(parallel);
-  relief->SetNanColor(this->NanColor);
-  relief->SetBaseColor(this->BaseColor);
-  std::string why;
-  if (!relief->BuildGeometry(why))
-  {
-    return this->Fail("vtkTerroirOverlayView: " + why);
-  }
-
-  // ---- colours ---------------------------------------------------------------------------
+//------------------------------------------------------------------------------
+bool vtkTerroirOverlayView::ColourSurface(vtkImageData* image,
+  vtkDataArray* values,
+  const char* preset,
+  vtkTerroirReliefSurface* relief,
+  vtkLookupTable* lut,
+  std::string& categoricalTitle)
+{
   const int comp = this->ArrayComponent;
   const vtkIdType n = image->GetNumberOfPoints();
   // A preset's mask array (WaterBodies: WaterBody) leaves its zero cells uncoloured.
   const char* maskName = vtkTerroirColorPresets::GetMaskArrayName(preset);
-  vtkDataArray* bodyMask = maskName ? pd->GetArray(maskName) : nullptr;
+  vtkDataArray* bodyMask = maskName ? image->GetPointData()->GetArray(maskName) : nullptr;
   if (bodyMask && (bodyMask->GetNumberOfComponents() != 1 || bodyMask->GetNumberOfTuples() != n))
   {
     bodyMask = nullptr;
@@ -212,25 +200,25 @@ bool vtkTerroirOverlayView::Render()
     range[0] = 0.0;
     range[1] = 1.0;
   }
-  vtkNew<vtkLookupTable> lut;
   if (!vtkTerroirColorPresets::ConfigureLookupTable(lut, preset, range[0], range[1]))
   {
     return this->Fail("vtkTerroirOverlayView: invalid colour range [" + std::to_string(range[0]) +
       ", " + std::to_string(range[1]) + "]");
   }
   lut->SetNanColor(this->NanColor);
-  const std::string categoricalTitle =
-    vtkTerroirOverlayLegend::ApplyClusterShares(lut, preset, image);
+  categoricalTitle = vtkTerroirOverlayLegend::ApplyClusterShares(lut, preset, image);
   this->LastRange[0] = range[0];
   this->LastRange[1] = range[1];
   relief->SetColors(values, comp, lut, bodyMask);
+  return true;
+}
 
-  // ---- renderers and light ---------------------------------------------------------------
-  // Layout: the legend takes the right quarter, the title a strip at the top (8% of the
-  // height, at least 24 pixels); the terrain gets the rest.
-  const double legendWidth = this->ShowLegend ? 0.25 : 0.0;
-  const bool hasTitle = this->Title && *this->Title;
-  const double titleHeight = hasTitle ? std::max(0.08, 24.0 / this->Height) : 0.0;
+//------------------------------------------------------------------------------
+void vtkTerroirOverlayView::AddTerrainRenderer(vtkRenderWindow* window,
+  vtkTerroirReliefSurface* relief,
+  double legendWidth,
+  double titleHeight)
+{
   vtkNew<vtkRenderer> renderer;
   renderer->SetViewport(0.0, 0.0, 1.0 - legendWidth, 1.0 - titleHeight);
   renderer->SetBackground(this->Background);
@@ -246,7 +234,7 @@ bool vtkTerroirOverlayView::Render()
   renderer->AddLight(light);
 
   vtkCamera* camera = renderer->GetActiveCamera();
-  if (parallel)
+  if (this->Mode == Map)
   {
     vtkTerroirReliefSurface::FitMapCamera(camera, bounds, aspect);
   }
@@ -260,36 +248,84 @@ bool vtkTerroirOverlayView::Render()
       GetReliefViewAngle());
   }
   renderer->ResetCameraClippingRange(bounds);
+  window->AddRenderer(renderer);
+}
 
+//------------------------------------------------------------------------------
+void vtkTerroirOverlayView::AddTitleRenderer(vtkRenderWindow* window,
+  double titleHeight,
+  double textGrey)
+{
+  vtkNew<vtkRenderer> titleRenderer;
+  titleRenderer->SetViewport(0.0, 1.0 - titleHeight, 1.0, 1.0);
+  titleRenderer->SetBackground(this->Background);
+  vtkNew<vtkTextActor> title;
+  title->SetInput(this->Title);
+  vtkTextProperty* tp = title->GetTextProperty();
+  tp->SetFontSize(std::max(10, static_cast<int>(0.6 * titleHeight * this->Height)));
+  tp->SetColor(textGrey, textGrey, textGrey);
+  tp->SetJustificationToCentered();
+  tp->SetVerticalJustificationToCentered();
+  tp->BoldOn();
+  title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  title->SetPosition(0.5, 0.5);
+  titleRenderer->AddActor2D(title);
+  window->AddRenderer(titleRenderer);
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirOverlayView::Render()
+{
+  this->LastError.clear();
+  this->Internal->ReleaseWindow();
+  vtkImageData* image = this->Internal->Input;
+  vtkDataArray* values = nullptr;
+  const char* preset = nullptr;
+  if (!this->CheckInput(image, values, preset))
+  {
+    return false;
+  }
+
+  // Surface (points, validity, normals, no-data holes), then its colours.
+  vtkNew<vtkTerroirReliefSurface> relief;
+  relief->SetInputData(image);
+  relief->SetVerticalExaggeration(this->VerticalExaggeration);
+  relief->SetAmbient(this->Ambient);
+  relief->SetDiffuse(this->Diffuse);
+  relief->SetSpecular(this->Specular);
+  relief->SetSpecularPower(this->SpecularPower);
+  relief->SetParallelView(this->Mode == Map);
+  relief->SetNanColor(this->NanColor);
+  relief->SetBaseColor(this->BaseColor);
+  std::string why;
+  if (!relief->BuildGeometry(why))
+  {
+    return this->Fail("vtkTerroirOverlayView: " + why);
+  }
+  vtkNew<vtkLookupTable> lut;
+  std::string categoricalTitle;
+  if (!this->ColourSurface(image, values, preset, relief, lut, categoricalTitle))
+  {
+    return false;
+  }
+
+  // Layout: the legend takes the right quarter, the title a strip at the top (8% of the
+  // height, at least 24 pixels); the terrain gets the rest.
+  const double legendWidth = this->ShowLegend ? 0.25 : 0.0;
+  const bool hasTitle = this->Title && *this->Title;
+  const double titleHeight = hasTitle ? std::max(0.08, 24.0 / this->Height) : 0.0;
   const double luminance =
     0.2126 * this->Background[0] + 0.7152 * this->Background[1] + 0.0722 * this->Background[2];
   const double textGrey = luminance > 0.5 ? 0.0 : 1.0;
-
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
   window->SetMultiSamples(0);
   window->SetSize(this->Width, this->Height);
-  window->AddRenderer(renderer);
-
+  this->AddTerrainRenderer(window, relief, legendWidth, titleHeight);
   if (hasTitle)
   {
-    vtkNew<vtkRenderer> titleRenderer;
-    titleRenderer->SetViewport(0.0, 1.0 - titleHeight, 1.0, 1.0);
-    titleRenderer->SetBackground(this->Background);
-    vtkNew<vtkTextActor> title;
-    title->SetInput(this->Title);
-    vtkTextProperty* tp = title->GetTextProperty();
-    tp->SetFontSize(std::max(10, static_cast<int>(0.6 * titleHeight * this->Height)));
-    tp->SetColor(textGrey, textGrey, textGrey);
-    tp->SetJustificationToCentered();
-    tp->SetVerticalJustificationToCentered();
-    tp->BoldOn();
-    title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-    title->SetPosition(0.5, 0.5);
-    titleRenderer->AddActor2D(title);
-    window->AddRenderer(titleRenderer);
+    this->AddTitleRenderer(window, titleHeight, textGrey);
   }
-
   if (this->ShowLegend)
   {
     vtkNew<vtkRenderer> legendRenderer;

@@ -79,7 +79,11 @@
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
+class vtkDataArray;
 class vtkImageData;
+class vtkLookupTable;
+class vtkRenderWindow;
+class vtkTerroirReliefSurface;
 
 class VTKTERROIRRENDERING_EXPORT vtkTerroirOverlayView : public vtkObject
 {
@@ -260,6 +264,25 @@ private:
 
   struct Internals;
   std::unique_ptr<Internals> Internal;
+
+  // Render()'s steps (vtkTerroirOverlayView.cxx).
+  /// Checks the input; sets the array to show and the preset; false after Fail().
+  bool CheckInput(vtkImageData* image, vtkDataArray*& values, const char*& preset);
+  /// Colours `relief` by `values` with the preset's table (into `lut`); sets LastRange and the
+  /// legend title of a categorical preset; false after Fail().
+  bool ColourSurface(vtkImageData* image,
+    vtkDataArray* values,
+    const char* preset,
+    vtkTerroirReliefSurface* relief,
+    vtkLookupTable* lut,
+    std::string& categoricalTitle);
+  /// The terrain's renderer: its viewport, the surface, the light and the fitted camera.
+  void AddTerrainRenderer(vtkRenderWindow* window,
+    vtkTerroirReliefSurface* relief,
+    double legendWidth,
+    double titleHeight);
+  /// The title strip at the top.
+  void AddTitleRenderer(vtkRenderWindow* window, double titleHeight, double textGrey);
 };
 
 #endif

@@ -131,6 +131,59 @@ bool vtkTerroirReliefSurface::IsValidPoint(vtkIdType k)
   return k >= 0 && static_cast<std::size_t>(k) < valid.size() && valid[k] != 0;
 }
 
+namespace
+{
+/// The surface's points (x, y from the grid, z = `z`) and normals: central differences where
+/// both neighbours are valid, else one-sided, else flat (also at invalid points).
+void FillPointsAndNormals(int nx,
+  int ny,
+  const double origin[3],
+  const double spacing[3],
+  const std::vector<double>& z,
+  const std::vector<unsigned char>& valid,
+  vtkPoints* points,
+  vtkFloatArray* normals)
+{
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const vtkIdType k = static_cast<vtkIdType>(j) * nx + i;
+      points->SetPoint(k, origin[0] + i * spacing[0], origin[1] + j * spacing[1], z[k]);
+      // Central differences where both neighbours are valid, else one-sided, else flat.
+      auto derivative =
+        [&](vtkIdType kMinus, bool hasMinus, vtkIdType kPlus, bool hasPlus, double h) -> double
+      {
+        hasMinus = hasMinus && valid[kMinus];
+        hasPlus = hasPlus && valid[kPlus];
+        if (!valid[k])
+        {
+          return 0.0;
+        }
+        if (hasMinus && hasPlus)
+        {
+          return (z[kPlus] - z[kMinus]) / (2.0 * h);
+        }
+        if (hasPlus)
+        {
+          return (z[kPlus] - z[k]) / h;
+        }
+        if (hasMinus)
+        {
+          return (z[k] - z[kMinus]) / h;
+        }
+        return 0.0;
+      };
+      const double dzdx = derivative(k - 1, i > 0, k + 1, i < nx - 1, spacing[0]);
+      const double dzdy = derivative(k - nx, j > 0, k + nx, j < ny - 1, spacing[1]);
+      double nrm[3] = { -dzdx, -dzdy, 1.0 };
+      vtkMath::Normalize(nrm);
+      normals->SetTuple(k, nrm);
+    }
+  }
+}
+} // namespace
+
 //------------------------------------------------------------------------------
 bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
 {
@@ -202,43 +255,7 @@ bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
   normals->SetNumberOfTuples(n);
-  for (int j = 0; j < ny; ++j)
-  {
-    for (int i = 0; i < nx; ++i)
-    {
-      const vtkIdType k = static_cast<vtkIdType>(j) * nx + i;
-      points->SetPoint(k, origin[0] + i * spacing[0], origin[1] + j * spacing[1], z[k]);
-      // Central differences where both neighbours are valid, else one-sided, else flat.
-      auto derivative =
-        [&](vtkIdType kMinus, bool hasMinus, vtkIdType kPlus, bool hasPlus, double h) -> double
-      {
-        hasMinus = hasMinus && valid[kMinus];
-        hasPlus = hasPlus && valid[kPlus];
-        if (!valid[k])
-        {
-          return 0.0;
-        }
-        if (hasMinus && hasPlus)
-        {
-          return (z[kPlus] - z[kMinus]) / (2.0 * h);
-        }
-        if (hasPlus)
-        {
-          return (z[kPlus] - z[k]) / h;
-        }
-        if (hasMinus)
-        {
-          return (z[k] - z[kMinus]) / h;
-        }
-        return 0.0;
-      };
-      const double dzdx = derivative(k - 1, i > 0, k + 1, i < nx - 1, spacing[0]);
-      const double dzdy = derivative(k - nx, j > 0, k + nx, j < ny - 1, spacing[1]);
-      double nrm[3] = { -dzdx, -dzdy, 1.0 };
-      vtkMath::Normalize(nrm);
-      normals->SetTuple(k, nrm);
-    }
-  }
+  FillPointsAndNormals(nx, ny, origin, spacing, z, valid, points, normals);
 
   // Valid quads are shaded, the others drawn flat in the NaN colour.
   vtkNew<vtkCellArray> surfaceCells;
