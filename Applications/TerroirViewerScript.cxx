@@ -17,23 +17,6 @@ namespace viewer
 {
 namespace
 {
-struct OverlayInfo
-{
-  const char* Name;
-  const char* Title;
-};
-
-const OverlayInfo Overlays[] = {
-  { "none", "No overlay" },
-  { "slope", "Slope" },
-  { "illumination", "Sun and shadow" },
-  { "sun-hours", "Hours of sun" },
-  { "temperature", "Temperature" },
-  { "humidity", "Soil humidity" },
-  { "water", "Water" },
-  { "clusters", "Clusters" },
-};
-
 /// Key names accepted besides single printable characters (X key symbols).
 const char* const NamedKeys[] = { "space",
   "Return",
@@ -399,20 +382,20 @@ bool ParseArguments(ScriptLine& s)
 const char* OverlayName(ViewerOverlay overlay)
 {
   const int k = static_cast<int>(overlay);
-  return k >= 0 && k < static_cast<int>(ViewerOverlay::Count) ? Overlays[k].Name : "";
+  return k >= 0 && k < static_cast<int>(ViewerOverlay::Count) ? kViewerOverlays[k].Name : "";
 }
 
 const char* OverlayTitle(ViewerOverlay overlay)
 {
   const int k = static_cast<int>(overlay);
-  return k >= 0 && k < static_cast<int>(ViewerOverlay::Count) ? Overlays[k].Title : "";
+  return k >= 0 && k < static_cast<int>(ViewerOverlay::Count) ? kViewerOverlays[k].Title : "";
 }
 
 bool OverlayFromName(const std::string& name, ViewerOverlay& overlay)
 {
   for (int k = 0; k < static_cast<int>(ViewerOverlay::Count); ++k)
   {
-    if (name == Overlays[k].Name)
+    if (name == kViewerOverlays[k].Name)
     {
       overlay = static_cast<ViewerOverlay>(k);
       return true;
@@ -432,7 +415,7 @@ const std::vector<std::string>& ViewerButtonNames()
 std::string OverlayNameList()
 {
   std::string list;
-  for (const OverlayInfo& o : Overlays)
+  for (const ViewerOverlayInfo& o : kViewerOverlays)
   {
     list += (list.empty() ? "" : ", ") + std::string(o.Name);
   }

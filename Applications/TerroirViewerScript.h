@@ -11,6 +11,7 @@
 #ifndef TerroirViewerScript_h
 #define TerroirViewerScript_h
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,28 @@ enum class ViewerOverlay
   Clusters,
   Count
 };
+
+/// Each overlay's script and command-line name and its title in the window's list, in the order
+/// of ViewerOverlay. Adding an overlay: its value above, its row here, its recipe in
+/// TerroirViewerSessionOverlays.cxx (TestViewerSession checks that every overlay has one).
+struct ViewerOverlayInfo
+{
+  const char* Name;
+  const char* Title;
+};
+inline constexpr ViewerOverlayInfo kViewerOverlays[] = {
+  { "none", "No overlay" },
+  { "slope", "Slope" },
+  { "illumination", "Sun and shadow" },
+  { "sun-hours", "Hours of sun" },
+  { "temperature", "Temperature" },
+  { "humidity", "Soil humidity" },
+  { "water", "Water" },
+  { "clusters", "Clusters" },
+};
+static_assert(sizeof(kViewerOverlays) / sizeof(kViewerOverlays[0]) ==
+    static_cast<std::size_t>(ViewerOverlay::Count),
+  "one row of kViewerOverlays per ViewerOverlay");
 
 /// Script and command-line name of an overlay ("none", "slope", "illumination", "sun-hours",
 /// "temperature", "humidity", "water", "clusters").

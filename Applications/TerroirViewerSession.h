@@ -109,6 +109,10 @@ struct OverlayResult
   unsigned long Generation = 0;         ///< request it answers
 };
 
+/// The overlays the session has a recipe for (TerroirViewerSessionOverlays.cxx: one function
+/// per overlay runs its filters); every ViewerOverlay must have one (TestViewerSession).
+std::vector<ViewerOverlay> ComputableOverlays();
+
 class ViewerSession
 {
 public:

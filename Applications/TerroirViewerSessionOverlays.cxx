@@ -55,6 +55,162 @@ vtkDataArray* OverlayResult::GetValues() const
 }
 
 //------------------------------------------------------------------------------
+// The overlays' recipes: each runs its filters on the snapshot and names the array, the
+// component and the colour preset to show.
+namespace
+{
+int MonthOf(const ViewerParameters& p)
+{
+  return std::max(1, std::min(12, p.Month));
+}
+
+void ShowTerrain(vtkImageData* input, const ViewerParameters&, JobMonitor&, OverlayResult& r)
+{
+  r.Output = input;
+}
+
+void ShowWater(vtkImageData* input, const ViewerParameters&, JobMonitor&, OverlayResult& r)
+{
+  r.ArrayName = vtkTerroirWaterFlow::WaterHeightName();
+  r.Preset = "Water";
+  r.Output = input;
+}
+
+void ComputeSlope(vtkImageData* input,
+  const ViewerParameters&,
+  JobMonitor& monitor,
+  OverlayResult& r)
+{
+  vtkNew<vtkTerroirSlope> slope;
+  slope->SetInputData(input);
+  if (RunFilter(slope, monitor, 0.0, 1.0))
+  {
+    r.Output = slope->GetOutput();
+  }
+  r.ArrayName = vtkTerroirSlope::SlopeName();
+  r.Preset = "Slope";
+}
+
+/// Illumination (instant: lit or shadow at the hour) and SunHours (daily hours of sun).
+void ComputeSun(vtkImageData* input,
+  const ViewerParameters& p,
+  JobMonitor& monitor,
+  OverlayResult& r)
+{
+  vtkNew<vtkTerroirSolarIllumination> sun;
+  sun->SetInputData(input);
+  ConfigureSun(sun, p);
+  const bool instant = r.Overlay == ViewerOverlay::Illumination;
+  if (instant)
+  {
+    sun->SetModeToInstant();
+  }
+  else
+  {
+    sun->SetModeToDaily();
+  }
+  if (RunFilter(sun, monitor, 0.0, 1.0))
+  {
+    r.Output = sun->GetOutput();
+  }
+  r.ArrayName = instant ? vtkTerroirSolarIllumination::IlluminatedName()
+                        : vtkTerroirSolarIllumination::IlluminationHoursName();
+  r.Preset = instant ? "Sunlit" : "Illumination";
+}
+
+void ComputeTemperature(vtkImageData* input,
+  const ViewerParameters& p,
+  JobMonitor& monitor,
+  OverlayResult& r)
+{
+  vtkNew<vtkTerroirTemperature> temperature;
+  temperature->SetInputData(input);
+  temperature->SetHemisphere(HemisphereOf(p.Latitude));
+  if (RunFilter(temperature, monitor, 0.0, 1.0))
+  {
+    r.Output = temperature->GetOutput();
+  }
+  r.ArrayName = vtkTerroirTemperature::TemperatureName();
+  r.Component = MonthOf(p) - 1;
+  r.Preset = "Temperature";
+}
+
+void ComputeHumidity(vtkImageData* input,
+  const ViewerParameters& p,
+  JobMonitor& monitor,
+  OverlayResult& r)
+{
+  vtkNew<vtkTerroirSoilHumidity> humidity;
+  humidity->SetInputData(input);
+  humidity->ComputeWeightedSoilHumidityOff();
+  humidity->ComputeStandingWaterOff();
+  if (RunFilter(humidity, monitor, 0.0, 1.0))
+  {
+    r.Output = humidity->GetOutput();
+  }
+  r.ArrayName = vtkTerroirSoilHumidity::SoilHumidityName();
+  r.Component = MonthOf(p) - 1;
+  r.Preset = "Humidity";
+}
+
+/// Slope, temperature and monthly hours of sun, then k-means with the session's K.
+void ComputeClusters(vtkImageData* input,
+  const ViewerParameters& p,
+  JobMonitor& monitor,
+  OverlayResult& r)
+{
+  vtkNew<vtkTerroirSlope> slope;
+  slope->SetInputData(input);
+  vtkNew<vtkTerroirTemperature> temperature;
+  temperature->SetInputConnection(slope->GetOutputPort());
+  temperature->SetHemisphere(HemisphereOf(p.Latitude));
+  vtkNew<vtkTerroirSolarIllumination> sun;
+  sun->SetInputConnection(temperature->GetOutputPort());
+  ConfigureSun(sun, p);
+  sun->SetModeToMonthly();
+  vtkNew<vtkTerroirKMeans> kmeans;
+  kmeans->SetInputConnection(sun->GetOutputPort());
+  kmeans->SetNumberOfClusters(std::max(1, std::min(64, p.Clusters)));
+  if (RunFilter(slope, monitor, 0.0, 0.05) && RunFilter(temperature, monitor, 0.05, 0.05) &&
+    RunFilter(sun, monitor, 0.1, 0.8) && RunFilter(kmeans, monitor, 0.9, 0.1))
+  {
+    r.Output = kmeans->GetOutput();
+    r.Table = kmeans->GetClusterTable();
+  }
+  r.ArrayName = vtkTerroirKMeans::ClusterIdName();
+  r.Preset = "Clusters";
+}
+
+using OverlayRecipe = void (*)(vtkImageData*, const ViewerParameters&, JobMonitor&, OverlayResult&);
+
+/// Every overlay's recipe, in the order of ViewerOverlay (TerroirViewerScript.h).
+const std::map<ViewerOverlay, OverlayRecipe>& OverlayRecipes()
+{
+  static const std::map<ViewerOverlay, OverlayRecipe> recipes = {
+    { ViewerOverlay::None, ShowTerrain },
+    { ViewerOverlay::Slope, ComputeSlope },
+    { ViewerOverlay::Illumination, ComputeSun },
+    { ViewerOverlay::SunHours, ComputeSun },
+    { ViewerOverlay::Temperature, ComputeTemperature },
+    { ViewerOverlay::Humidity, ComputeHumidity },
+    { ViewerOverlay::Water, ShowWater },
+    { ViewerOverlay::Clusters, ComputeClusters },
+  };
+  return recipes;
+}
+} // namespace
+
+std::vector<ViewerOverlay> ComputableOverlays()
+{
+  std::vector<ViewerOverlay> overlays;
+  for (const auto& entry : OverlayRecipes())
+  {
+    overlays.push_back(entry.first);
+  }
+  return overlays;
+}
+
+//------------------------------------------------------------------------------
 /// The overlay's filters on `input` (a snapshot: terrain, WaterHeight, InfiltrationRate).
 OverlayResult ComputeOverlayOn(vtkImageData* input,
   ViewerOverlay overlay,
@@ -63,110 +219,18 @@ OverlayResult ComputeOverlayOn(vtkImageData* input,
 {
   OverlayResult r;
   r.Overlay = overlay;
+  const auto recipe = OverlayRecipes().find(overlay);
+  if (recipe == OverlayRecipes().end())
+  {
+    r.Error = std::string("no recipe for the overlay '") + OverlayName(overlay) + "'";
+    return r;
+  }
   JobMonitor monitor;
   monitor.Progress = &progress;
-  const int month = std::max(1, std::min(12, p.Month));
-  switch (overlay)
+  recipe->second(input, p, monitor, r);
+  if (overlay == ViewerOverlay::None || overlay == ViewerOverlay::Water)
   {
-    case ViewerOverlay::None:
-      r.Output = input;
-      return r;
-    case ViewerOverlay::Water:
-      r.ArrayName = vtkTerroirWaterFlow::WaterHeightName();
-      r.Preset = "Water";
-      r.Output = input;
-      return r;
-    case ViewerOverlay::Slope:
-    {
-      vtkNew<vtkTerroirSlope> slope;
-      slope->SetInputData(input);
-      if (RunFilter(slope, monitor, 0.0, 1.0))
-      {
-        r.Output = slope->GetOutput();
-      }
-      r.ArrayName = vtkTerroirSlope::SlopeName();
-      r.Preset = "Slope";
-      break;
-    }
-    case ViewerOverlay::Illumination:
-    case ViewerOverlay::SunHours:
-    {
-      vtkNew<vtkTerroirSolarIllumination> sun;
-      sun->SetInputData(input);
-      ConfigureSun(sun, p);
-      const bool instant = overlay == ViewerOverlay::Illumination;
-      if (instant)
-      {
-        sun->SetModeToInstant();
-      }
-      else
-      {
-        sun->SetModeToDaily();
-      }
-      if (RunFilter(sun, monitor, 0.0, 1.0))
-      {
-        r.Output = sun->GetOutput();
-      }
-      r.ArrayName = instant ? vtkTerroirSolarIllumination::IlluminatedName()
-                            : vtkTerroirSolarIllumination::IlluminationHoursName();
-      r.Preset = instant ? "Sunlit" : "Illumination";
-      break;
-    }
-    case ViewerOverlay::Temperature:
-    {
-      vtkNew<vtkTerroirTemperature> temperature;
-      temperature->SetInputData(input);
-      temperature->SetHemisphere(HemisphereOf(p.Latitude));
-      if (RunFilter(temperature, monitor, 0.0, 1.0))
-      {
-        r.Output = temperature->GetOutput();
-      }
-      r.ArrayName = vtkTerroirTemperature::TemperatureName();
-      r.Component = month - 1;
-      r.Preset = "Temperature";
-      break;
-    }
-    case ViewerOverlay::Humidity:
-    {
-      vtkNew<vtkTerroirSoilHumidity> humidity;
-      humidity->SetInputData(input);
-      humidity->ComputeWeightedSoilHumidityOff();
-      humidity->ComputeStandingWaterOff();
-      if (RunFilter(humidity, monitor, 0.0, 1.0))
-      {
-        r.Output = humidity->GetOutput();
-      }
-      r.ArrayName = vtkTerroirSoilHumidity::SoilHumidityName();
-      r.Component = month - 1;
-      r.Preset = "Humidity";
-      break;
-    }
-    case ViewerOverlay::Clusters:
-    {
-      vtkNew<vtkTerroirSlope> slope;
-      slope->SetInputData(input);
-      vtkNew<vtkTerroirTemperature> temperature;
-      temperature->SetInputConnection(slope->GetOutputPort());
-      temperature->SetHemisphere(HemisphereOf(p.Latitude));
-      vtkNew<vtkTerroirSolarIllumination> sun;
-      sun->SetInputConnection(temperature->GetOutputPort());
-      ConfigureSun(sun, p);
-      sun->SetModeToMonthly();
-      vtkNew<vtkTerroirKMeans> kmeans;
-      kmeans->SetInputConnection(sun->GetOutputPort());
-      kmeans->SetNumberOfClusters(std::max(1, std::min(64, p.Clusters)));
-      if (RunFilter(slope, monitor, 0.0, 0.05) && RunFilter(temperature, monitor, 0.05, 0.05) &&
-        RunFilter(sun, monitor, 0.1, 0.8) && RunFilter(kmeans, monitor, 0.9, 0.1))
-      {
-        r.Output = kmeans->GetOutput();
-        r.Table = kmeans->GetClusterTable();
-      }
-      r.ArrayName = vtkTerroirKMeans::ClusterIdName();
-      r.Preset = "Clusters";
-      break;
-    }
-    case ViewerOverlay::Count:
-      break;
+    return r; // the terrain itself (and its water), nothing computed
   }
   r.Error = monitor.Error;
   if (r.Error.empty() && !r.GetValues())

@@ -9,6 +9,7 @@
 // - it never exits, throws or prints by itself (a throw or exit would end the fuzzer).
 #include "FuzzCheck.h"
 #include "TerroirCommandLine.h"
+#include "TerroirViewerScript.h"
 
 #include "SolarPosition.h"
 
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -164,10 +166,10 @@ void CheckKMeans(const terroir::app::CommandLine& line)
 void CheckView(const terroir::app::ViewSettings& v)
 {
   Check(v.Width >= 320 && v.Width <= 7680 && v.Height >= 240 && v.Height <= 4320);
-  static const std::vector<std::string> overlays{
-    "none", "slope", "illumination", "sun-hours", "temperature", "humidity", "water", "clusters"
-  };
-  Check(std::find(overlays.begin(), overlays.end(), v.Overlay) != overlays.end());
+  // One of the overlays' names (the registry, TerroirViewerScript.h).
+  Check(std::any_of(std::begin(terroir::viewer::kViewerOverlays),
+    std::end(terroir::viewer::kViewerOverlays),
+    [&](const terroir::viewer::ViewerOverlayInfo& o) { return v.Overlay == o.Name; }));
   Check(v.Style == "terrain" || v.Style == "first-person");
   Check(Within(v.Sensitivity, 0.01, 100) && Within(v.MoveSpeed, 0.01, 100));
   Check(v.Month >= 1 && v.Month <= 12 && Within(v.Hour, 0, 24));

@@ -91,6 +91,18 @@ ViewerSession& Session(ViewerSession& s)
 }
 } // namespace
 
+TEST(TerroirViewerSession, EveryOverlayOfTheScriptHasARecipe)
+{
+  // The overlay list (TerroirViewerScript.h) and the session's recipes are one registry: an
+  // overlay a script or the window can choose must compute, and no recipe is unreachable.
+  std::vector<ViewerOverlay> all;
+  for (int k = 0; k < static_cast<int>(ViewerOverlay::Count); ++k)
+  {
+    all.push_back(static_cast<ViewerOverlay>(k));
+  }
+  EXPECT_EQ(terroir::viewer::ComputableOverlays(), all);
+}
+
 TEST(TerroirViewerSession, StartsDryWithAnEmptyUndoStack)
 {
   ViewerSession s;
