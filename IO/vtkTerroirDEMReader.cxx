@@ -540,18 +540,9 @@ DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& erro
   {
     return ds;
   }
-  auto dataset = static_cast<GDALDatasetH>(ds.get());
-  const char* driver = GDALGetDriverShortName(GDALGetDatasetDriver(dataset));
-  // A server driver is refused before anything else is asked of it.
-  const bool server = driver && terroir::io::detail::IsServerDriver(driver);
-  std::vector<std::string> named;
-  char** files = server ? nullptr : GDALGetFileList(dataset);
-  for (char** f = files; f && *f; ++f)
-  {
-    named.emplace_back(*f);
-  }
-  CSLDestroy(files);
-  error = terroir::io::detail::RefuseNetworkDataset(driver, server, named);
+  const terroir::io::detail::DatasetSources s =
+    terroir::io::detail::ListDatasetSources(ds.get(), terroir::io::detail::IsServerDriver);
+  error = terroir::io::detail::RefuseNetworkDataset(s.Driver, s.Server, s.Files);
   return error.empty() ? std::move(ds) : DatasetPtr();
 }
 

@@ -204,6 +204,23 @@ std::string RefuseNetworkDataset(const char* driver,
   return std::string();
 }
 
+//------------------------------------------------------------------------------
+DatasetSources ListDatasetSources(void* dataset, bool (*isServer)(const std::string&))
+{
+  DatasetSources s;
+  auto ds = static_cast<GDALDatasetH>(dataset);
+  s.Driver = GDALGetDriverShortName(GDALGetDatasetDriver(ds));
+  // A server driver is refused before anything else is asked of it.
+  s.Server = s.Driver && isServer(s.Driver);
+  char** files = s.Server ? nullptr : GDALGetFileList(ds);
+  for (char** f = files; f && *f; ++f)
+  {
+    s.Files.emplace_back(*f);
+  }
+  CSLDestroy(files);
+  return s;
+}
+
 } // namespace detail
 } // namespace io
 } // namespace terroir

@@ -105,6 +105,17 @@ std::string RefuseNetworkDataset(const char* driver,
   bool serverDriver,
   const std::vector<std::string>& files);
 
+/// What RefuseNetworkDataset needs to know of an opened dataset (`dataset`: a GDALDatasetH):
+/// its driver's short name, whether that driver reads from servers (`isServer`: IsServerDriver
+/// or IsVectorServerDriver; a server driver is asked nothing more), and the files it names.
+struct DatasetSources
+{
+  const char* Driver = nullptr;
+  bool Server = false;
+  std::vector<std::string> Files;
+};
+DatasetSources ListDatasetSources(void* dataset, bool (*isServer)(const std::string&));
+
 } // namespace detail
 } // namespace io
 } // namespace terroir

@@ -312,25 +312,16 @@ DatasetPtr OpenVector(const char* fileName,
   {
     return ds;
   }
-  auto dataset = static_cast<GDALDatasetH>(ds.get());
-  const char* driver = GDALGetDriverShortName(GDALGetDatasetDriver(dataset));
-  // A server driver is refused before anything else is asked of it.
-  const bool server = driver && terroir::io::detail::IsVectorServerDriver(driver);
-  std::vector<std::string> named;
-  char** files = server ? nullptr : GDALGetFileList(dataset);
-  for (char** f = files; f && *f; ++f)
-  {
-    named.emplace_back(*f);
-  }
-  CSLDestroy(files);
+  terroir::io::detail::DatasetSources s =
+    terroir::io::detail::ListDatasetSources(ds.get(), terroir::io::detail::IsVectorServerDriver);
   // An OGR VRT opens its sources lazily and lists only itself: read them from the XML.
-  if (!server && driver && EQUAL(driver, "OGR_VRT") && !folder)
+  if (!s.Server && s.Driver && EQUAL(s.Driver, "OGR_VRT") && !folder)
   {
     CPLXMLNode* xml = CPLParseXMLFile(fileName);
-    CollectVRTSources(xml, named);
+    CollectVRTSources(xml, s.Files);
     CPLDestroyXMLNode(xml);
   }
-  error = terroir::io::detail::RefuseNetworkDataset(driver, server, named);
+  error = terroir::io::detail::RefuseNetworkDataset(s.Driver, s.Server, s.Files);
   return error.empty() ? std::move(ds) : DatasetPtr();
 }
 
