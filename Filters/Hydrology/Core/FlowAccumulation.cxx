@@ -321,30 +321,10 @@ void D8FlowAccumulation(const GridView<float>& view,
     {
       const std::size_t k = view.Index(i, j);
       const int d = direction[k];
-      if (d == kD8NoData)
+      if (detail::StartCell(d, weight, k, factor, accumulation, i, j, "D8FlowAccumulation"))
       {
-        accumulation[k] = std::numeric_limits<double>::quiet_NaN();
-        continue;
+        detail::CountDownstream(view, direction, i, j, d, "D8FlowAccumulation", inDegree.data());
       }
-      const double w = weight ? static_cast<double>(weight[k]) : 1.0;
-      accumulation[k] = std::isnan(w) ? 0.0 : w * factor;
-      if (d == kD8Outlet)
-      {
-        continue;
-      }
-      if (d < 0 || d > 7)
-      {
-        throw std::invalid_argument("D8FlowAccumulation: invalid direction code " +
-          std::to_string(d) + " at cell (" + std::to_string(i) + ", " + std::to_string(j) + ")");
-      }
-      const int ii = i + kD8Di[d];
-      const int jj = j + kD8Dj[d];
-      if (ii < 0 || ii >= nx || jj < 0 || jj >= ny || direction[view.Index(ii, jj)] == kD8NoData)
-      {
-        throw std::invalid_argument("D8FlowAccumulation: cell (" + std::to_string(i) + ", " +
-          std::to_string(j) + ") drains off the grid or into no data");
-      }
-      ++inDegree[view.Index(ii, jj)];
     }
   }
 

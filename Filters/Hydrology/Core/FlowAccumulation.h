@@ -82,9 +82,13 @@
 
 #include "GridView.h"
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace terroir
 {
@@ -136,6 +140,62 @@ struct AccumulationOptions
   bool timesCellArea = false;           ///< multiply by the cell's area DxAt(j) * DyAt(j), m^2
   std::function<void(double)> progress; ///< optional, fraction done (0..1)
 };
+
+namespace detail
+{
+/// An accumulation's first pass at cell k = (i, j) with direction code d: the cell's own weight
+/// into accumulation[k] (NaN for no data, 0 for a NaN weight, else weight x factor). True when
+/// the cell drains (d in 0..7); false for no data and outlets; throws std::invalid_argument
+/// naming `function` for any other code.
+inline bool StartCell(int d,
+  const float* weight,
+  std::size_t k,
+  double factor,
+  double* accumulation,
+  int i,
+  int j,
+  const char* function)
+{
+  if (d == kD8NoData)
+  {
+    accumulation[k] = std::numeric_limits<double>::quiet_NaN();
+    return false;
+  }
+  const double w = weight ? static_cast<double>(weight[k]) : 1.0;
+  accumulation[k] = std::isnan(w) ? 0.0 : w * factor;
+  if (d == kD8Outlet)
+  {
+    return false;
+  }
+  if (d < 0 || d > 7)
+  {
+    throw std::invalid_argument(std::string(function) + ": invalid direction code " +
+      std::to_string(d) + " at cell (" + std::to_string(i) + ", " + std::to_string(j) + ")");
+  }
+  return true;
+}
+
+/// Counts cell (i, j)'s downstream neighbour e (0..7) in `inDegree`; throws
+/// std::invalid_argument naming `function` when it lies off the grid or has no data.
+inline void CountDownstream(const GridView<float>& view,
+  const std::int8_t* direction,
+  int i,
+  int j,
+  int e,
+  const char* function,
+  std::uint8_t* inDegree)
+{
+  const int ii = i + kD8Di[e];
+  const int jj = j + kD8Dj[e];
+  if (ii < 0 || ii >= view.nx || jj < 0 || jj >= view.ny ||
+    direction[view.Index(ii, jj)] == kD8NoData)
+  {
+    throw std::invalid_argument(std::string(function) + ": cell (" + std::to_string(i) + ", " +
+      std::to_string(j) + ") drains off the grid or into no data");
+  }
+  ++inDegree[view.Index(ii, jj)];
+}
+} // namespace detail
 
 /**
  * @brief D8 flow accumulation: the sum of the weights of a cell and of every cell upstream.

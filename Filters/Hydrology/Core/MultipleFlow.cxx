@@ -60,37 +60,16 @@ void Accumulate(const GridView<float>& view,
     for (int i = 0; i < nx; ++i)
     {
       const std::size_t k = view.Index(i, j);
-      const int d = direction[k];
-      if (d == kD8NoData)
-      {
-        accumulation[k] = std::numeric_limits<double>::quiet_NaN();
-        continue;
-      }
-      const double w = weight ? static_cast<double>(weight[k]) : 1.0;
-      accumulation[k] = std::isnan(w) ? 0.0 : w * factor;
-      if (d == kD8Outlet)
+      if (!detail::StartCell(direction[k], weight, k, factor, accumulation, i, j, function))
       {
         continue;
-      }
-      if (d < 0 || d > 7)
-      {
-        throw std::invalid_argument(std::string(function) + ": invalid direction code " +
-          std::to_string(d) + " at cell (" + std::to_string(i) + ", " + std::to_string(j) + ")");
       }
       partition(i, j, fraction);
       for (int e = 0; e < 8; ++e)
       {
         if (fraction[e] > 0.0)
         {
-          const int ii = i + kD8Di[e];
-          const int jj = j + kD8Dj[e];
-          if (ii < 0 || ii >= nx || jj < 0 || jj >= ny ||
-            direction[view.Index(ii, jj)] == kD8NoData)
-          {
-            throw std::invalid_argument(std::string(function) + ": cell (" + std::to_string(i) +
-              ", " + std::to_string(j) + ") drains off the grid or into no data");
-          }
-          ++inDegree[view.Index(ii, jj)];
+          detail::CountDownstream(view, direction, i, j, e, function, inDegree.data());
         }
       }
     }
