@@ -354,18 +354,6 @@ KMeansResult RunKMeansGPU(const KMeansFeatures& features,
   const KMeansOptions& options,
   std::vector<std::int32_t>& labels,
   std::vector<float>& distances,
-  const std::function<void(int, std::size_t)>& progress)
-{
-  return RunKMeansGPU(features, initialCentres, k, options, labels, distances, progress, 0);
-}
-
-//------------------------------------------------------------------------------
-KMeansResult RunKMeansGPU(const KMeansFeatures& features,
-  const std::vector<float>& initialCentres,
-  int k,
-  const KMeansOptions& options,
-  std::vector<std::int32_t>& labels,
-  std::vector<float>& distances,
   const std::function<void(int, std::size_t)>& progress,
   std::size_t chunkBlocks)
 {

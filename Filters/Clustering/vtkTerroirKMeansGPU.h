@@ -31,7 +31,10 @@ namespace clustering
  * @brief KMeansLloyd (Core/KMeans.h) with the GPU engine, from `initialCentres`.
  *
  * Runs inside terroir::gpu::Context::Global().Run (the caller waits); `progress`, when set, is
- * called on the context's thread.
+ * called on the context's thread. The feature matrix is uploaded in chunks of whole
+ * KMeansBlockCells blocks so that each fits GL_MAX_SHADER_STORAGE_BLOCK_SIZE, at most
+ * `chunkBlocks` blocks per chunk (0, the default: as many as the driver's limits allow; tests
+ * pass small values to run many chunks on small inputs); the result never depends on it.
  * @param labels out: features.cells final labels
  * @param distances out: features.cells final squared distances to the own centre
  * @throws terroir::gpu::Error on GL failures, when there is no compute context, or when a buffer
@@ -44,22 +47,8 @@ VTKTERROIRFILTERSCLUSTERING_EXPORT KMeansResult RunKMeansGPU(const KMeansFeature
   const KMeansOptions& options,
   std::vector<std::int32_t>& labels,
   std::vector<float>& distances,
-  const std::function<void(int, std::size_t)>& progress = {});
-
-/**
- * @brief RunKMeansGPU with at most `chunkBlocks` KMeansBlockCells blocks per chunk (0: as many
- *        as the driver's limits allow). The feature matrix is uploaded in chunks of whole blocks
- *        so that each fits GL_MAX_SHADER_STORAGE_BLOCK_SIZE; the result never depends on the
- *        chunk size. For tests, which use it to run many chunks on small inputs.
- */
-VTKTERROIRFILTERSCLUSTERING_EXPORT KMeansResult RunKMeansGPU(const KMeansFeatures& features,
-  const std::vector<float>& initialCentres,
-  int k,
-  const KMeansOptions& options,
-  std::vector<std::int32_t>& labels,
-  std::vector<float>& distances,
-  const std::function<void(int, std::size_t)>& progress,
-  std::size_t chunkBlocks);
+  const std::function<void(int, std::size_t)>& progress = {},
+  std::size_t chunkBlocks = 0);
 
 } // namespace clustering
 } // namespace terroir
