@@ -507,19 +507,13 @@ namespace
 /// network (a server driver, or a file naming remote or archived data) is refused here.
 DatasetPtr OpenRaster(const char* fileName, bool allowNetwork, std::string& error)
 {
-  using terroir::io::detail::IsNetworkOrArchivePath;
-  if (!fileName || !*fileName)
-  {
-    error = "no file name set";
-    return DatasetPtr();
-  }
-  const std::string path = fileName;
-  const bool remote = IsNetworkOrArchivePath(path);
-  error = terroir::io::detail::RefuseNetworkPath(path, allowNetwork);
+  bool remote = false;
+  error = terroir::io::detail::CheckPathToOpen(fileName, allowNetwork, remote);
   if (!error.empty())
   {
     return DatasetPtr();
   }
+  const std::string path = fileName;
   if (!remote && path.rfind("/vsimem/", 0) != 0 &&
     !terroir::io::detail::CheckInputFile(path, error))
   {

@@ -221,6 +221,17 @@ DatasetSources ListDatasetSources(void* dataset, bool (*isServer)(const std::str
   return s;
 }
 
+//------------------------------------------------------------------------------
+std::string CheckPathToOpen(const char* fileName, bool allowNetwork, bool& remote)
+{
+  if (!fileName || !*fileName)
+  {
+    return "no file name set";
+  }
+  remote = IsNetworkOrArchivePath(fileName);
+  return RefuseNetworkPath(fileName, allowNetwork);
+}
+
 } // namespace detail
 } // namespace io
 } // namespace terroir

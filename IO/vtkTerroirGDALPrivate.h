@@ -98,6 +98,10 @@ bool IsVectorServerDriver(const std::string& shortName);
 /// one-line reason, or "" when the path may be opened.
 std::string RefuseNetworkPath(const std::string& path, bool allowNetwork);
 
+/// The checks before a reader opens `fileName`: "no file name set" for a null or empty name,
+/// else RefuseNetworkPath. Sets `remote` (IsNetworkOrArchivePath) when the name is given.
+std::string CheckPathToOpen(const char* fileName, bool allowNetwork, bool& remote);
+
 /// The network rule after a dataset opened without network access: refused when its driver
 /// reads from a server (`serverDriver`: IsServerDriver or the vector list) or when one of the
 /// files it names is a network or archive path. Returns the one-line reason, or "".

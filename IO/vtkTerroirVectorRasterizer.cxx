@@ -266,19 +266,13 @@ DatasetPtr OpenVector(const char* fileName,
   std::string& error)
 {
   const bool allowNetwork = offline == nullptr;
-  using terroir::io::detail::IsNetworkOrArchivePath;
-  if (!fileName || !*fileName)
-  {
-    error = "no file name set";
-    return DatasetPtr();
-  }
-  const std::string path = fileName;
-  const bool remote = IsNetworkOrArchivePath(path);
-  error = terroir::io::detail::RefuseNetworkPath(path, allowNetwork);
+  bool remote = false;
+  error = terroir::io::detail::CheckPathToOpen(fileName, allowNetwork, remote);
   if (!error.empty())
   {
     return DatasetPtr();
   }
+  const std::string path = fileName;
   // A folder is a vector dataset too (shapefiles, FileGDB); anything else must be a regular,
   // readable file (a FIFO or a device could block the read forever).
   struct stat st;
