@@ -132,6 +132,7 @@ vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path,
 
 void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
 {
+  const double t0 = Now();
   CheckWritable({ path }, overwrite);
   const std::string tmp = terroir::TemporaryNameFor(path);
   vtkNew<vtkXMLImageDataWriter> writer;
@@ -159,6 +160,7 @@ void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
   {
     throw Failure(path + ": " + error);
   }
+  RecordWrittenFile(path, "vti", Now() - t0);
 }
 
 void WriteGeoTIFF(vtkImageData* image,
@@ -166,6 +168,7 @@ void WriteGeoTIFF(vtkImageData* image,
   const std::string& path,
   bool overwrite)
 {
+  const double t0 = Now();
   CheckWritable({ path }, overwrite);
   vtkNew<vtkTerroirGeoTIFFWriter> writer;
   writer->SetInputData(image);
@@ -187,6 +190,7 @@ void WriteGeoTIFF(vtkImageData* image,
   {
     throw Failure(err);
   }
+  RecordWrittenFile(path, "geotiff", Now() - t0);
 }
 
 void WriteStageResult(vtkImageData* image,

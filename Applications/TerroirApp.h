@@ -65,6 +65,19 @@ vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path,
 /// Throws Failure if any of `paths` exists and overwriting was not asked for.
 void CheckWritable(const std::vector<std::string>& paths, bool overwrite);
 
+/// One file written by WriteVTI, WriteGeoTIFF, WriteTextFile or WriteOverlay: its path, its
+/// kind ("vti", "geotiff", "text", "png") and the seconds it took, checks and renaming included.
+struct WrittenFile
+{
+  std::string Path;
+  std::string Kind;
+  double Seconds = 0.0;
+};
+/// Records a written file (the writers call it after the rename); TakeWrittenFiles() hands the
+/// records out, oldest first, and starts a new list (`terroir run`'s report: where writing goes).
+void RecordWrittenFile(const std::string& path, const char* kind, double seconds);
+std::vector<WrittenFile> TakeWrittenFiles();
+
 /// Writes every array of `image` as VTK XML image data (.vti), temp file then rename.
 void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite);
 

@@ -245,8 +245,30 @@ void CheckWritable(const std::vector<std::string>& paths, bool overwrite)
   }
 }
 
+namespace
+{
+std::vector<WrittenFile>& WrittenFiles()
+{
+  static std::vector<WrittenFile> files;
+  return files;
+}
+} // namespace
+
+void RecordWrittenFile(const std::string& path, const char* kind, double seconds)
+{
+  WrittenFiles().push_back(WrittenFile{ path, kind, seconds });
+}
+
+std::vector<WrittenFile> TakeWrittenFiles()
+{
+  std::vector<WrittenFile> files;
+  files.swap(WrittenFiles());
+  return files;
+}
+
 void WriteTextFile(const std::string& path, const std::string& text, bool overwrite)
 {
+  const double t0 = Now();
   CheckWritable({ path }, overwrite);
   const std::string tmp = terroir::TemporaryNameFor(path);
   {
@@ -265,6 +287,7 @@ void WriteTextFile(const std::string& path, const std::string& text, bool overwr
   {
     throw Failure(path + ": " + error);
   }
+  RecordWrittenFile(path, "text", Now() - t0);
 }
 
 double Now()

@@ -525,6 +525,22 @@ void ReadTerrainStage(RunState& r)
     { "meridian_convergence_deg", vtkTerroirGeoreference::GetMeridianConvergence(r.Result) } };
 }
 
+/// The write stage's time and where it went: each file written since the run began (name,
+/// kind, seconds) and the seconds per kind (vti, geotiff, png, text).
+json WriteBreakdown(double seconds)
+{
+  json files = json::array();
+  json byKind = json::object();
+  for (const WrittenFile& f : TakeWrittenFiles())
+  {
+    files.push_back(json{ { "file", fs::path(f.Path).filename().string() },
+      { "kind", f.Kind },
+      { "seconds", f.Seconds } });
+    byKind[f.Kind] = byKind.value(f.Kind, 0.0) + f.Seconds;
+  }
+  return json{ { "seconds", seconds }, { "files", files }, { "seconds_by_kind", byKind } };
+}
+
 int RunEveryStage(const CommandLine& c)
 {
   RunState r(c);
@@ -562,6 +578,7 @@ int RunEveryStage(const CommandLine& c)
   CheckWritable(r.Outputs, c.Overwrite);
 
   r.Report["input"] = r.Dem;
+  TakeWrittenFiles(); // only this run's files in its breakdown
   ReadTerrainStage(r);
   for (const RunStep& step : RunSteps())
   {
@@ -573,7 +590,7 @@ int RunEveryStage(const CommandLine& c)
   {
     step.Write(r);
   }
-  r.Stages["write"] = json{ { "seconds", Now() - tw } };
+  r.Stages["write"] = WriteBreakdown(Now() - tw);
   r.Report["stages"] = r.Stages;
   json arrays = ArraysReport(r.Result);
   r.Report["arrays"] = arrays;

@@ -103,6 +103,19 @@ void MarkdownStages(RunState& r, std::ostream& md)
        << (r.Stages[s].contains("backend") ? r.Stages[s]["backend"].get<std::string>() : "")
        << " |\n";
   }
+  if (r.Stages["write"].contains("seconds_by_kind"))
+  {
+    // Where writing goes (the first PNG also loads the overlay module and opens the display).
+    md << "\nWriting by kind of file:";
+    const char* separator = " ";
+    for (const auto& kind : r.Stages["write"]["seconds_by_kind"].items())
+    {
+      md << separator << kind.key() << " " << std::setprecision(3) << kind.value().get<double>()
+         << " s";
+      separator = ", ";
+    }
+    md << " (`report.json`: `stages.write.files`, each file's seconds).\n";
+  }
   // Why each stage ran where it did: under Auto the GPU only where its path is verified correct
   // and faster on this hardware (Documentation/Compute.md, "Verified GPU paths").
   md << "\nBackends (`--backend auto` runs a stage on the GPU only where its GPU path is verified "

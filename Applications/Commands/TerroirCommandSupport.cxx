@@ -218,12 +218,15 @@ void WriteOverlay(vtkImageData* image,
   bool overwrite,
   bool map)
 {
+  const double t0 = Now();
   terroir::app::CheckWritable({ path }, overwrite);
   if (const char* error = OverlayWriter()(
         image, array.c_str(), component, preset.c_str(), title.c_str(), path.c_str(), map ? 1 : 0))
   {
     throw Failure(path + ": " + error);
   }
+  // The first overlay also loads the overlay module and opens the X display.
+  RecordWrittenFile(path, "png", Now() - t0);
 }
 
 OverlayWriterFunction CommandOverlayWriter(const CommandLine& c)

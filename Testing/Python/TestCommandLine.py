@@ -180,6 +180,21 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertIn("Temperature_Jul", header)
         with open(os.path.join(out, "report.md")) as f:
             self.assertIn("Ecological zones (k-means, K = 5", f.read())
+        # Where writing goes: every output but the two reports (written after the stage), once,
+        # by kind; the files' seconds add up to no more than the stage's, the kinds' to theirs.
+        write = report["stages"]["write"]
+        written = [f["file"] for f in write["files"]]
+        self.assertEqual(sorted(written),
+                         sorted(n for n in expected if n not in ("report.md", "report.json")))
+        kinds = {"vti": ".vti", "geotiff": ".tif", "png": ".png", "text": (".csv", ".json")}
+        for f in write["files"]:
+            self.assertTrue(f["file"].endswith(kinds[f["kind"]]), f)
+            self.assertGreater(f["seconds"], 0.0)
+        total = sum(f["seconds"] for f in write["files"])
+        self.assertLessEqual(total, write["seconds"] * (1 + 1e-9))
+        for kind, seconds in write["seconds_by_kind"].items():
+            self.assertAlmostEqual(
+                seconds, sum(f["seconds"] for f in write["files"] if f["kind"] == kind), places=9)
 
     def test_soil_water_and_lake_commands(self):
         rates = os.path.join(self.work, "rates.tif")
