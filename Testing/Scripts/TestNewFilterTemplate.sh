@@ -90,9 +90,12 @@ for t in Testing/Unit/TestAridity.cxx Testing/Pipeline/TestTerroirAridity.cxx \
 done
 
 # ---- it builds ----------------------------------------------------------------------------------
-check "the tree configures" cmake -S "$tree" -B "$tree/build" -DTERROIR_WRAP_PYTHON=OFF \
-  -DPython3_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release >"$scratch/configure.log" 2>&1 ||
+if ! cmake -S "$tree" -B "$tree/build" -DTERROIR_WRAP_PYTHON=OFF \
+  -DPython3_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release >"$scratch/configure.log" 2>&1; then
   tail -20 "$scratch/configure.log"
+  echo "FAILED: the tree configures"
+  fails=$((fails + 1))
+fi
 check "the shader keeps the kernel rules" bash "$tree/Testing/CheckShaderRules.sh" "$tree/Shaders"
 if command -v glslangValidator >/dev/null; then
   check "the shader compiles" bash "$tree/Testing/CheckShaders.sh" "$(command -v glslangValidator)" \
