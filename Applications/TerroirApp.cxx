@@ -130,7 +130,10 @@ vtkSmartPointer<vtkImageData> ReadTerrain(const std::string& path,
   return result;
 }
 
-void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
+void WriteVTI(vtkImageData* image,
+  const std::string& path,
+  bool overwrite,
+  const std::string& compressor)
 {
   const double t0 = Now();
   CheckWritable({ path }, overwrite);
@@ -138,8 +141,23 @@ void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
   vtkNew<vtkXMLImageDataWriter> writer;
   writer->SetInputData(image);
   writer->SetFileName(tmp.c_str());
+  // Appended raw bytes (not base64: 25% smaller, several times faster to write and read), with
+  // 64-bit block headers so that an array over 4 GiB can be written.
   writer->SetDataModeToAppended();
-  writer->SetCompressorTypeToZLib();
+  writer->EncodeAppendedDataOff();
+  writer->SetHeaderTypeToUInt64();
+  if (compressor == "lz4")
+  {
+    writer->SetCompressorTypeToLZ4();
+  }
+  else if (compressor == "none")
+  {
+    writer->SetCompressorTypeToNone();
+  }
+  else
+  {
+    writer->SetCompressorTypeToZLib();
+  }
   TakeLastVTKError();
   const int ok = writer->Write();
   const std::string err = TakeLastVTKError();
@@ -166,11 +184,16 @@ void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite)
 void WriteGeoTIFF(vtkImageData* image,
   const std::string& array,
   const std::string& path,
-  bool overwrite)
+  bool overwrite,
+  const GeoTIFFLayout& layout)
 {
   const double t0 = Now();
   CheckWritable({ path }, overwrite);
   vtkNew<vtkTerroirGeoTIFFWriter> writer;
+  writer->SetCompression(layout.Compression);
+  writer->SetTiled(layout.Tiled);
+  writer->SetThreads(layout.Threads);
+  writer->SetOverviews(layout.Overviews);
   writer->SetInputData(image);
   writer->SetArrayName(array.c_str());
   writer->SetFileName(path.c_str());

@@ -73,22 +73,38 @@ struct WrittenFile
   std::string Kind;
   double Seconds = 0.0;
 };
-/// Records a written file (the writers call it after the rename); TakeWrittenFiles() hands the
-/// records out, oldest first, and starts a new list (`terroir run`'s report: where writing goes).
+/// Records a written file (the writers call it after the rename, from any thread);
+/// TakeWrittenFiles() hands the records out, oldest first, and starts a new list (`terroir run`'s
+/// report: where writing goes).
 void RecordWrittenFile(const std::string& path, const char* kind, double seconds);
 std::vector<WrittenFile> TakeWrittenFiles();
 
-/// Writes every array of `image` as VTK XML image data (.vti), temp file then rename.
-void WriteVTI(vtkImageData* image, const std::string& path, bool overwrite);
+/// Writes every array of `image` as VTK XML image data (.vti), appended binary, temp file then
+/// rename. `compressor`: "zlib" (VTK's default, the smallest), "lz4" or "none" (raw).
+void WriteVTI(vtkImageData* image,
+  const std::string& path,
+  bool overwrite,
+  const std::string& compressor = "zlib");
 
 /// Writes `text` to `path` through a temporary file in the same folder, renamed on success.
 void WriteTextFile(const std::string& path, const std::string& text, bool overwrite);
+
+/// How a GeoTIFF is laid out (vtkTerroirGeoTIFFWriter's options); the default is that class's:
+/// uncompressed strips, like gdaldem.
+struct GeoTIFFLayout
+{
+  int Compression = 0; ///< vtkTerroirGeoTIFFWriter::CompressionType
+  bool Tiled = false;
+  int Threads = 0; ///< GDAL's NUM_THREADS (0 its default, -1 all cores)
+  bool Overviews = false;
+};
 
 /// Writes one point-data array (one band per component) as a georeferenced GeoTIFF.
 void WriteGeoTIFF(vtkImageData* image,
   const std::string& array,
   const std::string& path,
-  bool overwrite);
+  bool overwrite,
+  const GeoTIFFLayout& layout = GeoTIFFLayout());
 
 /// The backend named on the command line (auto, cpu, gpu) as vtkTerroirComputeContext's value.
 int ParseBackend(const std::string& name);

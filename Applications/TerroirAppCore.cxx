@@ -26,13 +26,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <mutex>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
 
 namespace
 {
-std::string LastError;
+// Each thread keeps its own last VTK error (terroir run writes on a second thread).
+thread_local std::string LastError;
 bool Verbose = false;
 
 // Strips VTK's "ERROR: In <file>, line <n>\n<class> (0x...): " prefix down to the message.
@@ -247,6 +249,7 @@ void CheckWritable(const std::vector<std::string>& paths, bool overwrite)
 
 namespace
 {
+std::mutex WrittenFilesLock;
 std::vector<WrittenFile>& WrittenFiles()
 {
   static std::vector<WrittenFile> files;
@@ -256,11 +259,13 @@ std::vector<WrittenFile>& WrittenFiles()
 
 void RecordWrittenFile(const std::string& path, const char* kind, double seconds)
 {
+  std::lock_guard<std::mutex> lock(WrittenFilesLock);
   WrittenFiles().push_back(WrittenFile{ path, kind, seconds });
 }
 
 std::vector<WrittenFile> TakeWrittenFiles()
 {
+  std::lock_guard<std::mutex> lock(WrittenFilesLock);
   std::vector<WrittenFile> files;
   files.swap(WrittenFiles());
   return files;

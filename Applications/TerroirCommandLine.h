@@ -189,6 +189,18 @@ struct ViewSettings
   double LakeDepth = 5.0;                                        ///< --lake-depth M, [0, 10000]
 };
 
+/// `terroir run`'s outputs: which files (--outputs, --no-vti) and their layout.
+struct RunOutputSettings
+{
+  std::vector<std::string> Only;        ///< --outputs: files, stages or kinds (empty: every file)
+  bool NoVti = false;                   ///< --no-vti
+  std::string VtiCompression = "lz4";   ///< --vti-compression: lz4, zlib or none
+  std::string TiffCompression = "none"; ///< --tiff-compression: none, deflate, zstd or lzw
+  std::string TiffLayout = "strips";    ///< --tiff-layout: tiles (256 x 256) or strips
+  int TiffThreads = 0;                  ///< --tiff-threads: GDAL NUM_THREADS (0 its default)
+  bool TiffOverviews = false;           ///< --tiff-overviews
+};
+
 /// Everything the command line says.
 struct CommandLine
 {
@@ -201,9 +213,10 @@ struct CommandLine
   bool AllowNetwork = false;
   std::string ZUnit = "auto"; ///< --z-unit: heights of a GDAL DEM in auto, m, ft or us-ft
 
-  std::string Input;  ///< DEM / IN (run: empty = the bundled DEM)
-  std::string Output; ///< OUT (run: --out folder)
-  bool NoPng = false; ///< run
+  std::string Input;            ///< DEM / IN (run: empty = the bundled DEM)
+  std::string Output;           ///< OUT (run: --out folder)
+  bool NoPng = false;           ///< run
+  RunOutputSettings RunOutputs; ///< run: which files, and how they are compressed
 
   double ZFactor = 1.0;     ///< slope
   bool Percent = false;     ///< slope

@@ -7,10 +7,20 @@
 #include "TerroirOverlayPlugin.h"
 
 #include "vtkImageData.h"
-#include "vtkNew.h"
+#include "vtkSmartPointer.h"
 #include "vtkTerroirOverlayView.h"
 
 #include <string>
+
+namespace
+{
+/// The calling thread's view, kept between overlays (see TerroirOverlayPlugin.h).
+vtkSmartPointer<vtkTerroirOverlayView>& ThreadView()
+{
+  static thread_local vtkSmartPointer<vtkTerroirOverlayView> view;
+  return view;
+}
+} // namespace
 
 extern "C" TERROIR_OVERLAY_PLUGIN_EXPORT const char* terroir_write_overlay(vtkImageData* image,
   const char* array,
@@ -21,7 +31,11 @@ extern "C" TERROIR_OVERLAY_PLUGIN_EXPORT const char* terroir_write_overlay(vtkIm
   int map)
 {
   static thread_local std::string error;
-  vtkNew<vtkTerroirOverlayView> view;
+  vtkSmartPointer<vtkTerroirOverlayView>& view = ThreadView();
+  if (!view)
+  {
+    view = vtkSmartPointer<vtkTerroirOverlayView>::New();
+  }
   view->SetInputData(image);
   view->SetArrayName(array);
   view->SetArrayComponent(component);
@@ -36,7 +50,9 @@ extern "C" TERROIR_OVERLAY_PLUGIN_EXPORT const char* terroir_write_overlay(vtkIm
     view->SetModeToRelief();
   }
   view->SetShowLegend(true);
-  if (view->WritePNG(path))
+  const bool written = view->WritePNG(path);
+  view->SetInputData(nullptr); // the view keeps its surface, not the caller's terrain
+  if (written)
   {
     return nullptr;
   }
@@ -46,4 +62,9 @@ extern "C" TERROIR_OVERLAY_PLUGIN_EXPORT const char* terroir_write_overlay(vtkIm
     error = "rendering failed";
   }
   return error.c_str();
+}
+
+extern "C" TERROIR_OVERLAY_PLUGIN_EXPORT void terroir_release_overlays()
+{
+  ThreadView() = nullptr;
 }

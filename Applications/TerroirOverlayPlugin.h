@@ -13,6 +13,8 @@ class vtkImageData;
 /// in relief (`map` 0) or top-down (`map` 1: parallel projection from above, the terrain filling
 /// the frame), and writes it to the PNG `path` (temporary file, then rename). Returns nullptr
 /// on success, else a one-line error (valid until the next call on this thread).
+/// Each thread keeps one view between calls (its window, GL context, shaders, and the surface
+/// while the terrain's elevation stays the same): release it with the function below.
 using TerroirWriteOverlayFunction = const char* (*)(vtkImageData* image,
   const char* array,
   int component,
@@ -21,9 +23,14 @@ using TerroirWriteOverlayFunction = const char* (*)(vtkImageData* image,
   const char* path,
   int map);
 
+/// Releases the calling thread's view (its window and X connection). Safe without one.
+using TerroirReleaseOverlaysFunction = void (*)();
+
 /// The file name of the module, beside the program's libraries.
 #define TERROIR_OVERLAY_PLUGIN_NAME "terroir-overlay.so"
 /// The exported symbol.
 #define TERROIR_OVERLAY_PLUGIN_SYMBOL "terroir_write_overlay"
+/// The exported symbol of the release function.
+#define TERROIR_OVERLAY_RELEASE_SYMBOL "terroir_release_overlays"
 
 #endif

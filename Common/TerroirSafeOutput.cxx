@@ -5,8 +5,11 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <utility>
+#include <vector>
 
 namespace terroir
 {
@@ -14,7 +17,7 @@ namespace
 {
 // A fixed table, so that a signal handler can walk it without locks or allocation. A slot is
 // free (0), being filled or emptied (1), or holds a name (2).
-constexpr int kSlots = 64;
+constexpr int kSlots = 256;
 constexpr std::size_t kNameSize = 4096;
 std::atomic<int> SlotState[kSlots];
 char SlotName[kSlots][kNameSize];
@@ -53,6 +56,19 @@ void Unregister(const std::string& name)
   }
 }
 
+/// The commits held by HoldCommits(): (temporary, target) in commit order.
+struct HeldCommits
+{
+  std::mutex Lock;
+  bool Holding = false;
+  std::vector<std::pair<std::string, std::string>> Renames;
+};
+HeldCommits& Held()
+{
+  static HeldCommits held;
+  return held;
+}
+
 bool Exists(const std::string& path)
 {
   struct stat st;
@@ -88,6 +104,15 @@ std::string TemporaryNameFor(const std::string& target)
 
 bool CommitTemporary(const std::string& temporary, const std::string& target, std::string& error)
 {
+  {
+    HeldCommits& held = Held();
+    std::lock_guard<std::mutex> lock(held.Lock);
+    if (held.Holding)
+    {
+      held.Renames.emplace_back(temporary, target);
+      return true;
+    }
+  }
   if (std::rename(temporary.c_str(), target.c_str()) != 0)
   {
     error =
@@ -97,6 +122,53 @@ bool CommitTemporary(const std::string& temporary, const std::string& target, st
   }
   Unregister(temporary);
   return true;
+}
+
+void HoldCommits()
+{
+  HeldCommits& held = Held();
+  std::lock_guard<std::mutex> lock(held.Lock);
+  held.Holding = true;
+}
+
+bool ReleaseHeldCommits(std::string& error)
+{
+  std::vector<std::pair<std::string, std::string>> renames;
+  {
+    HeldCommits& held = Held();
+    std::lock_guard<std::mutex> lock(held.Lock);
+    renames.swap(held.Renames);
+    held.Holding = false;
+  }
+  for (std::size_t k = 0; k < renames.size(); ++k)
+  {
+    std::string why;
+    if (!CommitTemporary(renames[k].first, renames[k].second, why))
+    {
+      error = renames[k].second + ": " + why;
+      for (std::size_t rest = k + 1; rest < renames.size(); ++rest)
+      {
+        DiscardTemporary(renames[rest].first);
+      }
+      return false;
+    }
+  }
+  return true;
+}
+
+void DiscardHeldCommits()
+{
+  std::vector<std::pair<std::string, std::string>> renames;
+  {
+    HeldCommits& held = Held();
+    std::lock_guard<std::mutex> lock(held.Lock);
+    renames.swap(held.Renames);
+    held.Holding = false;
+  }
+  for (const auto& r : renames)
+  {
+    DiscardTemporary(r.first);
+  }
 }
 
 void DiscardTemporary(const std::string& temporary)

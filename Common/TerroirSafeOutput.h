@@ -35,6 +35,20 @@ VTKTERROIRCOMMON_EXPORT bool CommitTemporary(const std::string& temporary,
   const std::string& target,
   std::string& error);
 
+/// Holds every CommitTemporary() from now on, from any thread: the temporary stays (registered,
+/// so a signal still removes it) and its rename waits for ReleaseHeldCommits(). A job that
+/// writes many files (`terroir run`) thus puts all of them in place at its end, or none:
+/// a failure or an interruption midway leaves earlier results as they were. Not nested.
+VTKTERROIRCOMMON_EXPORT void HoldCommits();
+
+/// Renames every held temporary onto its target, in the order they were committed, and ends
+/// the hold. On a failed rename sets `error` ("<target>: cannot rename ...") and removes the
+/// temporaries not yet renamed.
+VTKTERROIRCOMMON_EXPORT bool ReleaseHeldCommits(std::string& error);
+
+/// Removes every held temporary and ends the hold (after a failure).
+VTKTERROIRCOMMON_EXPORT void DiscardHeldCommits();
+
 /// Removes a temporary after a failure and unregisters it.
 VTKTERROIRCOMMON_EXPORT void DiscardTemporary(const std::string& temporary);
 

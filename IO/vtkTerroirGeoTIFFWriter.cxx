@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkTerroirGeoTIFFWriter);
@@ -34,7 +35,39 @@ vtkTerroirGeoTIFFWriter::~vtkTerroirGeoTIFFWriter() {}
 void vtkTerroirGeoTIFFWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Compress: " << this->Compress << "\n";
+  const char* name = GetCompressionName(this->Compression);
+  os << indent << "Compression: " << (name ? name : "?") << "\n";
+  os << indent << "Tiled: " << this->Tiled << "\n";
+  os << indent << "Threads: " << this->Threads << "\n";
+  os << indent << "Overviews: " << this->Overviews << "\n";
+}
+
+namespace
+{
+const char* const CompressionNames[] = { "none", "deflate", "zstd", "lzw" };
+const char* const CompressionCreationOptions[] = { nullptr,
+  "COMPRESS=DEFLATE",
+  "COMPRESS=ZSTD",
+  "COMPRESS=LZW" };
+} // namespace
+
+const char* vtkTerroirGeoTIFFWriter::GetCompressionName(int compression)
+{
+  return compression >= COMPRESSION_NONE && compression <= COMPRESSION_LZW
+    ? CompressionNames[compression]
+    : nullptr;
+}
+
+int vtkTerroirGeoTIFFWriter::GetCompressionFromName(const char* name)
+{
+  for (int c = COMPRESSION_NONE; name && c <= COMPRESSION_LZW; ++c)
+  {
+    if (std::strcmp(name, CompressionNames[c]) == 0)
+    {
+      return c;
+    }
+  }
+  return -1;
 }
 
 namespace
@@ -88,22 +121,71 @@ void GeoTransformOf(vtkImageData* input, double gt[6])
 }
 
 /// GTiff creation options, null-terminated.
-std::vector<const char*> CreationOptions(bool compress, bool floating, int nx, int ny, int nc)
+/// GDAL's creation options for the writer's layout; the strings live in `storage`.
+std::vector<const char*> CreationOptions(int compression,
+  bool tiled,
+  int threads,
+  bool floating,
+  int nx,
+  int ny,
+  int nc,
+  std::vector<std::string>& storage)
 {
-  // Uncompressed by default, like gdaldem; DEFLATE (floating-point predictor for float bands)
-  // on request. Multi-band rasters are band-interleaved so each band is written in one pass.
-  std::vector<const char*> options = { "INTERLEAVE=BAND" };
-  if (compress)
+  // Multi-band rasters are band-interleaved so each band is written in one pass.
+  storage = { "INTERLEAVE=BAND" };
+  if (compression != vtkTerroirGeoTIFFWriter::COMPRESSION_NONE)
   {
-    options.push_back("COMPRESS=DEFLATE");
-    options.push_back(floating ? "PREDICTOR=3" : "PREDICTOR=2");
+    storage.emplace_back(CompressionCreationOptions[compression]);
+    storage.emplace_back(floating ? "PREDICTOR=3" : "PREDICTOR=2");
+    if (threads != 0)
+    {
+      storage.push_back(
+        threads < 0 ? "NUM_THREADS=ALL_CPUS" : "NUM_THREADS=" + std::to_string(threads));
+    }
+  }
+  if (tiled)
+  {
+    storage.insert(storage.end(), { "TILED=YES", "BLOCKXSIZE=256", "BLOCKYSIZE=256" });
   }
   if (static_cast<double>(nx) * ny * nc * 8.0 > 3.9e9)
   {
-    options.push_back("BIGTIFF=YES");
+    storage.emplace_back("BIGTIFF=YES");
+  }
+  std::vector<const char*> options;
+  for (const std::string& o : storage)
+  {
+    options.push_back(o.c_str());
   }
   options.push_back(nullptr);
   return options;
+}
+
+/// Internal overviews at 2, 4, 8, ... until the smaller side is under 256 cells (none for a
+/// smaller raster): AVERAGE for float bands, NEAREST for integer ones (classes). Returns the
+/// problem, empty on success.
+std::string BuildOverviews(GDALDatasetH ds, bool floating, int nx, int ny)
+{
+  std::vector<int> levels;
+  for (int f = 2; std::min(nx, ny) / (f / 2) >= 256; f *= 2)
+  {
+    levels.push_back(f);
+  }
+  if (levels.empty())
+  {
+    return std::string();
+  }
+  if (GDALBuildOverviews(ds,
+        floating ? "AVERAGE" : "NEAREST",
+        static_cast<int>(levels.size()),
+        levels.data(),
+        0,
+        nullptr,
+        nullptr,
+        nullptr) != CE_None)
+  {
+    return "cannot build the overviews";
+  }
+  return std::string();
 }
 
 /// True when the mask (may be null) marks some of the n cells invalid.
@@ -296,7 +378,9 @@ void vtkTerroirGeoTIFFWriter::WriteData()
   file.Temp = terroir::TemporaryNameFor(file.Target);
   errno = 0;
   terroir::io::detail::GDALErrorCapture capture;
-  std::vector<const char*> options = CreationOptions(this->Compress, floating, nx, ny, nc);
+  std::vector<std::string> optionText;
+  std::vector<const char*> options = CreationOptions(
+    this->Compression, this->Tiled, this->Threads, floating, nx, ny, nc, optionText);
   GDALDatasetH ds =
     GDALCreate(driver, file.Temp.c_str(), nx, ny, nc, type, const_cast<char**>(options.data()));
   if (!ds)
@@ -335,6 +419,15 @@ void vtkTerroirGeoTIFFWriter::WriteData()
       return;
     }
     this->UpdateProgress(static_cast<double>(c + 1) / nc);
+  }
+  if (this->Overviews)
+  {
+    const std::string problem = BuildOverviews(ds, floating, nx, ny);
+    if (!problem.empty())
+    {
+      this->Fail(file.Discard(ds, problem, capture));
+      return;
+    }
   }
   GDALClose(ds);
   if (capture.Failed())

@@ -11,7 +11,13 @@
  * such cells exist for Byte). Georeference: the input's `TerroirGeoTransform` and
  * `TerroirCRS` when present (as vtkTerroirDEMReader leaves them); otherwise a geotransform
  * built from the image origin and spacing (origin = south-west cell centre) and no CRS.
- * Uncompressed and band-interleaved by default, like gdaldem; `Compress` turns on DEFLATE.
+ * Band-interleaved. Layout options (all off by default, like gdaldem: uncompressed strips):
+ * `Compression` (NONE, DEFLATE, ZSTD or LZW, each with GDAL's default level, the
+ * floating-point predictor (3) for float bands and the horizontal one (2) for integers: lossless),
+ * `Tiled` (256 × 256 tiles instead of strips: QGIS reads a window without whole rows, and
+ * GDAL compresses the tiles in parallel), `Threads` (GDAL's NUM_THREADS for compression: 0 its
+ * default, one thread; -1 all cores) and `Overviews` (internal overviews at 2, 4, 8, ... until
+ * the smaller side is under 256 cells: AVERAGE for float bands, NEAREST for integer classes).
  *
  * The file is written to a hidden temporary name in the target folder and renamed on
  * success: a failed write leaves no file and never damages an existing one. With
@@ -38,12 +44,52 @@ public:
   vtkTypeMacro(vtkTerroirGeoTIFFWriter, vtkTerroirImageWriter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  enum CompressionType
+  {
+    COMPRESSION_NONE = 0,
+    COMPRESSION_DEFLATE = 1,
+    COMPRESSION_ZSTD = 2,
+    COMPRESSION_LZW = 3
+  };
+
   ///@{
-  /// Compress with DEFLATE (floating-point predictor for float bands). Default off, like
-  /// gdaldem: uncompressed GeoTIFFs are written about twice as fast.
-  vtkSetMacro(Compress, bool);
-  vtkGetMacro(Compress, bool);
-  vtkBooleanMacro(Compress, bool);
+  /// The compression (CompressionType), default COMPRESSION_NONE.
+  vtkSetClampMacro(Compression, int, COMPRESSION_NONE, COMPRESSION_LZW);
+  vtkGetMacro(Compression, int);
+  ///@}
+
+  /// The compression's name ("none", "deflate", "zstd", "lzw"); nullptr for an unknown value.
+  static const char* GetCompressionName(int compression);
+  /// The CompressionType of a name of GetCompressionName(); -1 when unknown.
+  static int GetCompressionFromName(const char* name);
+
+  ///@{
+  /// DEFLATE on or off (Compression DEFLATE or NONE); kept for scripts written before the
+  /// other compressions.
+  void SetCompress(bool on) { this->SetCompression(on ? COMPRESSION_DEFLATE : COMPRESSION_NONE); }
+  bool GetCompress() { return this->Compression != COMPRESSION_NONE; }
+  void CompressOn() { this->SetCompress(true); }
+  void CompressOff() { this->SetCompress(false); }
+  ///@}
+
+  ///@{
+  /// 256 × 256 tiles instead of strips. Default off.
+  vtkSetMacro(Tiled, bool);
+  vtkGetMacro(Tiled, bool);
+  vtkBooleanMacro(Tiled, bool);
+  ///@}
+
+  ///@{
+  /// Threads GDAL compresses with (NUM_THREADS): 0 its default (one), -1 all cores. Default 0.
+  vtkSetClampMacro(Threads, int, -1, 1024);
+  vtkGetMacro(Threads, int);
+  ///@}
+
+  ///@{
+  /// Internal overviews (see the class comment). Default off.
+  vtkSetMacro(Overviews, bool);
+  vtkGetMacro(Overviews, bool);
+  vtkBooleanMacro(Overviews, bool);
   ///@}
 
 protected:
@@ -52,7 +98,10 @@ protected:
 
   void WriteData() override;
 
-  bool Compress = false;
+  int Compression = COMPRESSION_NONE;
+  bool Tiled = false;
+  int Threads = 0;
+  bool Overviews = false;
 
 private:
   vtkTerroirGeoTIFFWriter(const vtkTerroirGeoTIFFWriter&) = delete;

@@ -281,6 +281,12 @@ private:
     vtkTerroirReliefSurface* relief,
     double legendWidth,
     double titleHeight);
+  /// The surface for `image`: the last one when its geometry is still current, else built
+  /// anew; nullptr with `why` set on bad input.
+  vtkTerroirReliefSurface* PrepareSurface(vtkImageData* image, std::string& why);
+  /// The offscreen window, kept while its size stays, emptied of the last frame's renderers;
+  /// nullptr with `why` set without an X display.
+  vtkRenderWindow* PrepareWindow(std::string& why);
   /// The title strip at the top.
   void AddTitleRenderer(vtkRenderWindow* window, double titleHeight, double textGrey);
 };

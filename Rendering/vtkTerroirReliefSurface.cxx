@@ -63,8 +63,10 @@ double CentreAndSize(const double bounds[6], double center[3], double size[3])
 struct vtkTerroirReliefSurface::Internals
 {
   vtkSmartPointer<vtkImageData> Input;
-  std::vector<unsigned char> Valid;
+  std::vector<unsigned char> Valid; ///< per grid point
+  std::vector<vtkIdType> Index;     ///< drawn point -> grid point; empty when every one is drawn
   double Bounds[6] = { 0, 1, 0, 1, 0, 1 };
+  bool HasHoles = false;
   vtkNew<vtkPolyData> Surface;
   vtkNew<vtkPolyData> Holes;
   vtkNew<vtkUnsignedCharArray> Colors;
@@ -133,10 +135,26 @@ bool vtkTerroirReliefSurface::IsValidPoint(vtkIdType k)
 
 namespace
 {
-/// The surface's points (x, y from the grid, z = `z`) and normals: central differences where
-/// both neighbours are valid, else one-sided, else flat (also at invalid points).
-void FillPointsAndNormals(int nx,
-  int ny,
+/// The grid indices drawn along an axis of `n` points: every `stride`-th, and the last.
+std::vector<int> DrawnIndices(int n, int stride)
+{
+  std::vector<int> indices;
+  for (int i = 0; i < n; i += stride)
+  {
+    indices.push_back(i);
+  }
+  if (indices.back() != n - 1)
+  {
+    indices.push_back(n - 1);
+  }
+  return indices;
+}
+
+/// The surface's points (x, y of the drawn grid indices `ix`, `iy`, z = `z`) and normals:
+/// central differences where both drawn neighbours are valid, else one-sided, else flat (also
+/// at invalid points). `z` and `valid` hold the drawn points, row by row.
+void FillPointsAndNormals(const std::vector<int>& ix,
+  const std::vector<int>& iy,
   const double origin[3],
   const double spacing[3],
   const std::vector<double>& z,
@@ -144,15 +162,21 @@ void FillPointsAndNormals(int nx,
   vtkPoints* points,
   vtkFloatArray* normals)
 {
+  const int nx = static_cast<int>(ix.size());
+  const int ny = static_cast<int>(iy.size());
   for (int j = 0; j < ny; ++j)
   {
     for (int i = 0; i < nx; ++i)
     {
       const vtkIdType k = static_cast<vtkIdType>(j) * nx + i;
-      points->SetPoint(k, origin[0] + i * spacing[0], origin[1] + j * spacing[1], z[k]);
-      // Central differences where both neighbours are valid, else one-sided, else flat.
-      auto derivative =
-        [&](vtkIdType kMinus, bool hasMinus, vtkIdType kPlus, bool hasPlus, double h) -> double
+      points->SetPoint(k, origin[0] + ix[i] * spacing[0], origin[1] + iy[j] * spacing[1], z[k]);
+      // hMinus, hPlus: the distances to the neighbours (one cell each when every point is drawn).
+      auto derivative = [&](vtkIdType kMinus,
+                          bool hasMinus,
+                          double hMinus,
+                          vtkIdType kPlus,
+                          bool hasPlus,
+                          double hPlus) -> double
       {
         hasMinus = hasMinus && valid[kMinus];
         hasPlus = hasPlus && valid[kPlus];
@@ -162,20 +186,30 @@ void FillPointsAndNormals(int nx,
         }
         if (hasMinus && hasPlus)
         {
-          return (z[kPlus] - z[kMinus]) / (2.0 * h);
+          return (z[kPlus] - z[kMinus]) / (hMinus + hPlus);
         }
         if (hasPlus)
         {
-          return (z[kPlus] - z[k]) / h;
+          return (z[kPlus] - z[k]) / hPlus;
         }
         if (hasMinus)
         {
-          return (z[k] - z[kMinus]) / h;
+          return (z[k] - z[kMinus]) / hMinus;
         }
         return 0.0;
       };
-      const double dzdx = derivative(k - 1, i > 0, k + 1, i < nx - 1, spacing[0]);
-      const double dzdy = derivative(k - nx, j > 0, k + nx, j < ny - 1, spacing[1]);
+      const double dzdx = derivative(k - 1,
+        i > 0,
+        i > 0 ? (ix[i] - ix[i - 1]) * spacing[0] : 0.0,
+        k + 1,
+        i < nx - 1,
+        i < nx - 1 ? (ix[i + 1] - ix[i]) * spacing[0] : 0.0);
+      const double dzdy = derivative(k - nx,
+        j > 0,
+        j > 0 ? (iy[j] - iy[j - 1]) * spacing[1] : 0.0,
+        k + nx,
+        j < ny - 1,
+        j < ny - 1 ? (iy[j + 1] - iy[j]) * spacing[1] : 0.0);
       double nrm[3] = { -dzdx, -dzdy, 1.0 };
       vtkMath::Normalize(nrm);
       normals->SetTuple(k, nrm);
@@ -248,31 +282,64 @@ bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
     }
   }
 
+  // The drawn grid: every point, or every Stride-th row and column (and the last ones).
+  const std::vector<int> ix = DrawnIndices(nx, this->Stride);
+  const std::vector<int> iy = DrawnIndices(ny, this->Stride);
+  const int mx = static_cast<int>(ix.size());
+  const int my = static_cast<int>(iy.size());
+  const vtkIdType m = static_cast<vtkIdType>(mx) * my;
+  std::vector<vtkIdType> index; // drawn point -> grid point (empty: the same)
+  std::vector<unsigned char> drawnValid;
+  std::vector<double> drawnZ;
+  if (m == n)
+  {
+    drawnValid = valid;
+    drawnZ.swap(z);
+  }
+  else
+  {
+    index.resize(m);
+    drawnValid.resize(m);
+    drawnZ.resize(m);
+    for (int j = 0; j < my; ++j)
+    {
+      for (int i = 0; i < mx; ++i)
+      {
+        const vtkIdType d = static_cast<vtkIdType>(j) * mx + i;
+        index[d] = static_cast<vtkIdType>(iy[j]) * nx + ix[i];
+        drawnValid[d] = valid[index[d]];
+        drawnZ[d] = z[index[d]];
+      }
+    }
+  }
+
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(n);
+  points->SetNumberOfPoints(m);
   vtkNew<vtkFloatArray> normals;
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
-  normals->SetNumberOfTuples(n);
-  FillPointsAndNormals(nx, ny, origin, spacing, z, valid, points, normals);
+  normals->SetNumberOfTuples(m);
+  FillPointsAndNormals(ix, iy, origin, spacing, drawnZ, drawnValid, points, normals);
 
   // Valid quads are shaded, the others drawn flat in the NaN colour.
   vtkNew<vtkCellArray> surfaceCells;
   vtkNew<vtkCellArray> holeCells;
-  for (int j = 0; j + 1 < ny; ++j)
+  for (int j = 0; j + 1 < my; ++j)
   {
-    for (int i = 0; i + 1 < nx; ++i)
+    for (int i = 0; i + 1 < mx; ++i)
     {
-      const vtkIdType k = static_cast<vtkIdType>(j) * nx + i;
-      const vtkIdType quad[4] = { k, k + 1, k + 1 + nx, k + nx };
-      const bool ok = valid[quad[0]] && valid[quad[1]] && valid[quad[2]] && valid[quad[3]];
+      const vtkIdType k = static_cast<vtkIdType>(j) * mx + i;
+      const vtkIdType quad[4] = { k, k + 1, k + 1 + mx, k + mx };
+      const bool ok =
+        drawnValid[quad[0]] && drawnValid[quad[1]] && drawnValid[quad[2]] && drawnValid[quad[3]];
       (ok ? surfaceCells : holeCells)->InsertNextCell(4, quad);
     }
   }
 
   in.Valid.swap(valid);
-  in.Colors->SetNumberOfTuples(n);
+  in.Index.swap(index);
+  in.Colors->SetNumberOfTuples(m);
   in.Surface->Initialize();
   in.Surface->SetPoints(points);
   in.Surface->SetPolys(surfaceCells);
@@ -288,7 +355,16 @@ bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
   in.Bounds[3] = origin[1] + (ny - 1) * spacing[1];
   in.Bounds[4] = zFill;
   in.Bounds[5] = zMax;
+  in.HasHoles = holeCells->GetNumberOfCells() > 0;
+  this->ApplyAppearance();
+  this->SetUniformColor();
+  return true;
+}
 
+//------------------------------------------------------------------------------
+void vtkTerroirReliefSurface::ApplyAppearance()
+{
+  Internals& in = *this->Internal;
   vtkProperty* prop = in.SurfaceActor->GetProperty();
   prop->SetInterpolationToPhong();
   prop->SetAmbient(this->Ambient);
@@ -300,9 +376,7 @@ bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
     "terroirParallel", this->ParallelView ? 1 : 0);
   in.HoleActor->GetProperty()->SetColor(this->NanColor[0], this->NanColor[1], this->NanColor[2]);
   in.HoleActor->GetProperty()->SetOpacity(this->NanColor[3]);
-  in.HoleActor->SetVisibility(holeCells->GetNumberOfCells() > 0 && this->NanColor[3] > 0.0);
-  this->SetUniformColor();
-  return true;
+  in.HoleActor->SetVisibility(in.HasHoles && this->NanColor[3] > 0.0);
 }
 
 //------------------------------------------------------------------------------
@@ -345,7 +419,8 @@ void vtkTerroirReliefSurface::SetColors(vtkDataArray* values,
   bool overCurrent)
 {
   Internals& in = *this->Internal;
-  const vtkIdType n = in.Colors->GetNumberOfTuples();
+  const vtkIdType n = static_cast<vtkIdType>(in.Valid.size()); // grid points
+  const vtkIdType drawn = in.Colors->GetNumberOfTuples();
   if (!values || !lut || values->GetNumberOfTuples() != n || component < 0 ||
     component >= values->GetNumberOfComponents())
   {
@@ -359,11 +434,12 @@ void vtkTerroirReliefSurface::SetColors(vtkDataArray* values,
   {
     mask = nullptr;
   }
-  for (vtkIdType k = 0; k < n; ++k)
+  for (vtkIdType d = 0; d < drawn; ++d)
   {
-    const double v = values->GetComponent(k, component);
+    const vtkIdType g = in.Index.empty() ? d : in.Index[d];
+    const double v = values->GetComponent(g, component);
     const unsigned char* rgba = lut->MapValue(v);
-    const bool coloured = !mask || mask->GetComponent(k, 0) != 0.0;
+    const bool coloured = !mask || mask->GetComponent(g, 0) != 0.0;
     const double a = coloured ? rgba[3] / 255.0 : 0.0;
     if (overCurrent && a <= 0.0)
     {
@@ -373,11 +449,11 @@ void vtkTerroirReliefSurface::SetColors(vtkDataArray* values,
     for (int c = 0; c < 3; ++c)
     {
       const double under =
-        overCurrent ? in.Colors->GetTypedComponent(k, c) : 255.0 * this->BaseColor[c];
+        overCurrent ? in.Colors->GetTypedComponent(d, c) : 255.0 * this->BaseColor[c];
       const double blended = a * rgba[c] + (1.0 - a) * under;
       out[c] = static_cast<unsigned char>(std::lround(std::min(255.0, std::max(0.0, blended))));
     }
-    in.Colors->SetTypedTuple(k, out);
+    in.Colors->SetTypedTuple(d, out);
   }
   in.Colors->Modified();
 }

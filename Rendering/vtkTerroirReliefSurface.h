@@ -80,6 +80,15 @@ public:
   ///@}
 
   ///@{
+  /// Draw every Stride-th grid point along each axis (and the last row and column), default 1
+  /// (every point). A grid with more points than its picture has pixels gains nothing from the
+  /// others: the overlay view sets it from its frame size. Colours and data ranges still come
+  /// from the whole grid's values at the drawn points. Applies at the next BuildGeometry.
+  vtkSetClampMacro(Stride, int, 1, 1 << 20);
+  vtkGetMacro(Stride, int);
+  ///@}
+
+  ///@{
   /// Parallel (map) view: the viewer direction of the specular term is (0, 0, 1). Default off.
   vtkSetMacro(ParallelView, bool);
   vtkGetMacro(ParallelView, bool);
@@ -98,6 +107,10 @@ public:
   /// sentence without the class name) when the input is not a 2-D terrain of at least 2 × 2
   /// points with a one-component `Elevation` and at least one valid elevation.
   bool BuildGeometry(std::string& error);
+
+  /// Applies the shading coefficients, ParallelView and NanColor to the built actors (done by
+  /// BuildGeometry; call it after changing them when the geometry itself is kept).
+  void ApplyAppearance();
 
   /// Colours the surface by component `component` of `values` (one tuple per point) through
   /// `lut`. Points where `mask` (optional, one component) is 0 get BaseColor, as do values
@@ -158,6 +171,7 @@ protected:
   double Specular = 0.15;
   double SpecularPower = 20.0;
   bool ParallelView = false;
+  int Stride = 1;
   double NanColor[4] = { 0.5, 0.5, 0.5, 1.0 };
   double BaseColor[3] = { 0.85, 0.85, 0.85 };
 

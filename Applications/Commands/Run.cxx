@@ -9,6 +9,9 @@
 #include "TerroirFlowSupport.h"
 #include "TerroirWaterSupport.h"
 
+#include "RunWriter.h"
+#include "TerroirSafeOutput.h"
+
 #include "RiverValidation.h"
 #include "SoilWater.h"
 
@@ -26,6 +29,7 @@
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFractalTerrainSource.h"
+#include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirKMeans.h"
@@ -57,6 +61,39 @@ namespace app
 namespace
 {
 
+// ---- writing one file, when --outputs selects it (on the writer thread) ----------------------
+void Tif(const RunState& r, vtkImageData* image, const char* array, const char* name)
+{
+  const std::string path = r.File(name);
+  if (r.Wants(path))
+  {
+    WriteGeoTIFF(image, array, path, r.Overwrite(), r.Tiff);
+  }
+}
+void Png(const RunState& r,
+  vtkImageData* image,
+  const char* array,
+  int month,
+  const char* preset,
+  const std::string& title,
+  const char* name,
+  bool map = false)
+{
+  const std::string path = r.File(name);
+  if (r.Png && r.Wants(path))
+  {
+    WriteOverlay(image, array, month, preset, title, path, r.Overwrite(), map);
+  }
+}
+void Text(const RunState& r, const char* name, const std::string& text)
+{
+  const std::string path = r.File(name);
+  if (r.Wants(path))
+  {
+    WriteTextFile(path, text, r.Overwrite());
+  }
+}
+
 // ---- slope ------------------------------------------------------------------------------------
 void SlopeFiles(const RunState& r, RunFiles& f)
 {
@@ -69,14 +106,11 @@ void SlopeCompute(RunState& r)
   slope->SetBackend(r.Backend);
   r.Result = RunStage(slope.Get(), r.Result, "slope", r.Stages);
 }
-void SlopeWrite(RunState& r)
+void SlopeWrite(const RunState& r, vtkImageData* image)
 {
-  WriteGeoTIFF(r.Result, "Slope", r.File("slope.tif"), r.Overwrite());
-  WriteGeoTIFF(r.Result, "Aspect", r.File("aspect.tif"), r.Overwrite());
-  if (r.Png)
-  {
-    WriteOverlay(r.Result, "Slope", 0, "Slope", "Slope (°)", r.File("slope.png"), r.Overwrite());
-  }
+  Tif(r, image, "Slope", "slope.tif");
+  Tif(r, image, "Aspect", "aspect.tif");
+  Png(r, image, "Slope", 0, "Slope", "Slope (°)", "slope.png");
 }
 
 // ---- temperature ------------------------------------------------------------------------------
@@ -93,26 +127,12 @@ void TemperatureCompute(RunState& r)
   ApplyTemperature(r.Line.Temperature, temperature);
   r.Result = RunStage(temperature.Get(), r.Result, "temperature", r.Stages);
 }
-void TemperatureWrite(RunState& r)
+void TemperatureWrite(const RunState& r, vtkImageData* image)
 {
-  WriteGeoTIFF(r.Result, "Temperature", r.File("temperature.tif"), r.Overwrite());
-  if (r.Png)
-  {
-    WriteOverlay(r.Result,
-      "Temperature",
-      0,
-      "Temperature",
-      "Temperature, January (°C)",
-      r.File("temperature_jan.png"),
-      r.Overwrite());
-    WriteOverlay(r.Result,
-      "Temperature",
-      6,
-      "Temperature",
-      "Temperature, July (°C)",
-      r.File("temperature_jul.png"),
-      r.Overwrite());
-  }
+  Tif(r, image, "Temperature", "temperature.tif");
+  Png(
+    r, image, "Temperature", 0, "Temperature", "Temperature, January (°C)", "temperature_jan.png");
+  Png(r, image, "Temperature", 6, "Temperature", "Temperature, July (°C)", "temperature_jul.png");
 }
 
 // ---- illumination: monthly, at the solstices December (longest shadows) and June -------------
@@ -161,47 +181,22 @@ void IlluminationCompute(RunState& r)
   st["monthly_day"] = illumination->GetMonthlyDay();
   st["time_step_min"] = illumination->GetTimeStep();
 }
-void IlluminationWrite(RunState& r)
+void IlluminationWrite(const RunState& r, vtkImageData* image)
 {
   if (!r.Illuminate)
   {
     return;
   }
-  WriteGeoTIFF(r.Result, "IlluminationHours", r.File("illumination.tif"), r.Overwrite());
-  WriteGeoTIFF(r.Result, "Insolation", r.File("insolation.tif"), r.Overwrite());
-  if (!r.Png)
-  {
-    return;
-  }
-  struct Picture
-  {
-    const char* Array;
-    int Month;
-    const char* Preset;
-    const char* Title;
-    const char* File;
-  };
-  for (const Picture& p :
-    { Picture{ "IlluminationHours",
-        11,
-        "Illumination",
-        "Direct sun, December 15 (h/day)",
-        "illumination_dec.png" },
-      Picture{ "IlluminationHours",
-        5,
-        "Illumination",
-        "Direct sun, June 15 (h/day)",
-        "illumination_jun.png" },
-      Picture{ "Insolation",
-        11,
-        "Insolation",
-        "Insolation, December 15 (Wh/m²/day)",
-        "insolation_dec.png" },
-      Picture{
-        "Insolation", 5, "Insolation", "Insolation, June 15 (Wh/m²/day)", "insolation_jun.png" } })
-  {
-    WriteOverlay(r.Result, p.Array, p.Month, p.Preset, p.Title, r.File(p.File), r.Overwrite());
-  }
+  Tif(r, image, "IlluminationHours", "illumination.tif");
+  Tif(r, image, "Insolation", "insolation.tif");
+  const char* hours = "IlluminationHours";
+  Png(
+    r, image, hours, 11, "Illumination", "Direct sun, December 15 (h/day)", "illumination_dec.png");
+  Png(r, image, hours, 5, "Illumination", "Direct sun, June 15 (h/day)", "illumination_jun.png");
+  const char* energy = "Insolation";
+  const char* preset = "Insolation";
+  Png(r, image, energy, 11, preset, "Insolation, December 15 (Wh/m²/day)", "insolation_dec.png");
+  Png(r, image, energy, 5, preset, "Insolation, June 15 (Wh/m²/day)", "insolation_jun.png");
 }
 
 // ---- soil water: the default infiltration recipe (fill 15 mm/h, none on slopes over 30 deg)
@@ -224,39 +219,16 @@ void SoilWaterCompute(RunState& r)
   ApplyClimate(r.Line.SoilWater, humidity);
   r.Result = RunStage(humidity.Get(), r.Result, "humidity", r.Stages);
 }
-void SoilWaterWrite(RunState& r)
+void SoilWaterWrite(const RunState& r, vtkImageData* image)
 {
-  WriteGeoTIFF(r.Result,
-    vtkTerroirInfiltration::InfiltrationRateName(),
-    r.File("infiltration.tif"),
-    r.Overwrite());
-  WriteGeoTIFF(
-    r.Result, vtkTerroirSoilHumidity::SoilHumidityName(), r.File("humidity.tif"), r.Overwrite());
-  WriteGeoTIFF(r.Result,
-    vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
-    r.File("weighted_humidity.tif"),
-    r.Overwrite());
-  WriteGeoTIFF(r.Result,
-    vtkTerroirSoilHumidity::StandingWaterName(),
-    r.File("standing_water.tif"),
-    r.Overwrite());
-  if (r.Png)
-  {
-    WriteOverlay(r.Result,
-      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
-      0,
-      "Humidity",
-      "Weighted soil humidity, January (mm)",
-      r.File("humidity_jan.png"),
-      r.Overwrite());
-    WriteOverlay(r.Result,
-      vtkTerroirSoilHumidity::WeightedSoilHumidityName(),
-      6,
-      "Humidity",
-      "Weighted soil humidity, July (mm)",
-      r.File("humidity_jul.png"),
-      r.Overwrite());
-  }
+  Tif(r, image, vtkTerroirInfiltration::InfiltrationRateName(), "infiltration.tif");
+  Tif(r, image, vtkTerroirSoilHumidity::SoilHumidityName(), "humidity.tif");
+  const char* weighted = vtkTerroirSoilHumidity::WeightedSoilHumidityName();
+  Tif(r, image, weighted, "weighted_humidity.tif");
+  Tif(r, image, vtkTerroirSoilHumidity::StandingWaterName(), "standing_water.tif");
+  Png(
+    r, image, weighted, 0, "Humidity", "Weighted soil humidity, January (mm)", "humidity_jan.png");
+  Png(r, image, weighted, 6, "Humidity", "Weighted soil humidity, July (mm)", "humidity_jul.png");
 }
 
 // ---- lakes: every closed depression and hydro-flattened water surface of at least 1 ha --------
@@ -274,19 +246,16 @@ void LakesCompute(RunState& r)
     r.Result->GetFieldData()->GetArray(vtkTerroirFloodFill::WaterBodyLevelName());
   r.Stages["lakes"]["water_bodies"] = levels ? levels->GetNumberOfTuples() : 0;
 }
-void LakesWrite(RunState& r)
+void LakesWrite(const RunState& r, vtkImageData* image)
 {
-  WriteGeoTIFF(r.Result, vtkTerroirFloodFill::WaterDepthName(), r.File("lakes.tif"), r.Overwrite());
-  if (r.Png)
-  {
-    WriteOverlay(r.Result,
-      vtkTerroirFloodFill::WaterDepthName(),
-      0,
-      "WaterBodies",
-      "Lakes and closed depressions (depth, m)",
-      r.File("lakes.png"),
-      r.Overwrite());
-  }
+  Tif(r, image, vtkTerroirFloodFill::WaterDepthName(), "lakes.tif");
+  Png(r,
+    image,
+    vtkTerroirFloodFill::WaterDepthName(),
+    0,
+    "WaterBodies",
+    "Lakes and closed depressions (depth, m)",
+    "lakes.png");
 }
 
 // ---- rivers: the water flow's river-forming mode (steady rain until the outflow balances it),
@@ -376,19 +345,16 @@ void ValidateBundledRivers(RunState& r)
   v["reference_cells"] = reference.Cells;
   v["seconds"] = Now() - tv;
   r.Stages["rivers"]["validation"] = v;
-  if (r.Png)
+  if (r.Png && r.Wants(r.File("validation.png")))
   {
     const std::size_t n = simulated.size();
     std::vector<std::uint8_t> category(n, 0);
     terroir::hydrology::RiverComparisonCategories(
       reference.View, simulated.data(), reference.Area.data(), 60.0, category.data());
-    r.ValidationPicture = vtkSmartPointer<vtkImageData>::New();
-    r.ValidationPicture->ShallowCopy(r.Result);
-    vtkNew<vtkUnsignedCharArray> cat;
-    cat->SetName("RiverComparison");
-    cat->SetNumberOfTuples(static_cast<vtkIdType>(n));
-    std::copy(category.begin(), category.end(), cat->GetPointer(0));
-    r.ValidationPicture->GetPointData()->AddArray(cat);
+    r.RiverComparison = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    r.RiverComparison->SetName("RiverComparison");
+    r.RiverComparison->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    std::copy(category.begin(), category.end(), r.RiverComparison->GetPointer(0));
   }
 }
 void RiversCompute(RunState& r)
@@ -403,39 +369,25 @@ void RiversCompute(RunState& r)
     ValidateBundledRivers(r);
   }
 }
-void RiversWrite(RunState& r)
+void RiversWrite(const RunState& r, vtkImageData* image)
 {
-  WriteGeoTIFF(r.Result, vtkTerroirWaterFlow::RiverName(), r.File("rivers.tif"), r.Overwrite());
-  WriteGeoTIFF(
-    r.Result, vtkTerroirWaterFlow::DischargeRateName(), r.File("discharge.tif"), r.Overwrite());
-  if (!r.Png)
+  Tif(r, image, vtkTerroirWaterFlow::RiverName(), "rivers.tif");
+  Tif(r, image, vtkTerroirWaterFlow::DischargeRateName(), "discharge.tif");
+  Png(r, image, "RiverNetwork", 0, "Rivers", "Rivers and lakes (map)", "rivers.png", true);
+  Png(r, image, "RiverNetwork", 0, "Rivers", "Rivers and lakes", "rivers_relief.png");
+  if (r.RiverComparison)
   {
-    return;
-  }
-  WriteOverlay(r.Result,
-    "RiverNetwork",
-    0,
-    "Rivers",
-    "Rivers and lakes (map)",
-    r.File("rivers.png"),
-    r.Overwrite(),
-    true);
-  WriteOverlay(r.Result,
-    "RiverNetwork",
-    0,
-    "Rivers",
-    "Rivers and lakes",
-    r.File("rivers_relief.png"),
-    r.Overwrite());
-  if (r.ValidationPicture)
-  {
-    WriteOverlay(r.ValidationPicture,
+    // The comparison with NHD: its own picture, not an array of terrain.vti.
+    vtkNew<vtkImageData> picture;
+    picture->ShallowCopy(image);
+    picture->GetPointData()->AddArray(r.RiverComparison);
+    Png(r,
+      picture,
       "RiverComparison",
       0,
       "RiverComparison",
       "Rivers against NHD within 60 m (map)",
-      r.File("validation.png"),
-      r.Overwrite(),
+      "validation.png",
       true);
   }
 }
@@ -462,32 +414,29 @@ void ClustersCompute(RunState& r)
   settings.Clusters = r.Clusters();
   ApplyKMeans(settings, r.Line.Backend, kmeans);
   r.Result = RunStage(kmeans.Get(), r.Result, "clusters", r.Stages);
-  r.ClusterTable->DeepCopy(kmeans->GetClusterTable());
-  r.ClusterSummary = ClusterTableJSON(r.ClusterTable, r.Result);
+  r.ClusterCSV = ClusterTableCSV(kmeans->GetClusterTable());
+  r.ClusterSummary = ClusterTableJSON(kmeans->GetClusterTable(), r.Result);
   json& st = r.Stages["clusters"];
   st["k"] = r.Clusters();
   st["iterations"] = r.ClusterSummary["iterations"];
   st["stop_reason"] = r.ClusterSummary["stop_reason"];
 }
-void ClustersWrite(RunState& r)
+void ClustersWrite(const RunState& r, vtkImageData* image)
 {
   if (r.Clusters() <= 0)
   {
     return;
   }
-  WriteGeoTIFF(r.Result, vtkTerroirKMeans::ClusterIdName(), r.File("clusters.tif"), r.Overwrite());
-  WriteTextFile(r.File("clusters.csv"), ClusterTableCSV(r.ClusterTable), r.Overwrite());
-  WriteTextFile(r.File("clusters.json"), r.ClusterSummary.dump(2) + "\n", r.Overwrite());
-  if (r.Png)
-  {
-    WriteOverlay(r.Result,
-      vtkTerroirKMeans::ClusterIdName(),
-      0,
-      "Clusters",
-      "Ecological zones (k-means, K = " + std::to_string(r.Clusters()) + ")",
-      r.File("clusters.png"),
-      r.Overwrite());
-  }
+  Tif(r, image, vtkTerroirKMeans::ClusterIdName(), "clusters.tif");
+  Text(r, "clusters.csv", r.ClusterCSV);
+  Text(r, "clusters.json", r.ClusterSummary.dump(2) + "\n");
+  Png(r,
+    image,
+    vtkTerroirKMeans::ClusterIdName(),
+    0,
+    "Clusters",
+    "Ecological zones (k-means, K = " + std::to_string(r.Clusters()) + ")",
+    "clusters.png");
 }
 
 /// The stages, in the order they run (and their files are listed).
@@ -525,20 +474,209 @@ void ReadTerrainStage(RunState& r)
     { "meridian_convergence_deg", vtkTerroirGeoreference::GetMeridianConvergence(r.Result) } };
 }
 
-/// The write stage's time and where it went: each file written since the run began (name,
-/// kind, seconds) and the seconds per kind (vti, geotiff, png, text).
-json WriteBreakdown(double seconds)
+/// Where writing went: each file written since the run began (name, kind, seconds, on
+/// whichever thread wrote it), the seconds per kind and in all (`busy_seconds`), and what the
+/// run waited for them after its computation (`seconds`).
+json WriteBreakdown(double secondsAfterCompute)
 {
   json files = json::array();
   json byKind = json::object();
+  double busy = 0.0;
   for (const WrittenFile& f : TakeWrittenFiles())
   {
     files.push_back(json{ { "file", fs::path(f.Path).filename().string() },
       { "kind", f.Kind },
       { "seconds", f.Seconds } });
     byKind[f.Kind] = byKind.value(f.Kind, 0.0) + f.Seconds;
+    busy += f.Seconds;
   }
-  return json{ { "seconds", seconds }, { "files", files }, { "seconds_by_kind", byKind } };
+  return json{ { "seconds", secondsAfterCompute },
+    { "busy_seconds", busy },
+    { "files", files },
+    { "seconds_by_kind", byKind } };
+}
+
+/// The name --outputs knows a stage by ("soil water" is soil-water).
+std::string StageOption(const char* name)
+{
+  std::string option = name;
+  std::replace(option.begin(), option.end(), ' ', '-');
+  return option;
+}
+
+/// The files --outputs selects among `all` (each stage's files, terrain.vti first): file names,
+/// stage names and kinds; every file without --outputs. Throws on a name it does not know.
+std::set<std::string> SelectOutputs(const RunState& r, const std::vector<RunFiles>& stages)
+{
+  std::vector<std::string> all = { r.File("terrain.vti") };
+  for (const RunFiles& f : stages)
+  {
+    for (const auto* list : { &f.Rasters, &f.Tables, &f.Pictures })
+    {
+      all.insert(all.end(), list->begin(), list->end());
+    }
+  }
+  const RunOutputSettings& o = r.Line.RunOutputs;
+  std::set<std::string> selected;
+  auto endsWith = [](const std::string& path, const char* ext) { return HasExtension(path, ext); };
+  for (const std::string& item : o.Only)
+  {
+    const std::size_t before = selected.size();
+    bool known = false;
+    for (std::size_t s = 0; s < RunSteps().size(); ++s)
+    {
+      if (item == StageOption(RunSteps()[s].Name))
+      {
+        known = true;
+        for (const auto* list : { &stages[s].Rasters, &stages[s].Tables, &stages[s].Pictures })
+        {
+          selected.insert(list->begin(), list->end());
+        }
+      }
+    }
+    for (const std::string& path : all)
+    {
+      const bool match = fs::path(path).filename() == item ||
+        (item == "vti" && endsWith(path, ".vti")) || (item == "tif" && endsWith(path, ".tif")) ||
+        (item == "png" && endsWith(path, ".png")) ||
+        (item == "tables" && (endsWith(path, ".csv") || endsWith(path, ".json")));
+      if (match)
+      {
+        selected.insert(path);
+      }
+    }
+    known = known || item == "vti" || item == "tif" || item == "png" || item == "tables";
+    if (!known && selected.size() == before)
+    {
+      std::string stageNames;
+      for (const RunStep& step : RunSteps())
+      {
+        stageNames += (stageNames.empty() ? "" : ", ") + StageOption(step.Name);
+      }
+      throw Failure("--outputs: '" + item + "' is not a file, stage or kind of this run (stages: " +
+        stageNames + "; kinds: vti, tif, png, tables; files: as listed in report.json)");
+    }
+  }
+  if (o.Only.empty())
+  {
+    selected.insert(all.begin(), all.end());
+  }
+  if (o.NoVti)
+  {
+    selected.erase(r.File("terrain.vti"));
+  }
+  return selected;
+}
+
+/// The files the run writes, checked before any work, so that a refused run leaves nothing
+/// behind: the reports and what --outputs selects.
+void ListOutputs(RunState& r)
+{
+  std::vector<RunFiles> stages;
+  for (const RunStep& step : RunSteps())
+  {
+    stages.emplace_back();
+    step.Files(r, stages.back());
+    if (!r.Png)
+    {
+      stages.back().Pictures.clear();
+    }
+  }
+  r.Selected = SelectOutputs(r, stages);
+  // In the report's order: terrain.vti, the rasters, the reports, the tables, the pictures.
+  r.Outputs.clear();
+  auto add = [&r](const std::vector<std::string>& files)
+  {
+    for (const std::string& f : files)
+    {
+      if (r.Wants(f))
+      {
+        r.Outputs.push_back(f);
+      }
+    }
+  };
+  add({ r.File("terrain.vti") });
+  for (const RunFiles& f : stages)
+  {
+    add(f.Rasters);
+  }
+  r.Outputs.insert(r.Outputs.end(), { r.File("report.md"), r.File("report.json") });
+  for (const RunFiles& f : stages)
+  {
+    add(f.Tables);
+  }
+  bool pictures = false;
+  for (const RunFiles& f : stages)
+  {
+    add(f.Pictures);
+    for (const std::string& p : f.Pictures)
+    {
+      pictures = pictures || r.Wants(p);
+    }
+  }
+  if (pictures && !HaveDisplay())
+  {
+    throw Failure("PNG overlays need an X display (VTK 9.1 renders through X): run under "
+                  "'xvfb-run -a', or pass --no-png");
+  }
+  CheckWritable(r.Outputs, r.Overwrite());
+}
+
+/// True when --outputs selects one of the stage's files (else nothing is copied for it).
+bool WritesAnything(const RunState& r, const RunStep& step)
+{
+  RunFiles f;
+  step.Files(r, f);
+  for (const auto* list : { &f.Rasters, &f.Tables, &f.Pictures })
+  {
+    for (const std::string& file : *list)
+    {
+      if (r.Wants(file))
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+/// Every stage, each one's files written by the writer thread while the next ones compute;
+/// then terrain.vti (here, while the writer finishes) and the reports.
+void ComputeAndWrite(RunState& r)
+{
+  const double t0 = Now();
+  // Queued copies for the writer: at most 1 GiB (or one stage's arrays when they are more).
+  RunWriter writer(std::size_t(1) << 30);
+  RunSnapshot snapshots;
+  ReadTerrainStage(r);
+  for (const RunStep& step : RunSteps())
+  {
+    step.Compute(r);
+    if (!WritesAnything(r, step))
+    {
+      continue;
+    }
+    std::size_t bytes = 0;
+    vtkSmartPointer<vtkImageData> image = snapshots.Take(r.Result, bytes);
+    writer.Post(bytes, [&r, &step, image] { step.Write(r, image); });
+  }
+  const double tw = Now();
+  if (r.Wants(r.File("terrain.vti")))
+  {
+    WriteVTI(r.Result, r.File("terrain.vti"), r.Overwrite(), r.Line.RunOutputs.VtiCompression);
+  }
+  json arrays = ArraysReport(r.Result);
+  writer.Finish();
+  r.Stages["write"] = WriteBreakdown(Now() - tw);
+  r.Report["stages"] = r.Stages;
+  r.Report["arrays"] = arrays;
+  if (r.Clusters() > 0)
+  {
+    r.Report["clusters"] = json::parse(r.ClusterSummary.dump());
+  }
+  r.Report["outputs"] = r.Outputs;
+  r.Report["wall_seconds"] = Now() - t0;
+  WriteReports(r, arrays);
 }
 
 int RunEveryStage(const CommandLine& c)
@@ -555,51 +693,32 @@ int RunEveryStage(const CommandLine& c)
     throw Failure(c.Output + ": cannot create the output folder" + (ec ? ": " + ec.message() : ""));
   }
   r.Out = fs::path(c.Output);
-
-  // Every file, checked before any work, so that a refused run leaves nothing behind.
-  RunFiles files;
-  for (const RunStep& step : RunSteps())
-  {
-    step.Files(r, files);
-  }
-  r.Outputs = { r.File("terrain.vti") };
-  r.Outputs.insert(r.Outputs.end(), files.Rasters.begin(), files.Rasters.end());
-  r.Outputs.insert(r.Outputs.end(), { r.File("report.md"), r.File("report.json") });
-  r.Outputs.insert(r.Outputs.end(), files.Tables.begin(), files.Tables.end());
-  if (r.Png)
-  {
-    if (!HaveDisplay())
-    {
-      throw Failure("PNG overlays need an X display (VTK 9.1 renders through X): run under "
-                    "'xvfb-run -a', or pass --no-png");
-    }
-    r.Outputs.insert(r.Outputs.end(), files.Pictures.begin(), files.Pictures.end());
-  }
-  CheckWritable(r.Outputs, c.Overwrite);
+  const RunOutputSettings& o = c.RunOutputs;
+  r.Tiff.Compression = vtkTerroirGeoTIFFWriter::GetCompressionFromName(o.TiffCompression.c_str());
+  r.Tiff.Tiled = o.TiffLayout == "tiles";
+  r.Tiff.Threads = o.TiffThreads;
+  r.Tiff.Overviews = o.TiffOverviews;
+  ListOutputs(r);
 
   r.Report["input"] = r.Dem;
   TakeWrittenFiles(); // only this run's files in its breakdown
-  ReadTerrainStage(r);
-  for (const RunStep& step : RunSteps())
+  // Every file goes into place at the end, or none: a failure or an interruption midway leaves
+  // the folder as it was (the temporaries are removed).
+  HoldCommits();
+  try
   {
-    step.Compute(r);
+    ComputeAndWrite(r);
   }
-  const double tw = Now();
-  WriteVTI(r.Result, r.File("terrain.vti"), c.Overwrite);
-  for (const RunStep& step : RunSteps())
+  catch (...)
   {
-    step.Write(r);
+    DiscardHeldCommits();
+    throw;
   }
-  r.Stages["write"] = WriteBreakdown(Now() - tw);
-  r.Report["stages"] = r.Stages;
-  json arrays = ArraysReport(r.Result);
-  r.Report["arrays"] = arrays;
-  if (r.Clusters() > 0)
+  std::string error;
+  if (!ReleaseHeldCommits(error))
   {
-    r.Report["clusters"] = json::parse(r.ClusterSummary.dump());
+    throw Failure(error);
   }
-  r.Report["outputs"] = r.Outputs;
-  WriteReports(r, arrays);
   PrintSummary(r);
   return 0;
 }

@@ -23,6 +23,27 @@ public:
     sub->add_option("DEM", line.Input, "DEM file (GeoTIFF, .img, USGS .dem, Terragen .ter, ...)");
     sub->add_option("-o,--out", line.Output, "Output folder")->capture_default_str();
     sub->add_flag("--no-png", line.NoPng, "Skip the PNG overlays (they need an X display)");
+    RunOutputSettings& o = line.RunOutputs;
+    sub->add_flag("--no-vti", o.NoVti, "Skip terrain.vti (every array in one VTK file)");
+    sub
+      ->add_option("--outputs,--only",
+        o.Only,
+        "Write only these files (comma list of file names such as slope.tif, stages such as "
+        "rivers, or kinds: vti, tif, png, tables); the reports are always written")
+      ->delimiter(',');
+    sub->add_option("--vti-compression", o.VtiCompression, "terrain.vti's compressor")
+      ->check(CLI::IsMember({ "lz4", "zlib", "none" }))
+      ->capture_default_str();
+    sub->add_option("--tiff-compression", o.TiffCompression, "GeoTIFF compression (lossless)")
+      ->check(CLI::IsMember({ "none", "deflate", "zstd", "lzw" }))
+      ->capture_default_str();
+    sub->add_option("--tiff-layout", o.TiffLayout, "GeoTIFF blocks: 256 x 256 tiles or strips")
+      ->check(CLI::IsMember({ "tiles", "strips" }))
+      ->capture_default_str();
+    sub->add_option("--tiff-threads", o.TiffThreads, "GDAL compression threads (0: GDAL's default)")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+    sub->add_flag("--tiff-overviews", o.TiffOverviews, "GeoTIFF internal overviews (2, 4, 8, ...)");
     AddCommonOptions(sub, line);
     AddTemperatureOptions(sub, line.Temperature, this->Monthly);
     AddClimateOptions(sub, this->SoilText);

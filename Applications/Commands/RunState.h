@@ -6,12 +6,13 @@
 #ifndef TerroirRunState_h
 #define TerroirRunState_h
 
+#include "TerroirApp.h"
 #include "TerroirCommandLine.h"
 
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
-#include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
 
 #include "vtkTerroirComputeContext.h"
 
@@ -19,6 +20,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -48,16 +50,20 @@ struct RunState
   bool Located = false;
   bool Illuminate = false;
   double HorizonMapSeconds = 0.0;
-  vtkSmartPointer<vtkImageData> ValidationPicture;
-  vtkNew<vtkTable> ClusterTable;
+  /// On the bundled DEM with PNGs: each cell's category of the comparison with NHD's rivers.
+  vtkSmartPointer<vtkUnsignedCharArray> RiverComparison;
+  std::string ClusterCSV; ///< clusters.csv
   nlohmann::ordered_json ClusterSummary;
   nlohmann::json Report;
   nlohmann::json Stages;
   std::vector<std::string> Outputs;
+  std::set<std::string> Selected; ///< the files this run writes (--outputs), reports aside
+  GeoTIFFLayout Tiff;             ///< --tiff-compression, --tiff-layout, ...
 
   std::string File(const char* name) const { return (this->Out / name).string(); }
   bool Overwrite() const { return this->Line.Overwrite; }
   int Clusters() const { return this->Line.KMeans.Clusters; }
+  bool Wants(const std::string& file) const { return this->Selected.count(file) > 0; }
 };
 
 /// The files of a stage, by kind: rasters come first in the report's list, then the reports,
@@ -69,12 +75,15 @@ struct RunFiles
 
 /// One stage of `terroir run`: the files it writes (known before any work, so that a run that
 /// would overwrite is refused before it starts), what it computes, and how it writes them.
+/// Write runs on the writer thread (RunWriter.h) while the stages after it compute: it reads
+/// `image` (copies of the stage's arrays) and what its own Compute left in the state, which
+/// later stages do not change.
 struct RunStep
 {
   const char* Name;
   void (*Files)(const RunState&, RunFiles&);
   void (*Compute)(RunState&);
-  void (*Write)(RunState&);
+  void (*Write)(const RunState&, vtkImageData* image);
 };
 
 /// The stages' names in the report's tables, in order.

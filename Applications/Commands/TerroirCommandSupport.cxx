@@ -195,18 +195,46 @@ void* LoadPluginSymbol(const char* name, const char* symbol, const char* envName
 }
 
 /// Loads the overlay module (see TerroirOverlayPlugin.cxx) once; throws when it is missing.
+namespace
+{
+/// Overlay batches open on this thread (OverlayBatch).
+thread_local int OverlayBatchDepth = 0;
+/// This thread's view holds a window (an overlay was written in the open batch).
+thread_local bool OverlayViewHeld = false;
+
+void ReleaseOverlayView()
+{
+  static const auto release =
+    reinterpret_cast<TerroirReleaseOverlaysFunction>(LoadPluginSymbol(TERROIR_OVERLAY_PLUGIN_NAME,
+      TERROIR_OVERLAY_RELEASE_SYMBOL,
+      "TERROIR_OVERLAY_PLUGIN",
+      "PNG overlays"));
+  release();
+  OverlayViewHeld = false;
+}
+} // namespace
+
 TerroirWriteOverlayFunction OverlayWriter()
 {
-  static TerroirWriteOverlayFunction writer = nullptr;
-  if (!writer)
-  {
-    writer =
-      reinterpret_cast<TerroirWriteOverlayFunction>(LoadPluginSymbol(TERROIR_OVERLAY_PLUGIN_NAME,
-        TERROIR_OVERLAY_PLUGIN_SYMBOL,
-        "TERROIR_OVERLAY_PLUGIN",
-        "PNG overlays"));
-  }
+  static const auto writer =
+    reinterpret_cast<TerroirWriteOverlayFunction>(LoadPluginSymbol(TERROIR_OVERLAY_PLUGIN_NAME,
+      TERROIR_OVERLAY_PLUGIN_SYMBOL,
+      "TERROIR_OVERLAY_PLUGIN",
+      "PNG overlays"));
   return writer;
+}
+
+OverlayBatch::OverlayBatch()
+{
+  ++OverlayBatchDepth;
+}
+
+OverlayBatch::~OverlayBatch()
+{
+  if (--OverlayBatchDepth == 0 && OverlayViewHeld)
+  {
+    ReleaseOverlayView();
+  }
 }
 
 void WriteOverlay(vtkImageData* image,
@@ -220,12 +248,20 @@ void WriteOverlay(vtkImageData* image,
 {
   const double t0 = Now();
   terroir::app::CheckWritable({ path }, overwrite);
-  if (const char* error = OverlayWriter()(
-        image, array.c_str(), component, preset.c_str(), title.c_str(), path.c_str(), map ? 1 : 0))
+  const char* error = OverlayWriter()(
+    image, array.c_str(), component, preset.c_str(), title.c_str(), path.c_str(), map ? 1 : 0);
+  // Outside a batch the view goes with its window; in one, the batch releases it.
+  OverlayViewHeld = true;
+  if (OverlayBatchDepth == 0)
+  {
+    ReleaseOverlayView();
+  }
+  if (error)
   {
     throw Failure(path + ": " + error);
   }
-  // The first overlay also loads the overlay module and opens the X display.
+  // The first overlay of a batch also loads the overlay module, opens the X display and
+  // builds the surface; the others reuse them.
   RecordWrittenFile(path, "png", Now() - t0);
 }
 

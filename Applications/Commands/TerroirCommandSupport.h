@@ -86,6 +86,18 @@ void* LoadPluginSymbol(const char* name, const char* symbol, const char* envName
 /// The overlay module's writer (TerroirOverlayPlugin.cxx), loaded once; throws when missing.
 TerroirWriteOverlayFunction OverlayWriter();
 
+/// While one is alive on a thread, the overlays that thread writes share one view (one window,
+/// GL context and surface; TerroirOverlayPlugin.h), released when the outermost batch ends.
+/// Without a batch each overlay gets its own view.
+class OverlayBatch
+{
+public:
+  OverlayBatch();
+  ~OverlayBatch();
+  OverlayBatch(const OverlayBatch&) = delete;
+  OverlayBatch& operator=(const OverlayBatch&) = delete;
+};
+
 /// Writes one component of `array` as a PNG overlay (relief, or top-down when `map`).
 void WriteOverlay(vtkImageData* image,
   const std::string& array,

@@ -187,3 +187,55 @@ TEST(TerroirSafeOutputsDeathTest, InterruptedProgramRemovesItsTemporaries)
     "");
   EXPECT_TRUE(ListFolder(dir).empty()) << "the temporary survived SIGTERM";
 }
+
+// A held job (terroir run): every commit waits for the end, then all files go into place in
+// commit order; a failure discards them all, and an earlier result is kept as it was.
+TEST(TerroirSafeOutputs, HeldCommitsGoIntoPlaceTogetherOrNotAtAll)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("safe_held");
+  const int before = terroir::RegisteredTemporaryCount();
+  terroir::testing::WriteTextFile(dir + "/b.txt", "earlier");
+  auto sortedFolder = [&dir]
+  {
+    std::vector<std::string> names = ListFolder(dir);
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  auto write = [&](const std::string& name, const std::string& text)
+  {
+    const std::string t = terroir::TemporaryNameFor(dir + "/" + name);
+    terroir::testing::WriteTextFile(t, text);
+    std::string error;
+    EXPECT_TRUE(terroir::CommitTemporary(t, dir + "/" + name, error)) << error;
+  };
+
+  terroir::HoldCommits();
+  write("a.txt", "A");
+  write("b.txt", "B");
+  // Nothing in place yet: the targets are as they were, the temporaries still registered.
+  const std::vector<std::string> files = ListFolder(dir);
+  EXPECT_EQ(std::count(files.begin(), files.end(), "a.txt"), 0);
+  EXPECT_EQ(terroir::RegisteredTemporaryCount(), before + 2);
+  const std::vector<char> earlier = ReadWholeFile(dir + "/b.txt");
+  EXPECT_EQ(std::string(earlier.begin(), earlier.end()), "earlier");
+  std::string error;
+  ASSERT_TRUE(terroir::ReleaseHeldCommits(error)) << error;
+  EXPECT_EQ(sortedFolder(), (std::vector<std::string>{ "a.txt", "b.txt" }));
+  const std::vector<char> b = ReadWholeFile(dir + "/b.txt");
+  EXPECT_EQ(std::string(b.begin(), b.end()), "B");
+  EXPECT_EQ(terroir::RegisteredTemporaryCount(), before);
+
+  // Discarded: no new file, no temporary, the earlier results untouched.
+  terroir::HoldCommits();
+  write("c.txt", "C");
+  write("a.txt", "A2");
+  terroir::DiscardHeldCommits();
+  EXPECT_EQ(sortedFolder(), (std::vector<std::string>{ "a.txt", "b.txt" }));
+  const std::vector<char> a = ReadWholeFile(dir + "/a.txt");
+  EXPECT_EQ(std::string(a.begin(), a.end()), "A");
+  EXPECT_EQ(terroir::RegisteredTemporaryCount(), before);
+
+  // After the hold, commits rename at once again.
+  write("d.txt", "D");
+  EXPECT_EQ(sortedFolder(), (std::vector<std::string>{ "a.txt", "b.txt", "d.txt" }));
+}

@@ -14,12 +14,14 @@
 #include "vtkPointData.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <gdal.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <vector>
 
 namespace
 {
@@ -273,5 +275,152 @@ TEST(TerroirGeoTIFFWriter, CompressionIsLosslessAndOptional)
   for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
   {
     ASSERT_EQ(a->GetComponent(k, 0), b->GetComponent(k, 0)) << k;
+  }
+}
+
+// Every compression and layout is lossless (float bands with predictor 3, integer bands with
+// predictor 2), says what it is in the file's IMAGE_STRUCTURE, and tiles are 256 x 256.
+// Overviews: a 600 x 520 raster gets levels 2 and 4 (520 / 2 = 260 >= 256, 520 / 4 < 256);
+// AVERAGE for a float band (the 2 x 2 means of a plane are exact), NEAREST for an integer one
+// (every overview value is one of the classes).
+TEST(TerroirGeoTIFFWriter, CompressionsLayoutsAndOverviews)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("tif_layouts");
+  const int nx = 600, ny = 520;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(nx, ny, 1);
+  image->SetSpacing(10, 10, 1);
+  vtkNew<vtkFloatArray> plane;
+  plane->SetName("Plane");
+  plane->SetNumberOfComponents(2);
+  plane->SetNumberOfTuples(static_cast<vtkIdType>(nx) * ny);
+  vtkNew<vtkIntArray> classes;
+  classes->SetName("Classes");
+  classes->SetNumberOfTuples(static_cast<vtkIdType>(nx) * ny);
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const vtkIdType k = static_cast<vtkIdType>(j) * nx + i;
+      plane->SetTypedComponent(k, 0, 0.25f * i - 0.5f * j);
+      plane->SetTypedComponent(k, 1, std::sin(0.01f * i * j));
+      classes->SetValue(k, (i / 7 + j / 5) % 4);
+    }
+  }
+  image->GetPointData()->AddArray(plane);
+  image->GetPointData()->AddArray(classes);
+
+  const char* names[] = { "NONE", "DEFLATE", "ZSTD", "LZW" };
+  for (int c = vtkTerroirGeoTIFFWriter::COMPRESSION_NONE;
+       c <= vtkTerroirGeoTIFFWriter::COMPRESSION_LZW;
+       ++c)
+  {
+    EXPECT_EQ(vtkTerroirGeoTIFFWriter::GetCompressionFromName(
+                vtkTerroirGeoTIFFWriter::GetCompressionName(c)),
+      c);
+    for (bool tiled : { false, true })
+    {
+      for (const char* array : { "Plane", "Classes" })
+      {
+        const std::string path =
+          dir + "/" + array + std::to_string(c) + (tiled ? "t" : "s") + ".tif";
+        vtkNew<vtkTerroirGeoTIFFWriter> writer;
+        writer->SetInputData(image);
+        writer->SetArrayName(array);
+        writer->SetCompression(c);
+        writer->SetTiled(tiled);
+        writer->SetThreads(2);
+        writer->SetOverviews(tiled);
+        writer->SetFileName(path.c_str());
+        ASSERT_EQ(writer->Write(), 1) << writer->GetErrorMessage();
+
+        GDALDatasetH ds = GDALOpen(path.c_str(), GA_ReadOnly);
+        ASSERT_NE(ds, nullptr) << path;
+        const char* method = GDALGetMetadataItem(ds, "COMPRESSION", "IMAGE_STRUCTURE");
+        EXPECT_STREQ(method ? method : "NONE", names[c]) << path;
+        vtkDataArray* source = image->GetPointData()->GetArray(array);
+        const int bands = source->GetNumberOfComponents();
+        ASSERT_EQ(GDALGetRasterCount(ds), bands);
+        for (int b = 0; b < bands; ++b)
+        {
+          GDALRasterBandH band = GDALGetRasterBand(ds, b + 1);
+          int bx = 0, by = 0;
+          GDALGetBlockSize(band, &bx, &by);
+          if (tiled)
+          {
+            EXPECT_EQ(bx, 256);
+            EXPECT_EQ(by, 256);
+          }
+          else
+          {
+            EXPECT_EQ(bx, nx); // strips: whole rows
+          }
+          std::vector<double> values(static_cast<std::size_t>(nx) * ny);
+          ASSERT_EQ(
+            GDALRasterIO(band, GF_Read, 0, 0, nx, ny, values.data(), nx, ny, GDT_Float64, 0, 0),
+            CE_None);
+          for (int j = 0; j < ny; ++j)
+          {
+            for (int i = 0; i < nx; ++i)
+            {
+              // GDAL row 0 is the north row: image row ny - 1.
+              const vtkIdType k = static_cast<vtkIdType>(ny - 1 - j) * nx + i;
+              ASSERT_EQ(values[static_cast<std::size_t>(j) * nx + i], source->GetComponent(k, b))
+                << path << " band " << b << " at " << i << "," << j;
+            }
+          }
+          ASSERT_EQ(GDALGetOverviewCount(band), tiled ? 2 : 0) << path;
+          if (!tiled)
+          {
+            continue;
+          }
+          GDALRasterBandH half = GDALGetOverview(band, 0);
+          ASSERT_EQ(GDALGetRasterBandXSize(half), nx / 2);
+          std::vector<double> coarse(static_cast<std::size_t>(nx / 2) * (ny / 2));
+          ASSERT_EQ(GDALRasterIO(half,
+                      GF_Read,
+                      0,
+                      0,
+                      nx / 2,
+                      ny / 2,
+                      coarse.data(),
+                      nx / 2,
+                      ny / 2,
+                      GDT_Float64,
+                      0,
+                      0),
+            CE_None);
+          for (int j = 0; j < ny / 2; j += 37)
+          {
+            for (int i = 0; i < nx / 2; i += 29)
+            {
+              const std::size_t at = static_cast<std::size_t>(j) * (nx / 2) + i;
+              double sum = 0.0;
+              bool isClass = false;
+              for (int dj = 0; dj < 2; ++dj)
+              {
+                for (int di = 0; di < 2; ++di)
+                {
+                  const double v = values[static_cast<std::size_t>(2 * j + dj) * nx + 2 * i + di];
+                  sum += v;
+                  isClass = isClass || v == coarse[at];
+                }
+              }
+              if (b == 0 && std::string(array) == "Plane")
+              {
+                EXPECT_NEAR(coarse[at], 0.25 * sum, 1e-4)
+                  << path << " overview at " << i << "," << j;
+              }
+              else if (std::string(array) == "Classes")
+              {
+                EXPECT_TRUE(isClass) << path << " overview value " << coarse[at] << " at " << i
+                                     << "," << j << " is none of its 2 x 2 cells";
+              }
+            }
+          }
+        }
+        GDALClose(ds);
+      }
+    }
   }
 }

@@ -11,6 +11,7 @@ import json
 import re
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -30,6 +31,17 @@ def read_band(path, band=1):
     """Band `band` of a raster as an array (the dataset stays open while the band is read)."""
     ds = gdal.Open(path)
     return ds.GetRasterBand(band).ReadAsArray()
+
+
+def read_vti(path):
+    """Every point array of a .vti (VTK's reader), as numpy arrays by name."""
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+    reader = vtk.vtkXMLImageDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    pd = reader.GetOutput().GetPointData()
+    return {pd.GetArrayName(k): vtk_to_numpy(pd.GetArray(k)) for k in range(pd.GetNumberOfArrays())}
 
 
 def terroir(*args, env=None):
@@ -181,7 +193,8 @@ class TerroirCommandLine(unittest.TestCase):
         with open(os.path.join(out, "report.md")) as f:
             self.assertIn("Ecological zones (k-means, K = 5", f.read())
         # Where writing goes: every output but the two reports (written after the stage), once,
-        # by kind; the files' seconds add up to no more than the stage's, the kinds' to theirs.
+        # by kind; the files' seconds add up to the writing's busy seconds, the kinds' to
+        # theirs; what the run waited for after computing is part of its wall time.
         write = report["stages"]["write"]
         written = [f["file"] for f in write["files"]]
         self.assertEqual(sorted(written),
@@ -190,11 +203,90 @@ class TerroirCommandLine(unittest.TestCase):
         for f in write["files"]:
             self.assertTrue(f["file"].endswith(kinds[f["kind"]]), f)
             self.assertGreater(f["seconds"], 0.0)
-        total = sum(f["seconds"] for f in write["files"])
-        self.assertLessEqual(total, write["seconds"] * (1 + 1e-9))
+        self.assertAlmostEqual(sum(f["seconds"] for f in write["files"]), write["busy_seconds"],
+                               places=9)
         for kind, seconds in write["seconds_by_kind"].items():
             self.assertAlmostEqual(
                 seconds, sum(f["seconds"] for f in write["files"] if f["kind"] == kind), places=9)
+        self.assertGreaterEqual(write["seconds"], 0.0)
+        self.assertLess(write["seconds"], report["wall_seconds"])
+        compute = sum(report["stages"][s]["seconds"] for s in
+                      ("read", "slope", "temperature", "illumination", "infiltration", "humidity",
+                       "lakes", "rivers", "clusters"))
+        self.assertLessEqual(compute + write["seconds"], report["wall_seconds"] * (1 + 1e-9))
+        # terrain.vti (LZ4, raw appended) holds the same slope as slope.tif, north row last.
+        slope_vti = read_vti(os.path.join(out, "terrain.vti"))["Slope"].reshape(720, 786)
+        np.testing.assert_array_equal(slope_vti[::-1], slope.GetRasterBand(1).ReadAsArray())
+
+    def test_run_writes_the_outputs_asked_for_in_the_layout_asked_for(self):
+        # --outputs takes a stage (slope: slope.tif, aspect.tif), a file and a kind; the reports
+        # always come. The GeoTIFFs: DEFLATE, 256 x 256 tiles, overviews 2 and 4 (720 / 2 >= 256).
+        out = os.path.join(self.work, "some")
+        r = terroir("run", "--out", out, "--no-png", "--backend", "cpu", "--outputs",
+                    "slope,clusters.csv,vti", "--vti-compression", "zlib",
+                    "--tiff-compression", "deflate", "--tiff-layout", "tiles", "--tiff-threads",
+                    "2", "--tiff-overviews")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        expected = ["slope.tif", "aspect.tif", "clusters.csv", "terrain.vti", "report.md",
+                    "report.json"]
+        self.assertEqual(sorted(os.listdir(out)), sorted(expected))
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
+        self.assertEqual(sorted(os.path.basename(p) for p in report["outputs"]), sorted(expected))
+        self.assertEqual(sorted(f["file"] for f in report["stages"]["write"]["files"]),
+                         sorted(n for n in expected if not n.startswith("report")))
+        ds = gdal.Open(os.path.join(out, "slope.tif"))
+        self.assertEqual(ds.GetMetadata("IMAGE_STRUCTURE")["COMPRESSION"], "DEFLATE")
+        band = ds.GetRasterBand(1)
+        self.assertEqual(band.GetBlockSize(), [256, 256])
+        self.assertEqual(band.GetOverviewCount(), 2)
+        # The same slope whatever the layout: as gdaldem computes it, as terrain.vti holds it.
+        ref = gdal.DEMProcessing(os.path.join(self.work, "ref.tif"), DEM, "slope",
+                                 computeEdges=True)
+        a = band.ReadAsArray().astype(np.float64)
+        self.assertLess(np.nanmax(np.abs(a - ref.GetRasterBand(1).ReadAsArray())), 0.01)
+        zlib = read_vti(os.path.join(out, "terrain.vti"))
+        np.testing.assert_array_equal(zlib["Slope"].reshape(720, 786)[::-1], band.ReadAsArray())
+        # terrain.vti with each compressor: the same bytes in every array.
+        for compressor in ("lz4", "none"):
+            other = os.path.join(self.work, "vti-" + compressor)
+            r = terroir("run", "--out", other, "--no-png", "--backend", "cpu", "--outputs", "vti",
+                        "--vti-compression", compressor)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(sorted(os.listdir(other)), ["report.json", "report.md", "terrain.vti"])
+            arrays = read_vti(os.path.join(other, "terrain.vti"))
+            self.assertEqual(sorted(arrays), sorted(zlib))
+            for name, values in zlib.items():
+                self.assertEqual(arrays[name].tobytes(), values.tobytes(), name)
+        # --no-vti drops terrain.vti even when --outputs names it.
+        none = os.path.join(self.work, "none")
+        r = terroir("run", "--out", none, "--no-png", "--no-vti", "--outputs", "vti,tables")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(sorted(os.listdir(none)),
+                         ["clusters.csv", "clusters.json", "report.json", "report.md"])
+        # A name that is no file, stage or kind: one line, exit 1, nothing written.
+        bad = os.path.join(self.work, "bad")
+        r = terroir("run", "--out", bad, "--no-png", "--outputs", "slope,rivres")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("--outputs: 'rivres' is not a file, stage or kind of this run", r.stderr)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertEqual(os.listdir(bad), [])
+
+    def test_run_interrupted_leaves_the_folder_as_it_was(self):
+        # Every output goes into place at the end of the run: SIGTERM once the first file is
+        # being written (its hidden temporary appears) leaves no output and no temporary.
+        out = os.path.join(self.work, "stopped")
+        os.makedirs(out)
+        proc = subprocess.Popen([BIN, "run", "--out", out, "--no-png", "--backend", "cpu"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        seen = []
+        while proc.poll() is None and not seen:
+            seen = [n for n in os.listdir(out) if n.startswith(".")]
+        proc.terminate()
+        _, err = proc.communicate(timeout=60)
+        self.assertTrue(seen, "the run ended before writing: " + err.decode())
+        self.assertEqual(proc.returncode, -signal.SIGTERM, err.decode())
+        self.assertEqual(os.listdir(out), [], "seen while running: %s" % seen)
 
     def test_soil_water_and_lake_commands(self):
         rates = os.path.join(self.work, "rates.tif")

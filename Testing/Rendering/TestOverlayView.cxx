@@ -3,11 +3,16 @@
 #include "TerroirRenderingTestHelpers.h"
 #include "TerroirSyntheticTerrain.h"
 
+#include "vtkActor.h"
 #include "vtkImageData.h"
+#include "vtkLookupTable.h"
+#include "vtkMapper.h"
 #include "vtkNew.h"
 #include "vtkPNGReader.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
 #include "vtkTerroirOverlayView.h"
+#include "vtkTerroirReliefSurface.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <gtest/gtest.h>
@@ -377,4 +382,95 @@ TEST(TerroirOverlayView, WritePNGToReadOnlyFolderFailsAndLeavesNoFile)
   EXPECT_NE(error.find(out), std::string::npos) << error;
   EXPECT_FALSE(FileExists(out));
   EXPECT_FALSE(FileExists(out + ".tmp" + std::to_string(static_cast<long>(getpid())) + ".png"));
+}
+
+// A grid with more points than the frame has pixels is drawn at every Stride-th point and the
+// last ones: its picture is the picture of that subsample, pixel for pixel. A 1201 x 1201 grid
+// (1 m) in a 400 x 400 frame is drawn at every 3rd point, i.e. as the 401 x 401 grid of 3 m
+// holding the same heights (whose extremes, like the colour field's, lie on drawn points).
+TEST(TerroirOverlayView, BigGridIsDrawnAsItsSubsample)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  auto height = [](double x, double y)
+  { return 50.0 + 20.0 * std::sin(2 * Pi * x / 300.0) * std::cos(2 * Pi * y / 240.0); };
+  auto paint = [](double x, double y) { return 0.02 * (x + y); };
+  auto big = MakeTerrain(1201, 1201, 1.0, height);
+  AddField(big, "Paint", paint);
+  auto small = MakeTerrain(401, 401, 3.0, height);
+  AddField(small, "Paint", paint);
+  vtkNew<vtkImageData> bigImage, smallImage;
+  vtkNew<vtkTerroirOverlayView> view;
+  SetupMapView(view, big, "Paint");
+  ASSERT_TRUE(view->GetImage(bigImage)) << view->GetLastError();
+  SetupMapView(view, small, "Paint");
+  ASSERT_TRUE(view->GetImage(smallImage)) << view->GetLastError();
+  vtkDataArray* a = bigImage->GetPointData()->GetScalars();
+  vtkDataArray* b = smallImage->GetPointData()->GetScalars();
+  ASSERT_EQ(a->GetNumberOfValues(), b->GetNumberOfValues());
+  vtkIdType differ = 0;
+  for (vtkIdType k = 0; k < a->GetNumberOfValues(); ++k)
+  {
+    differ += a->GetVariantValue(k) == b->GetVariantValue(k) ? 0 : 1;
+  }
+  EXPECT_EQ(differ, 0) << "pixel values differ between the grid and its subsample";
+  // Not a blank frame: the shading varies over the waves.
+  EXPECT_GT(std::abs(MeanIntensity(bigImage, 40, 160, 40, 360) -
+              MeanIntensity(bigImage, 240, 360, 40, 360)) +
+      std::abs(
+        MeanIntensity(bigImage, 40, 360, 40, 160) - MeanIntensity(bigImage, 40, 360, 240, 360)),
+    1.0);
+}
+
+// The drawn points of a stride: 0, 3, 6, 9 and the last column 10 of 11; 0, 3, 6 of 7 rows.
+TEST(TerroirReliefSurface, StrideDrawsEveryNthPointAndTheLast)
+{
+  auto t = MakeTerrain(11, 7, 10.0, [](double x, double y) { return 0.5 * x + 0.25 * y; });
+  AddField(t, "Paint", [](double x, double) { return x; });
+  vtkNew<vtkTerroirReliefSurface> relief;
+  relief->SetInputData(t);
+  relief->SetStride(3);
+  std::string why;
+  ASSERT_TRUE(relief->BuildGeometry(why)) << why;
+  vtkPolyData* surface =
+    vtkPolyData::SafeDownCast(relief->GetSurfaceActor()->GetMapper()->GetInput());
+  ASSERT_NE(surface, nullptr);
+  ASSERT_EQ(surface->GetNumberOfPoints(), 5 * 3);
+  ASSERT_EQ(surface->GetNumberOfPolys(), 4 * 2);
+  const double expectX[5] = { 0, 30, 60, 90, 100 };
+  const double expectY[3] = { 0, 30, 60 };
+  vtkDataArray* normals = surface->GetPointData()->GetNormals();
+  // The plane z = 0.5 x + 0.25 y: normal (-0.5, -0.25, 1) normalised, at every drawn point
+  // whatever the distance to its neighbours.
+  const double len = std::sqrt(0.25 + 0.0625 + 1.0);
+  for (int j = 0; j < 3; ++j)
+  {
+    for (int i = 0; i < 5; ++i)
+    {
+      double p[3];
+      surface->GetPoint(j * 5 + i, p);
+      EXPECT_DOUBLE_EQ(p[0], expectX[i]);
+      EXPECT_DOUBLE_EQ(p[1], expectY[j]);
+      EXPECT_NEAR(p[2], 0.5 * expectX[i] + 0.25 * expectY[j], 1e-4);
+      EXPECT_NEAR(normals->GetComponent(j * 5 + i, 0), -0.5 / len, 1e-6);
+      EXPECT_NEAR(normals->GetComponent(j * 5 + i, 1), -0.25 / len, 1e-6);
+    }
+  }
+  // Colours come from the grid's values at the drawn points: a grey ramp on x.
+  vtkNew<vtkLookupTable> lut;
+  lut->SetRange(0.0, 100.0);
+  lut->SetSaturationRange(0, 0);
+  lut->SetValueRange(0, 1);
+  lut->Build();
+  relief->SetColors(t->GetPointData()->GetArray("Paint"), 0, lut, nullptr);
+  vtkDataArray* colours = surface->GetPointData()->GetScalars();
+  for (int i = 0; i < 5; ++i)
+  {
+    const unsigned char* rgba = lut->MapValue(expectX[i]);
+    EXPECT_EQ(colours->GetComponent(i, 0), rgba[0]) << "drawn point " << i;
+  }
+  // The data range is the whole grid's.
+  double range[2];
+  ASSERT_TRUE(relief->ComputeDataRange(t->GetPointData()->GetArray("Paint"), 0, nullptr, range));
+  EXPECT_EQ(range[0], 0.0);
+  EXPECT_EQ(range[1], 100.0);
 }
