@@ -105,16 +105,21 @@ void MarkdownStages(RunState& r, std::ostream& md)
   }
   if (r.Stages["write"].contains("seconds_by_kind"))
   {
-    // Where writing goes (the first PNG also loads the overlay module and opens the display).
-    md << "\nWriting by kind of file:";
+    // Where writing goes: files are written on a second thread while the stages compute, so the
+    // write row above is only what the run waited for them after its last stage.
+    const json& w = r.Stages["write"];
+    md << "\nWriting (a second thread, while the stages computed): busy "
+       << std::setprecision(3) << w["busy_seconds"].get<double>() << " s:";
     const char* separator = " ";
-    for (const auto& kind : r.Stages["write"]["seconds_by_kind"].items())
+    for (const auto& kind : w["seconds_by_kind"].items())
     {
       md << separator << kind.key() << " " << std::setprecision(3) << kind.value().get<double>()
          << " s";
       separator = ", ";
     }
-    md << " (`report.json`: `stages.write.files`, each file's seconds).\n";
+    md << "; the run waited " << std::setprecision(3) << w["seconds"].get<double>()
+       << " s for it after its last stage (`report.json`: `stages.write.files`, each file's "
+          "seconds).\n";
   }
   // Why each stage ran where it did: under Auto the GPU only where its path is verified correct
   // and faster on this hardware (Documentation/Compute.md, "Verified GPU paths").

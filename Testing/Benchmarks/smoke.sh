@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The benchmarks at a tiny size, so that they cannot rot unseen (CTest label `benchmarks`; the
 # timings mean nothing at this size): `terroir bench` on every stage and backend, and every
-# script of this folder (gdaldem, scikit-learn, the k-means core, GRASS, the big-DEM memory
+# script of this folder (gdaldem, scikit-learn, the k-means core, GRASS, the outputs of terroir
+# run, the big-DEM memory
 # run), each must run and write its results.
 #   Testing/Benchmarks/smoke.sh BUILD_DIR SCRATCH_DIR
 set -euo pipefail
@@ -30,6 +31,8 @@ bash "$here/Testing/Benchmarks/kmeans_core.sh" "$build" 1 >"$scratch/kmeans_core
 grep -q "same" "$scratch/kmeans_core.log" || { cat "$scratch/kmeans_core.log"; exit 1; }
 bash "$here/Testing/Benchmarks/illumination_vs_grass.sh" "$build" "64" 80 >"$scratch/grass.log"
 grep -q "ratio" "$scratch/grass.log" || { cat "$scratch/grass.log"; exit 1; }
+bash "$here/Testing/Benchmarks/run_outputs.sh" "$build" 64 >"$scratch/run_outputs.log"
+grep -q "all identical" "$scratch/run_outputs.log" || { cat "$scratch/run_outputs.log"; exit 1; }
 bash "$here/Testing/Benchmarks/big_dem.sh" "$build" 64 >"$scratch/big_dem.log"
 grep -q "memory check" "$scratch/big_dem.log" || { cat "$scratch/big_dem.log"; exit 1; }
 echo "benchmarks ran: $(ls "$scratch")"
