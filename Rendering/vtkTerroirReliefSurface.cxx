@@ -150,6 +150,53 @@ std::vector<int> DrawnIndices(int n, int stride)
   return indices;
 }
 
+/// The points of a grid that are drawn: every `stride`-th row and column and the last ones
+/// (IX, IY: their grid indices), each one's grid point (Index; empty when every point is
+/// drawn), validity and height.
+struct DrawnGrid
+{
+  std::vector<int> IX, IY;
+  std::vector<vtkIdType> Index;
+  std::vector<unsigned char> Valid;
+  std::vector<double> Z;
+};
+
+/// The drawn grid of an nx x ny grid with `valid` and heights `z` (taken when every point is
+/// drawn).
+DrawnGrid DrawGrid(int nx,
+  int ny,
+  int stride,
+  const std::vector<unsigned char>& valid,
+  std::vector<double>& z)
+{
+  DrawnGrid d;
+  d.IX = DrawnIndices(nx, stride);
+  d.IY = DrawnIndices(ny, stride);
+  const int mx = static_cast<int>(d.IX.size());
+  const int my = static_cast<int>(d.IY.size());
+  if (mx == nx && my == ny)
+  {
+    d.Valid = valid;
+    d.Z.swap(z);
+    return d;
+  }
+  const vtkIdType m = static_cast<vtkIdType>(mx) * my;
+  d.Index.resize(m);
+  d.Valid.resize(m);
+  d.Z.resize(m);
+  for (int j = 0; j < my; ++j)
+  {
+    for (int i = 0; i < mx; ++i)
+    {
+      const vtkIdType k = static_cast<vtkIdType>(j) * mx + i;
+      d.Index[k] = static_cast<vtkIdType>(d.IY[j]) * nx + d.IX[i];
+      d.Valid[k] = valid[d.Index[k]];
+      d.Z[k] = z[d.Index[k]];
+    }
+  }
+  return d;
+}
+
 /// The surface's points (x, y of the drawn grid indices `ix`, `iy`, z = `z`) and normals:
 /// central differences where both drawn neighbours are valid, else one-sided, else flat (also
 /// at invalid points). `z` and `valid` hold the drawn points, row by row.
@@ -283,35 +330,13 @@ bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
   }
 
   // The drawn grid: every point, or every Stride-th row and column (and the last ones).
-  const std::vector<int> ix = DrawnIndices(nx, this->Stride);
-  const std::vector<int> iy = DrawnIndices(ny, this->Stride);
+  DrawnGrid drawn = DrawGrid(nx, ny, this->Stride, valid, z);
+  const std::vector<int>& ix = drawn.IX;
+  const std::vector<int>& iy = drawn.IY;
   const int mx = static_cast<int>(ix.size());
   const int my = static_cast<int>(iy.size());
   const vtkIdType m = static_cast<vtkIdType>(mx) * my;
-  std::vector<vtkIdType> index; // drawn point -> grid point (empty: the same)
-  std::vector<unsigned char> drawnValid;
-  std::vector<double> drawnZ;
-  if (m == n)
-  {
-    drawnValid = valid;
-    drawnZ.swap(z);
-  }
-  else
-  {
-    index.resize(m);
-    drawnValid.resize(m);
-    drawnZ.resize(m);
-    for (int j = 0; j < my; ++j)
-    {
-      for (int i = 0; i < mx; ++i)
-      {
-        const vtkIdType d = static_cast<vtkIdType>(j) * mx + i;
-        index[d] = static_cast<vtkIdType>(iy[j]) * nx + ix[i];
-        drawnValid[d] = valid[index[d]];
-        drawnZ[d] = z[index[d]];
-      }
-    }
-  }
+  const std::vector<unsigned char>& drawnValid = drawn.Valid;
 
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -320,7 +345,7 @@ bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
   normals->SetNumberOfTuples(m);
-  FillPointsAndNormals(ix, iy, origin, spacing, drawnZ, drawnValid, points, normals);
+  FillPointsAndNormals(ix, iy, origin, spacing, drawn.Z, drawnValid, points, normals);
 
   // Valid quads are shaded, the others drawn flat in the NaN colour.
   vtkNew<vtkCellArray> surfaceCells;
@@ -338,7 +363,7 @@ bool vtkTerroirReliefSurface::BuildGeometry(std::string& error)
   }
 
   in.Valid.swap(valid);
-  in.Index.swap(index);
+  in.Index.swap(drawn.Index);
   in.Colors->SetNumberOfTuples(m);
   in.Surface->Initialize();
   in.Surface->SetPoints(points);

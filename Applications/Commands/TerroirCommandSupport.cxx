@@ -194,7 +194,6 @@ void* LoadPluginSymbol(const char* name, const char* symbol, const char* envName
   throw Failure(std::string(what) + " unavailable: cannot load " + name + " (" + failures + ")");
 }
 
-/// Loads the overlay module (see TerroirOverlayPlugin.cxx) once; throws when it is missing.
 namespace
 {
 /// Overlay batches open on this thread (OverlayBatch).
@@ -202,25 +201,27 @@ thread_local int OverlayBatchDepth = 0;
 /// This thread's view holds a window (an overlay was written in the open batch).
 thread_local bool OverlayViewHeld = false;
 
+/// A symbol of the overlay module (TerroirOverlayPlugin.cxx); throws when it is missing.
+void* OverlaySymbol(const char* symbol)
+{
+  return LoadPluginSymbol(
+    TERROIR_OVERLAY_PLUGIN_NAME, symbol, "TERROIR_OVERLAY_PLUGIN", "PNG overlays");
+}
+
 void ReleaseOverlayView()
 {
   static const auto release =
-    reinterpret_cast<TerroirReleaseOverlaysFunction>(LoadPluginSymbol(TERROIR_OVERLAY_PLUGIN_NAME,
-      TERROIR_OVERLAY_RELEASE_SYMBOL,
-      "TERROIR_OVERLAY_PLUGIN",
-      "PNG overlays"));
+    reinterpret_cast<TerroirReleaseOverlaysFunction>(OverlaySymbol(TERROIR_OVERLAY_RELEASE_SYMBOL));
   release();
   OverlayViewHeld = false;
 }
 } // namespace
 
+/// Loads the overlay module once; throws when it is missing.
 TerroirWriteOverlayFunction OverlayWriter()
 {
   static const auto writer =
-    reinterpret_cast<TerroirWriteOverlayFunction>(LoadPluginSymbol(TERROIR_OVERLAY_PLUGIN_NAME,
-      TERROIR_OVERLAY_PLUGIN_SYMBOL,
-      "TERROIR_OVERLAY_PLUGIN",
-      "PNG overlays"));
+    reinterpret_cast<TerroirWriteOverlayFunction>(OverlaySymbol(TERROIR_OVERLAY_PLUGIN_SYMBOL));
   return writer;
 }
 
