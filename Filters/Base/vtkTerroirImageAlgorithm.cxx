@@ -195,3 +195,17 @@ int vtkTerroirImageAlgorithm::RunGPUPath(const std::function<void()>& gpuJob)
     return vtkTerroirComputeContext::CPU;
   }
 }
+
+void vtkTerroirImageAlgorithm::SetMonthValue(double* months, int month, double value)
+{
+  if (month < 0 || month > 11)
+  {
+    vtkErrorMacro(<< "month index " << month << " outside 0..11 (0 = January)");
+    return;
+  }
+  if (months[month] != value)
+  {
+    months[month] = value;
+    this->Modified();
+  }
+}

@@ -69,6 +69,14 @@ public:
   const char* GetLastBackendReason() { return this->LastBackendReason.c_str(); }
 
 protected:
+  /**
+   * Sets `months[month]` (month 0 = January, 12 months) to `value` and calls Modified() when
+   * it changed; a month outside 0..11 is an error and changes nothing. The per-month setters
+   * behind ParaView's indexed 12-value properties (its client-server layer cannot call the
+   * array setters of vtkSetVectorMacro) are one line each with it.
+   */
+  void SetMonthValue(double* months, int month, double value);
+
   vtkTerroirImageAlgorithm();
   ~vtkTerroirImageAlgorithm() override;
 

@@ -402,6 +402,13 @@ void vtkTerroirInfiltration::RemoveAllOperations()
   }
 }
 
+void vtkTerroirInfiltration::SetFillAndSlopeRule(double rate, double thresholdDegrees)
+{
+  this->Impl->Operations.clear();
+  this->AddFill(rate);
+  this->AddSlopeRule(thresholdDegrees);
+}
+
 int vtkTerroirInfiltration::GetNumberOfOperations()
 {
   return static_cast<int>(this->Impl->Operations.size());

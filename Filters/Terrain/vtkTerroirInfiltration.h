@@ -78,6 +78,12 @@ public:
   int GetNumberOfOperations();
   ///@}
 
+  /**
+   * The default recipe with other numbers: RemoveAllOperations(), AddFill(rate),
+   * AddSlopeRule(thresholdDegrees); one setter for ParaView's `FillAndSlopeRule` property.
+   */
+  void SetFillAndSlopeRule(double rate, double thresholdDegrees);
+
   ///@{
   /// Rate of soil type `code` (1..5), mm/h. Defaults: FAO mid-points 30, 25, 15, 7.5, 3.
   void SetSoilTypeRate(int code, double rate);

@@ -58,6 +58,11 @@ public:
   /// Default 60 50 55 55 65 60 60 60 55 65 65 65.
   vtkSetVectorMacro(Precipitation, double, 12);
   vtkGetVectorMacro(Precipitation, double, 12);
+  /// One month (0 = January), for ParaView's Precipitation property.
+  void SetMonthlyPrecipitation(int month, double value)
+  {
+    this->SetMonthValue(this->Precipitation, month, value);
+  }
   ///@}
 
   ///@{
@@ -65,6 +70,11 @@ public:
   /// where R_q > 0. Default 2 2 2.5 3 4 5 6 5 4 3 2.5 2.
   vtkSetVectorMacro(PrecipitationIntensity, double, 12);
   vtkGetVectorMacro(PrecipitationIntensity, double, 12);
+  /// One month (0 = January), for ParaView's PrecipitationIntensity property.
+  void SetMonthlyPrecipitationIntensity(int month, double value)
+  {
+    this->SetMonthValue(this->PrecipitationIntensity, month, value);
+  }
   ///@}
 
   ///@{

@@ -98,6 +98,11 @@ public:
   /// Default: the values the coldest/warmest defaults give in the north (2, 5, ..., 20, ..., 5).
   vtkSetVectorMacro(MonthlySeaLevelTemperatures, double, 12);
   vtkGetVectorMacro(MonthlySeaLevelTemperatures, double, 12);
+  /// One of them (month 0 = January), for ParaView's MonthlySeaLevelTemperatures property.
+  void SetMonthlySeaLevelTemperature(int month, double value)
+  {
+    this->SetMonthValue(this->MonthlySeaLevelTemperatures, month, value);
+  }
   ///@}
 
   ///@{
