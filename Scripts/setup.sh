@@ -8,14 +8,18 @@
 #                                                   and libFuzzer, and run the unit, pipeline and
 #                                                   GPU tests there (any report fails)
 #   Scripts/setup.sh configure-sanitize             configure that tree only (Testing/Fuzz/run.sh)
+#   Scripts/setup.sh paraview [ctest options...]    also build the ParaView plugin (a second tree
+#                                                   against Debian's ParaView 5.11) and run its
+#                                                   tests (label paraview); `test` does it too
 # Idempotent: packages already present are not reinstalled; the builds are incremental.
 # Environment: TERROIR_BUILD_DIR (default ./build), TERROIR_SANITIZE_BUILD_DIR (default
-# ./build-asan), TERROIR_JOBS (default 2).
+# ./build-asan), TERROIR_PARAVIEW_BUILD_DIR (default ./build-paraview), TERROIR_JOBS (default 2).
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${TERROIR_BUILD_DIR:-$here/build}
 sanitize_build=${TERROIR_SANITIZE_BUILD_DIR:-$here/build-asan}
+paraview_build=${TERROIR_PARAVIEW_BUILD_DIR:-$here/build-paraview}
 jobs=${TERROIR_JOBS:-2}
 mode=${1:-build}
 [ $# -gt 0 ] && shift
@@ -32,6 +36,7 @@ packages=(
   glslang-tools xvfb xauth time
   clang libclang-rt-14-dev llvm
   grass-core saga
+  paraview paraview-dev libopenmpi-dev openmpi-bin
 )
 
 install_packages() {
@@ -69,6 +74,23 @@ configure_sanitize() {
   fi
 }
 
+# The ParaView plugin tree (Documentation/ParaView.md). python3-paraview (pvpython, ParaView's
+# Python modules) conflicts with python3-vtk9 and is unpacked into the tree's prefix instead of
+# installed (ParaView/MakePrefix.sh); the plugin's tests compare with the standalone tree.
+build_paraview() {
+  local prefix=$paraview_build/paraview-prefix
+  if [ ! -x "$prefix/usr/bin/pvpython" ]; then
+    mkdir -p "$paraview_build/deb"
+    (cd "$paraview_build/deb" && apt-get download python3-paraview)
+    bash "$here/ParaView/MakePrefix.sh" "$prefix" "$(ls "$paraview_build"/deb/python3-paraview_*.deb)"
+  fi
+  if [ ! -f "$paraview_build/CMakeCache.txt" ]; then
+    cmake -S "$here" -B "$paraview_build" -DCMAKE_BUILD_TYPE=Release -DTERROIR_PARAVIEW_PLUGIN=ON \
+      -DTERROIR_STANDALONE_BUILD="$build" -DPython3_EXECUTABLE=/usr/bin/python3
+  fi
+  cmake --build "$paraview_build" -j "$jobs"
+}
+
 # VTK 9.1 renders through X only: PNG export and image tests need a display.
 with_display() {
   if [ -n "${DISPLAY:-}" ]; then "$@"; else xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" "$@"; fi
@@ -78,6 +100,8 @@ install_packages
 case "$mode" in
   configure-sanitize) configure_sanitize; exit 0 ;;
   sanitize) ;;
+  paraview) build_terroir; build_paraview ;;
+  test) build_terroir; build_paraview ;;
   *) build_terroir ;;
 esac
 case "$mode" in
@@ -90,7 +114,9 @@ case "$mode" in
     # so is a missing peer program (gdaldem, ogr2ogr: the tests would otherwise skip).
     export TERROIR_REQUIRE_GPU=${TERROIR_REQUIRE_GPU:-1}
     export TERROIR_REQUIRE_PEERS=${TERROIR_REQUIRE_PEERS:-1}
-    with_display ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" ;;
+    with_display ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@"
+    with_display ctest --test-dir "$paraview_build" --output-on-failure -j "$jobs" ;;
+  paraview) with_display ctest --test-dir "$paraview_build" --output-on-failure -j "$jobs" "$@" ;;
   sanitize)
     configure_sanitize
     cmake --build "$sanitize_build" -j "$jobs"
@@ -100,6 +126,6 @@ case "$mode" in
     # memory error or undefined behaviour aborts the test, so the run fails.
     with_display ctest --test-dir "$sanitize_build" --output-on-failure -j "$jobs" \
       -L 'unit|pipeline|gpu' "$@" ;;
-  *) echo "usage: Scripts/setup.sh run|test|build|sanitize|configure-sanitize [args...]" >&2
+  *) echo "usage: Scripts/setup.sh run|test|build|sanitize|configure-sanitize|paraview [args...]" >&2
      exit 2 ;;
 esac
