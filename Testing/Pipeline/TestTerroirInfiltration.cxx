@@ -160,6 +160,37 @@ TEST(TerroirInfiltration, OperationsApplyInOrder)
   EXPECT_EQ(Rate(out, 2, 2), 0.0);
 }
 
+TEST(TerroirInfiltration, FillAndSlopeRuleReplacesTheOperations)
+{
+  // ParaView's FillAndSlopeRule property: the default recipe with other numbers, replacing
+  // whatever was added before (here a paint that would otherwise stay).
+  auto in = Plane(25.0, 4, 3);
+  auto f = vtkSmartPointer<vtkTerroirInfiltration>::New();
+  f->AddFill(3.0);
+  const vtkMTimeType before = f->GetMTime();
+  f->SetFillAndSlopeRule(8.0, 20.0);
+  EXPECT_GT(f->GetMTime(), before);
+  EXPECT_EQ(f->GetNumberOfOperations(), 2);
+  auto out = RunInfiltration(in, f);
+  EXPECT_EQ(Rate(out, 1, 1), 0.0) << "25 degrees is above the 20 degree rule";
+  f->SetFillAndSlopeRule(8.0, 30.0);
+  out = RunInfiltration(in, f);
+  EXPECT_EQ(Rate(out, 1, 1), 8.0) << "25 degrees keeps the fill under a 30 degree rule";
+  // (15, 30) is the default recipe: the same rates as a filter with no operation.
+  f->SetFillAndSlopeRule(15.0, 30.0);
+  auto steep = Plane(40.0);
+  auto given = RunInfiltration(steep, f);
+  auto g = vtkSmartPointer<vtkTerroirInfiltration>::New();
+  auto defaults = RunInfiltration(steep, g);
+  for (int j = 0; j < 5; ++j)
+  {
+    for (int i = 0; i < 6; ++i)
+    {
+      EXPECT_EQ(Rate(given, i, j), Rate(defaults, i, j)) << i << "," << j;
+    }
+  }
+}
+
 TEST(TerroirInfiltration, PaintMaskImageStencilAndSoilTypes)
 {
   auto in = Plane(5.0, 5, 4);

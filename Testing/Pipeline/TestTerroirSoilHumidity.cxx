@@ -118,6 +118,26 @@ TEST(TerroirSoilHumidity, DefaultsOptionalOutputsModifiedAndPrintSelf)
   EXPECT_NE(os.str().find("ComputeStandingWater: Off"), std::string::npos);
 }
 
+TEST(TerroirSoilHumidity, OneMonthSettersChangeOnlyThatMonth)
+{
+  // ParaView's indexed Precipitation / PrecipitationIntensity properties: month 0 = January.
+  auto f = vtkSmartPointer<vtkTerroirSoilHumidity>::New();
+  double q[12], r[12];
+  f->GetPrecipitation(q);
+  f->GetPrecipitationIntensity(r);
+  vtkMTimeType t = f->GetMTime();
+  f->SetMonthlyPrecipitation(11, 120.0);
+  EXPECT_GT(f->GetMTime(), t);
+  t = f->GetMTime();
+  f->SetMonthlyPrecipitationIntensity(0, 7.0);
+  EXPECT_GT(f->GetMTime(), t);
+  for (int m = 0; m < 12; ++m)
+  {
+    EXPECT_EQ(f->GetPrecipitation()[m], m == 11 ? 120.0 : q[m]) << m;
+    EXPECT_EQ(f->GetPrecipitationIntensity()[m], m == 0 ? 7.0 : r[m]) << m;
+  }
+}
+
 TEST(TerroirSoilHumidity, ClimateFileReplacesTheParameters)
 {
   const std::string path = terroir_test::TempFile("soil_climate.csv");

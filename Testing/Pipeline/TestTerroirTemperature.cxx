@@ -151,6 +151,32 @@ TEST(TerroirTemperature, TwelveGivenSeaLevelTemperatures)
   }
 }
 
+TEST(TerroirTemperature, OneMonthSetterChangesOnlyThatMonth)
+{
+  // SetMonthlySeaLevelTemperature (ParaView's indexed property): month 0 is January; a new
+  // value calls Modified(), the same value does not, a month outside 0..11 changes nothing.
+  auto f = vtkSmartPointer<vtkTerroirTemperature>::New();
+  double before[12];
+  f->GetMonthlySeaLevelTemperatures(before);
+  vtkMTimeType t = f->GetMTime();
+  f->SetMonthlySeaLevelTemperature(2, 9.5);
+  EXPECT_GT(f->GetMTime(), t);
+  for (int m = 0; m < 12; ++m)
+  {
+    EXPECT_EQ(f->GetMonthlySeaLevelTemperatures()[m], m == 2 ? 9.5 : before[m]) << m;
+  }
+  t = f->GetMTime();
+  f->SetMonthlySeaLevelTemperature(2, 9.5);
+  EXPECT_EQ(f->GetMTime(), t);
+  auto obs = vtkSmartPointer<terroir_test::ErrorObserver>::New();
+  f->AddObserver(vtkCommand::ErrorEvent, obs);
+  f->SetMonthlySeaLevelTemperature(12, 1.0);
+  f->SetMonthlySeaLevelTemperature(-1, 1.0);
+  EXPECT_EQ(obs->ErrorCount, 2);
+  EXPECT_NE(obs->Errors.find("outside 0..11"), std::string::npos) << obs->Errors;
+  EXPECT_EQ(f->GetMTime(), t);
+}
+
 TEST(TerroirTemperature, NoDataGivesNaNAndOtherTypesWork)
 {
   auto in =
