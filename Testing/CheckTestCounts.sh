@@ -11,7 +11,7 @@ build=$2
 only=${3:-}
 declare -A minimum=(
   [unit]=268 [pipeline]=166 [gpu]=71 [rendering]=42 [python]=16 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=10
+  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=13
 )
 status=0
 labels=("${!minimum[@]}")
