@@ -312,6 +312,42 @@ bool ParseScreenshot(ScriptLine& s)
   return true;
 }
 
+/// cluster-weight FEATURE W: one of kViewerClusterFeatures and a weight in [0, 1000].
+bool ParseClusterWeight(ScriptLine& s)
+{
+  std::string list;
+  for (const ViewerClusterFeature& f : kViewerClusterFeatures)
+  {
+    list += (list.empty() ? "" : ", ") + std::string(f.Name);
+  }
+  if (!s.WantArgs(2, 2, ("a feature (" + list + ") and a weight").c_str()))
+  {
+    return false;
+  }
+  if (ClusterFeatureIndex(s.W[1]) < 0)
+  {
+    return s.Fail("'cluster-weight': unknown feature '" + s.W[1] + "' (" + list + ")");
+  }
+  s.A.Text = s.W[1];
+  return s.Numbers(2, 1, 0.0, 1000.0, false, "weight");
+}
+
+/// table-csv FILE.csv.
+bool ParseTableCsv(ScriptLine& s)
+{
+  if (!s.WantArgs(1, 1, "one file name ending in .csv"))
+  {
+    return false;
+  }
+  const std::string& f = s.W[1];
+  if (f.size() <= 4 || f.compare(f.size() - 4, 4, ".csv") != 0)
+  {
+    return s.Fail("'table-csv': '" + f + "' does not end in .csv");
+  }
+  s.A.Text = f;
+  return true;
+}
+
 /// The arguments of the line's verb into its action; false with the error on a bad line.
 bool ParseArguments(ScriptLine& s)
 {
@@ -360,6 +396,14 @@ bool ParseArguments(ScriptLine& s)
   {
     return ParseScreenshot(s);
   }
+  else if (a.Verb == "cluster-weight")
+  {
+    return ParseClusterWeight(s);
+  }
+  else if (a.Verb == "table-csv")
+  {
+    return ParseTableCsv(s);
+  }
   else if (a.Verb == "wait" || a.Verb == "quit" || a.Verb == "flow" || a.Verb == "undo" ||
     a.Verb == "camera" || a.Verb == "state")
   {
@@ -373,11 +417,24 @@ bool ParseArguments(ScriptLine& s)
     return s.Fail("unknown action '" + a.Verb +
       "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
       "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
-      "drag, wheel, key, flow, undo, wait, camera, state, screenshot, quit)");
+      "drag, wheel, key, flow, undo, wait, camera, state, screenshot, cluster-weight, table-csv, "
+      "quit)");
   }
   return true;
 }
 } // namespace
+
+int ClusterFeatureIndex(const std::string& name)
+{
+  for (std::size_t k = 0; k < kViewerClusterFeatureCount; ++k)
+  {
+    if (name == kViewerClusterFeatures[k].Name)
+    {
+      return static_cast<int>(k);
+    }
+  }
+  return -1;
+}
 
 const char* OverlayName(ViewerOverlay overlay)
 {

@@ -56,6 +56,27 @@ static_assert(sizeof(kViewerOverlays) / sizeof(kViewerOverlays[0]) ==
     static_cast<std::size_t>(ViewerOverlay::Count),
   "one row of kViewerOverlays per ViewerOverlay");
 
+/// The features of the clusters overlay: the script's name (`cluster-weight NAME W`), the
+/// point array vtkTerroirKMeans clusters on, and Long (2016)'s weight (vtkTerroirKMeans's
+/// defaults). ViewerParameters::ClusterWeights holds one weight per row, in this order.
+struct ViewerClusterFeature
+{
+  const char* Name;
+  const char* ArrayName;
+  double DefaultWeight;
+};
+inline constexpr ViewerClusterFeature kViewerClusterFeatures[] = {
+  { "slope", "Slope", 1.0 },
+  { "temperature", "Temperature", 1.0 },
+  { "sun", "IlluminationHours", 1.0 },
+  { "humidity", "WeightedSoilHumidity", 0.1 },
+};
+inline constexpr std::size_t kViewerClusterFeatureCount =
+  sizeof(kViewerClusterFeatures) / sizeof(kViewerClusterFeatures[0]);
+
+/// Index in kViewerClusterFeatures of a feature's script name; -1 when unknown.
+int ClusterFeatureIndex(const std::string& name);
+
 /// Script and command-line name of an overlay ("none", "slope", "illumination", "sun-hours",
 /// "temperature", "humidity", "water", "clusters").
 const char* OverlayName(ViewerOverlay overlay);

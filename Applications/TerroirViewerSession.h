@@ -22,12 +22,13 @@
  * SunHours (Daily on the 15th, `IlluminationHours`), Temperature (vtkTerroirTemperature, the
  * month's component), Humidity (vtkTerroirInfiltration's map into vtkTerroirSoilHumidity, the
  * month's `SoilHumidity`), Water (the water state itself) and Clusters (vtkTerroirSlope,
- * vtkTerroirTemperature and vtkTerroirSolarIllumination Monthly into vtkTerroirKMeans, K
- * clusters). ComputeOverlay() runs one synchronously; RequestOverlay() runs it on the worker
- * thread on a copy of the inputs (the terrain shallow, the water and infiltration arrays deep),
- * so that the window keeps drawing; Pump() (called from the window's timer) collects finished
- * work and starts the next request; Wait() blocks until nothing is left to do (scripts).
- * Only the latest request of a kind is kept while the worker is busy.
+ * vtkTerroirTemperature, vtkTerroirSolarIllumination Monthly and vtkTerroirSoilHumidity's
+ * `WeightedSoilHumidity` of the infiltration map into vtkTerroirKMeans, K clusters, the
+ * features weighted by ClusterWeights). ComputeOverlay() runs one synchronously; RequestOverlay()
+ * runs it on the worker thread on a copy of the inputs (the terrain shallow, the water and
+ * infiltration arrays deep), so that the window keeps drawing; Pump() (called from the window's
+ * timer) collects finished work and starts the next request; Wait() blocks until nothing is left to
+ * do (scripts). Only the latest request of a kind is kept while the worker is busy.
  *
  * Everything but the worker's filter runs is meant for one (the window's) thread.
  */
@@ -38,6 +39,7 @@
 #include "vtkSmartPointer.h"     // For vtkSmartPointer
 #include "vtkTable.h"            // For vtkSmartPointer<vtkTable> copies
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -54,6 +56,8 @@ namespace terroir
 namespace viewer
 {
 
+static_assert(kViewerClusterFeatureCount == 4, "ViewerParameters::ClusterWeights lists 4");
+
 /// The parameters the sliders, keys and script set.
 struct ViewerParameters
 {
@@ -65,6 +69,14 @@ struct ViewerParameters
   /// terrain's meridian convergence, else 0.
   double Orientation = std::numeric_limits<double>::quiet_NaN();
   int Clusters = 5; ///< K of the clusters overlay, 1..64
+  /// Weights of the clusters' features, one per kViewerClusterFeatures row (slope,
+  /// temperature, sun hours, weighted soil humidity); 0 leaves a feature out.
+  std::array<double, kViewerClusterFeatureCount> ClusterWeights = {
+    kViewerClusterFeatures[0].DefaultWeight,
+    kViewerClusterFeatures[1].DefaultWeight,
+    kViewerClusterFeatures[2].DefaultWeight,
+    kViewerClusterFeatures[3].DefaultWeight
+  };
   /// A click's lake level above the clicked cell (at most the spill level), m.
   double LakeDepth = 5.0;
   double BrushRadius = 5.0;     ///< cells
@@ -92,7 +104,11 @@ struct ClusterTable
   std::vector<ClusterTableRow> Rows;
   /// From vtkTerroirKMeans's table; columns `X` and `X_<Mon>` of `month` (1..12). Known
   /// features get short titles (Slope, Temperature, IlluminationHours, WeightedSoilHumidity).
+  /// `month` 0: every column, the monthly ones for every month ("Temp Jan (°C)", ...).
   static ClusterTable FromKMeans(vtkTable* table, int month);
+  /// The table as CSV: a header `Cluster,Color,Cells,Share,<Columns>` and one line per row
+  /// (numbers with 9 significant digits). False with "PATH: problem" when it cannot be written.
+  bool WriteCsv(const std::string& path, std::string& error) const;
 };
 
 /// One overlay, ready to colour the terrain.

@@ -18,7 +18,10 @@
 #include "SolarPosition.h"
 
 #include <cmath>
+#include <fstream>
+#include <iomanip>
 #include <map>
+#include <sstream>
 
 namespace terroir
 {
@@ -153,7 +156,8 @@ void ComputeHumidity(vtkImageData* input,
   r.Preset = "Humidity";
 }
 
-/// Slope, temperature and monthly hours of sun, then k-means with the session's K.
+/// Slope, temperature, monthly hours of sun and the weighted soil humidity of the
+/// infiltration map, then k-means with the session's K and feature weights.
 void ComputeClusters(vtkImageData* input,
   const ViewerParameters& p,
   JobMonitor& monitor,
@@ -168,11 +172,27 @@ void ComputeClusters(vtkImageData* input,
   sun->SetInputConnection(temperature->GetOutputPort());
   ConfigureSun(sun, p);
   sun->SetModeToMonthly();
+  vtkNew<vtkTerroirSoilHumidity> humidity;
+  humidity->SetInputConnection(sun->GetOutputPort());
+  humidity->ComputeWeightedSoilHumidityOn();
+  humidity->ComputeStandingWaterOff();
   vtkNew<vtkTerroirKMeans> kmeans;
-  kmeans->SetInputConnection(sun->GetOutputPort());
+  kmeans->SetInputConnection(humidity->GetOutputPort());
   kmeans->SetNumberOfClusters(std::max(1, std::min(64, p.Clusters)));
-  if (RunFilter(slope, monitor, 0.0, 0.05) && RunFilter(temperature, monitor, 0.05, 0.05) &&
-    RunFilter(sun, monitor, 0.1, 0.8) && RunFilter(kmeans, monitor, 0.9, 0.1))
+  for (std::size_t f = 0; f < kViewerClusterFeatureCount; ++f)
+  {
+    if (p.ClusterWeights[f] > 0.0)
+    {
+      kmeans->AddFeature(kViewerClusterFeatures[f].ArrayName, p.ClusterWeights[f]);
+    }
+  }
+  if (kmeans->GetNumberOfFeatures() == 0)
+  {
+    monitor.Error = "the clusters need a feature with a weight above 0";
+  }
+  else if (RunFilter(slope, monitor, 0.0, 0.05) && RunFilter(temperature, monitor, 0.05, 0.05) &&
+    RunFilter(sun, monitor, 0.1, 0.75) && RunFilter(humidity, monitor, 0.85, 0.05) &&
+    RunFilter(kmeans, monitor, 0.9, 0.1))
   {
     r.Output = kmeans->GetOutput();
     r.Table = kmeans->GetClusterTable();
@@ -282,6 +302,58 @@ void ViewerSession::SunDirection(const ViewerParameters& p,
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// The title of a column of vtkTerroirKMeans's table: its array's short name, the month of a
+/// monthly component, the units; empty when the column is another month's (`month` 1..12) or
+/// no feature.
+std::string ColumnTitle(vtkTable* table, vtkIdType c, int month)
+{
+  auto* column = vtkDataArray::SafeDownCast(table->GetColumn(c));
+  const std::string name = table->GetColumnName(c) ? table->GetColumnName(c) : "";
+  if (!column || name == "ClusterId" || name == "Cells" || name == "Share")
+  {
+    return "";
+  }
+  std::string base = name;
+  std::string when;
+  for (int m = 1; m <= 12; ++m)
+  {
+    const std::string suffix = std::string("_") + vtkTerroirTemperature::GetMonthName(m - 1);
+    if (name.size() > suffix.size() &&
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    {
+      if (month != 0 && m != month)
+      {
+        return ""; // another month's component
+      }
+      base = name.substr(0, name.size() - suffix.size());
+      when = " " + suffix.substr(1);
+    }
+  }
+  if (when.empty() && name.find('_') != std::string::npos)
+  {
+    return ""; // a component that is no month
+  }
+  const std::map<std::string, std::string> shortNames = { { "Slope", "Slope" },
+    { "Temperature", "Temp" },
+    { "IlluminationHours", "Sun" },
+    { "WeightedSoilHumidity", "Humidity" } };
+  auto known = shortNames.find(base);
+  std::string title = (known != shortNames.end() ? known->second : base) + when;
+  vtkInformation* info = column->GetInformation();
+  if (info->Has(vtkDataArray::UNITS_LABEL()))
+  {
+    const std::string units = info->Get(vtkDataArray::UNITS_LABEL());
+    // Degrees as the sign, as in the legends: "deg" and "degC" become ° and °C.
+    const bool degrees = units == "deg" || units == "degC";
+    const std::string sign = degrees ? "\xc2\xb0" + units.substr(3) : units;
+    title += " (" + sign + ")";
+  }
+  return title;
+}
+} // namespace
+
 ClusterTable ClusterTable::FromKMeans(vtkTable* table, int month)
 {
   ClusterTable t;
@@ -289,46 +361,16 @@ ClusterTable ClusterTable::FromKMeans(vtkTable* table, int month)
   {
     return t;
   }
-  const char* monthName = vtkTerroirTemperature::GetMonthName(std::max(1, std::min(12, month)) - 1);
-  const std::string suffix = std::string("_") + (monthName ? monthName : "");
-  const std::map<std::string, std::string> shortNames = { { "Slope", "Slope" },
-    { "Temperature", "Temp" },
-    { "IlluminationHours", "Sun" },
-    { "WeightedSoilHumidity", "Humidity" } };
+  month = month == 0 ? 0 : std::max(1, std::min(12, month));
   std::vector<vtkDataArray*> columns;
   for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
   {
-    auto* column = vtkDataArray::SafeDownCast(table->GetColumn(c));
-    const std::string name = table->GetColumnName(c) ? table->GetColumnName(c) : "";
-    if (!column || name == "ClusterId" || name == "Cells" || name == "Share")
+    const std::string title = ColumnTitle(table, c, month);
+    if (!title.empty())
     {
-      continue;
+      t.Columns.push_back(title);
+      columns.push_back(vtkDataArray::SafeDownCast(table->GetColumn(c)));
     }
-    std::string base = name;
-    std::string when;
-    if (name.size() > suffix.size() &&
-      name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-    {
-      base = name.substr(0, name.size() - suffix.size());
-      when = std::string(" ") + (monthName ? monthName : "");
-    }
-    else if (name.find('_') != std::string::npos)
-    {
-      continue; // another month's component
-    }
-    auto known = shortNames.find(base);
-    std::string title = (known != shortNames.end() ? known->second : base) + when;
-    vtkInformation* info = column->GetInformation();
-    if (info->Has(vtkDataArray::UNITS_LABEL()))
-    {
-      const std::string units = info->Get(vtkDataArray::UNITS_LABEL());
-      // Degrees as the sign, as in the legends: "deg" and "degC" become ° and °C.
-      const bool degrees = units == "deg" || units == "degC";
-      const std::string sign = degrees ? "\xc2\xb0" + units.substr(3) : units;
-      title += " (" + sign + ")";
-    }
-    t.Columns.push_back(title);
-    columns.push_back(column);
   }
   auto* ids = vtkDataArray::SafeDownCast(table->GetColumnByName("ClusterId"));
   auto* colors = vtkStringArray::SafeDownCast(table->GetColumnByName("Color"));
@@ -348,6 +390,35 @@ ClusterTable ClusterTable::FromKMeans(vtkTable* table, int month)
     t.Rows.push_back(std::move(row));
   }
   return t;
+}
+
+bool ClusterTable::WriteCsv(const std::string& path, std::string& error) const
+{
+  std::ostringstream out;
+  out << "Cluster,Color,Cells,Share";
+  for (const std::string& title : this->Columns)
+  {
+    out << ",\"" << title << "\"";
+  }
+  out << "\n" << std::setprecision(9);
+  for (const ClusterTableRow& row : this->Rows)
+  {
+    out << row.Id << "," << row.Color << "," << row.Cells << "," << row.Share;
+    for (double mean : row.Means)
+    {
+      out << "," << mean;
+    }
+    out << "\n";
+  }
+  std::ofstream file(path, std::ios::binary);
+  file << out.str();
+  file.close();
+  if (!file)
+  {
+    error = path + ": cannot be written";
+    return false;
+  }
+  return true;
 }
 
 } // namespace viewer

@@ -362,5 +362,19 @@ void ViewerWindow::SetOverlay(ViewerOverlay overlay)
   this->UpdateTexts();
 }
 
+bool ViewerWindow::ExportTable(const std::string& path, std::string& error)
+{
+  if (this->Shown.Overlay != ViewerOverlay::Clusters || !this->Shown.Table ||
+    !this->Shown.Error.empty())
+  {
+    error = path + ": no cluster table on screen (show the clusters overlay, key 7)";
+    return false;
+  }
+  const ClusterTable table = ClusterTable::FromKMeans(this->Shown.Table, 0);
+  std::string ignored;
+  return WriteThroughTemporary(
+    path, [&](const std::string& temp) { return table.WriteCsv(temp, ignored); }, error);
+}
+
 } // namespace viewer
 } // namespace terroir

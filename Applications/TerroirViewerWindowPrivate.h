@@ -31,6 +31,7 @@
 #include "vtkTerroirXDisplay.h"
 #include "vtkTextActor.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -142,7 +143,20 @@ private:
   void InfiltrationChanged();
   void ShowTable(bool show);
   bool Screenshot(const std::string& path, std::string& error);
-  std::string NextScreenshotName();
+  /// Runs `write` on a temporary name beside `path`, then renames it into place; false with
+  /// "PATH: problem" (and no file left) when either fails.
+  static bool WriteThroughTemporary(const std::string& path,
+    const std::function<bool(const std::string&)>& write,
+    std::string& error);
+  /// The first free "terroir-view-NNN.<extension>" in the screenshot folder.
+  std::string NextScreenshotName(const char* extension = "png");
+  /// K, J, X: K up (Shift: down), the next feature weight under edit, its weight doubled
+  /// (Shift: halved); false for another key.
+  bool ClusterKey(const std::string& symbol, bool shift);
+  /// Describes K and the weights in Message (the one under edit marked).
+  void DescribeClusters();
+  /// The cluster table on screen with every month's columns as CSV; false with the error.
+  bool ExportTable(const std::string& path, std::string& error);
 
   // ---- observers ---------------------------------------------------------------------------
   void OnKey(vtkObject* caller, unsigned long event, void* callData);
@@ -218,6 +232,7 @@ private:
   // The cluster table.
   bool TableWanted = true; ///< T / the Table button; shown when the overlay is clusters
   ClusterTable Table;
+  int WeightUnderEdit = 3; ///< J cycles kViewerClusterFeatures; X doubles, Shift+X halves
 };
 
 } // namespace viewer

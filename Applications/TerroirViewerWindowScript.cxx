@@ -66,7 +66,8 @@ void ViewerWindow::PrintState()
   };
   std::printf("state overlay %s tool %s latitude %.6g month %d hour %.6g orientation %.6g "
               "lake-depth %.6g brush-size %.6g brush-rate %.6g slope-threshold %.6g undo %zu "
-              "water-sum %.9g infiltration-sum %.9g table %s\n",
+              "water-sum %.9g infiltration-sum %.9g table %s clusters %d weight-slope %.6g "
+              "weight-temperature %.6g weight-sun %.6g weight-humidity %.6g\n",
     terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
     ToolName(this->CurrentTool),
     p.Latitude,
@@ -80,7 +81,12 @@ void ViewerWindow::PrintState()
     this->Session.GetUndoDepth(),
     sum(this->Session.GetWater()),
     sum(this->Session.GetInfiltration()),
-    this->TablePane->GetDraw() ? "shown" : "hidden");
+    this->TablePane->GetDraw() ? "shown" : "hidden",
+    p.Clusters,
+    p.ClusterWeights[0],
+    p.ClusterWeights[1],
+    p.ClusterWeights[2],
+    p.ClusterWeights[3]);
   std::fflush(stdout);
 }
 
@@ -189,6 +195,20 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
     a.Verb == "brush-size" || a.Verb == "brush-rate" || a.Verb == "slope-threshold")
   {
     this->SetParameter(a);
+  }
+  else if (a.Verb == "cluster-weight")
+  {
+    auto& w = this->Session.Parameters().ClusterWeights;
+    w[static_cast<std::size_t>(terroir::viewer::ClusterFeatureIndex(a.Text))] = n[0];
+    this->ParametersChanged(true);
+  }
+  else if (a.Verb == "table-csv")
+  {
+    if (!this->ExportTable(a.Text, error))
+    {
+      error = where + ": " + error;
+      return false;
+    }
   }
   else if (a.Verb == "button")
   {

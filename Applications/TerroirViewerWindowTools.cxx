@@ -13,6 +13,7 @@
 #include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -100,7 +101,8 @@ void ViewerWindow::Click(int x, int y)
 
 void ViewerWindow::InfiltrationChanged()
 {
-  if (this->Session.GetCurrentOverlay() == ViewerOverlay::Humidity)
+  const ViewerOverlay o = this->Session.GetCurrentOverlay();
+  if (o == ViewerOverlay::Humidity || o == ViewerOverlay::Clusters)
   {
     this->Session.RequestOverlay();
   }
@@ -168,14 +170,14 @@ void ViewerWindow::PressButton(int k)
   this->UpdateTexts();
 }
 
-std::string ViewerWindow::NextScreenshotName()
+std::string ViewerWindow::NextScreenshotName(const char* extension)
 {
   const std::string dir =
     this->Line.View.ScreenshotDir.empty() ? "." : this->Line.View.ScreenshotDir;
   for (int k = 1;; ++k)
   {
     char name[64];
-    std::snprintf(name, sizeof(name), "terroir-view-%03d.png", k);
+    std::snprintf(name, sizeof(name), "terroir-view-%03d.%s", k, extension);
     const std::string path = (std::filesystem::path(dir) / name).string();
     std::error_code ec;
     if (!std::filesystem::exists(path, ec))
@@ -194,12 +196,25 @@ bool ViewerWindow::Screenshot(const std::string& path, std::string& error)
   grab->ReadFrontBufferOff();
   grab->ShouldRerenderOff();
   grab->Update();
+  return WriteThroughTemporary(
+    path,
+    [&](const std::string& temp)
+    {
+      vtkNew<vtkPNGWriter> writer;
+      writer->SetFileName(temp.c_str());
+      writer->SetInputConnection(grab->GetOutputPort());
+      writer->Write();
+      return writer->GetErrorCode() == 0;
+    },
+    error);
+}
+
+bool ViewerWindow::WriteThroughTemporary(const std::string& path,
+  const std::function<bool(const std::string&)>& write,
+  std::string& error)
+{
   const std::string temp = terroir::TemporaryNameFor(path);
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(temp.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0)
+  if (!write(temp))
   {
     terroir::DiscardTemporary(temp);
     error = path + ": could not be written";
@@ -254,6 +269,16 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
   {
     this->PressButton(7);
   }
+  else if (this->ClusterKey(sym, rwi->GetShiftKey() != 0))
+  {
+  }
+  else if (sym == "e")
+  {
+    std::string error;
+    const std::string path = this->NextScreenshotName("csv");
+    this->Message = this->ExportTable(path, error) ? "Saved " + path : error;
+    this->UpdateTexts();
+  }
   else if (sym == "bracketleft" || sym == "bracketright")
   {
     const double current = this->EffectiveOrientation();
@@ -287,6 +312,57 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
     this->KeyCommand->SetAbortFlag(1);
     this->Window->Render();
   }
+}
+
+bool ViewerWindow::ClusterKey(const std::string& symbol, bool shift)
+{
+  // X key symbols come in capitals with Shift; scripts send the lower case and the flag.
+  const std::string sym = symbol.size() == 1
+    ? std::string(1, static_cast<char>(std::tolower(static_cast<unsigned char>(symbol[0]))))
+    : symbol;
+  shift = shift || (symbol.size() == 1 && std::isupper(static_cast<unsigned char>(symbol[0])));
+  auto& p = this->Session.Parameters();
+  if (sym == "k")
+  {
+    p.Clusters = std::max(1, std::min(64, p.Clusters + (shift ? -1 : 1)));
+  }
+  else if (sym == "j")
+  {
+    this->WeightUnderEdit =
+      (this->WeightUnderEdit + 1) % static_cast<int>(kViewerClusterFeatureCount);
+  }
+  else if (sym == "x")
+  {
+    double& w = p.ClusterWeights[this->WeightUnderEdit];
+    w = shift ? (w / 2.0 < 0.01 ? 0.0 : w / 2.0) : (w > 0.0 ? std::min(1000.0, 2.0 * w) : 0.01);
+  }
+  else
+  {
+    return false;
+  }
+  this->ParametersChanged(sym != "j");
+  this->DescribeClusters();
+  this->UpdateTexts();
+  return true;
+}
+
+void ViewerWindow::DescribeClusters()
+{
+  const auto& p = this->Session.Parameters();
+  char line[200];
+  std::snprintf(line, sizeof(line), "Clusters: K=%d, weights", p.Clusters);
+  std::string text = line;
+  for (std::size_t f = 0; f < kViewerClusterFeatureCount; ++f)
+  {
+    std::snprintf(line,
+      sizeof(line),
+      " %s%s %.3g",
+      static_cast<int>(f) == this->WeightUnderEdit ? "*" : "",
+      kViewerClusterFeatures[f].Name,
+      p.ClusterWeights[f]);
+    text += line;
+  }
+  this->Message = text + " (K/Shift+K, J next, X/Shift+X)";
 }
 
 void ViewerWindow::OnWheel(vtkObject*, unsigned long event, void*)

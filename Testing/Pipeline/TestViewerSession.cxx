@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <vector>
 
 using terroir::viewer::OverlayResult;
@@ -637,7 +638,8 @@ TEST(TerroirViewerSession, ClusterTableHoldsTheMonthsMeansOfEachCluster)
   const std::vector<std::string> columns = { "Slope (\xc2\xb0)",
     "Temp Jul (\xc2\xb0"
     "C)",
-    "Sun Jul (h)" };
+    "Sun Jul (h)",
+    "Humidity Jul (mm)" };
   ASSERT_EQ(table.Columns.size(), columns.size());
   for (std::size_t c = 0; c < columns.size(); ++c)
   {
@@ -646,22 +648,23 @@ TEST(TerroirViewerSession, ClusterTableHoldsTheMonthsMeansOfEachCluster)
   // Means recomputed from the overlay's arrays: the cells of each ClusterId.
   vtkPointData* pd = r.Output->GetPointData();
   vtkDataArray* id = pd->GetArray("ClusterId");
-  vtkDataArray* features[3] = {
-    pd->GetArray("Slope"), pd->GetArray("Temperature"), pd->GetArray("IlluminationHours")
-  };
-  const int component[3] = { 0, 6, 6 };
+  vtkDataArray* features[4] = { pd->GetArray("Slope"),
+    pd->GetArray("Temperature"),
+    pd->GetArray("IlluminationHours"),
+    pd->GetArray("WeightedSoilHumidity") };
+  const int component[4] = { 0, 6, 6, 6 };
   double share = 0.0;
   long long cells = 0;
   for (const auto& row : table.Rows)
   {
-    double sum[3] = { 0.0, 0.0, 0.0 };
+    double sum[4] = { 0.0, 0.0, 0.0, 0.0 };
     long long n = 0;
     for (vtkIdType k = 0; k < id->GetNumberOfTuples(); ++k)
     {
       if (static_cast<int>(id->GetComponent(k, 0)) == row.Id)
       {
         ++n;
-        for (int f = 0; f < 3; ++f)
+        for (int f = 0; f < 4; ++f)
         {
           sum[f] += features[f]->GetComponent(k, component[f]);
         }
@@ -669,8 +672,8 @@ TEST(TerroirViewerSession, ClusterTableHoldsTheMonthsMeansOfEachCluster)
     }
     EXPECT_EQ(row.Cells, n);
     EXPECT_EQ(row.Color.size(), 7u);
-    ASSERT_EQ(row.Means.size(), 3u);
-    for (int f = 0; f < 3; ++f)
+    ASSERT_EQ(row.Means.size(), 4u);
+    for (int f = 0; f < 4; ++f)
     {
       EXPECT_NEAR(row.Means[f], sum[f] / n, 1e-9 * std::max(1.0, std::fabs(sum[f] / n)));
     }
@@ -679,6 +682,120 @@ TEST(TerroirViewerSession, ClusterTableHoldsTheMonthsMeansOfEachCluster)
   }
   EXPECT_NEAR(share, 1.0, 1e-12);
   EXPECT_EQ(cells, 48 * 32 - 1);
+}
+
+TEST(TerroirViewerSession, ClustersSplitAFlatTerrainWherePaintingChangedTheSoilHumidity)
+{
+  // A flat terrain has one slope, temperature and sun everywhere: only the soil humidity of
+  // the infiltration map can tell cells apart. West of i = 10 the soil takes no water (0 mm/h
+  // painted), east of it the default 15 mm/h, more than any month's intensity, so the soil
+  // there absorbs every month's rain: July's weighted humidity is
+  // R_q(Jul)/2 + R_q(Jun)/3 + R_q(May)/6 (with min(15/R_i, 1) = 1), and 0 in the west.
+  ViewerSession s;
+  std::string error;
+  ASSERT_TRUE(s.SetTerrain(
+    terroir_test::MakeTerrain(20, 10, 10.0, 10.0, [](int, int) { return 100.0; }), error))
+    << error;
+  vtkFloatArray* rate = s.GetInfiltration();
+  for (int j = 0; j < 10; ++j)
+  {
+    for (int i = 0; i < 20; ++i)
+    {
+      ASSERT_EQ(rate->GetValue(j * 20 + i), 15.0f);
+      rate->SetValue(j * 20 + i, i < 10 ? 0.0f : 15.0f);
+    }
+  }
+  auto& p = s.Parameters();
+  p.Clusters = 2;
+  p.Month = 7;
+  const OverlayResult r = s.ComputeOverlay(ViewerOverlay::Clusters, p);
+  ASSERT_EQ(r.Error, "");
+  vtkDataArray* id = r.Output->GetPointData()->GetArray("ClusterId");
+  const int west = static_cast<int>(id->GetComponent(0, 0));
+  const int east = static_cast<int>(id->GetComponent(19, 0));
+  EXPECT_NE(west, east);
+  for (int j = 0; j < 10; ++j)
+  {
+    for (int i = 0; i < 20; ++i)
+    {
+      EXPECT_EQ(static_cast<int>(id->GetComponent(j * 20 + i, 0)), i < 10 ? west : east)
+        << "cell " << i << ", " << j;
+    }
+  }
+  vtkNew<vtkTerroirSoilHumidity> climate; // its default climate, which the session uses
+  const double* rq = climate->GetPrecipitation();
+  const double* ri = climate->GetPrecipitationIntensity();
+  auto absorbed = [&](int m) { return std::min(15.0 / ri[m], 1.0) * rq[m]; };
+  const double wet = absorbed(6) / 2.0 + absorbed(5) / 3.0 + absorbed(4) / 6.0;
+  const terroir::viewer::ClusterTable table = terroir::viewer::ClusterTable::FromKMeans(r.Table, 7);
+  ASSERT_EQ(table.Columns.size(), 4u);
+  EXPECT_EQ(table.Columns[3], "Humidity Jul (mm)");
+  ASSERT_EQ(table.Rows.size(), 2u);
+  for (const auto& row : table.Rows)
+  {
+    EXPECT_EQ(row.Cells, 100);
+    EXPECT_NEAR(row.Means[3], row.Id == east ? wet : 0.0, 1e-4);
+  }
+
+  // The whole table, every month, as CSV: the header names 1 + 3 x 12 feature columns.
+  const terroir::viewer::ClusterTable all = terroir::viewer::ClusterTable::FromKMeans(r.Table, 0);
+  ASSERT_EQ(all.Columns.size(), 37u);
+  EXPECT_EQ(all.Columns[1],
+    "Temp Jan (\xc2\xb0"
+    "C)");
+  EXPECT_EQ(all.Columns[36], "Humidity Dec (mm)");
+  const std::string csv = testing::TempDir() + "viewer_clusters.csv";
+  ASSERT_TRUE(all.WriteCsv(csv, error)) << error;
+  std::ifstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 4 + 37 - 1);
+  EXPECT_EQ(header.rfind("Cluster,Color,Cells,Share,\"Slope (", 0), 0u);
+  int rows = 0;
+  while (std::getline(in, line))
+  {
+    ++rows;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 4 + 37 - 1);
+  }
+  EXPECT_EQ(rows, 2);
+  EXPECT_FALSE(all.WriteCsv(testing::TempDir() + "no/such/folder/t.csv", error));
+  EXPECT_NE(error.find("no/such/folder/t.csv: cannot be written"), std::string::npos);
+}
+
+TEST(TerroirViewerSession, ClusterWeightsChooseTheFeatures)
+{
+  ViewerSession s;
+  Session(s);
+  auto& p = s.Parameters();
+  p.Clusters = 3;
+  p.ClusterWeights = { 1.0, 0.0, 0.0, 0.0 }; // slope only
+  const OverlayResult r = s.ComputeOverlay(ViewerOverlay::Clusters, p);
+  ASSERT_EQ(r.Error, "");
+  const terroir::viewer::ClusterTable table = terroir::viewer::ClusterTable::FromKMeans(r.Table, 7);
+  ASSERT_EQ(table.Columns.size(), 1u);
+  EXPECT_EQ(table.Columns[0], "Slope (\xc2\xb0)");
+  // One feature: the clusters are intervals of slope, so sorted by mean they do not overlap.
+  vtkPointData* pd = r.Output->GetPointData();
+  vtkDataArray* id = pd->GetArray("ClusterId");
+  vtkDataArray* slope = pd->GetArray("Slope");
+  std::vector<double> lo(3, 1e30), hi(3, -1e30);
+  for (vtkIdType k = 0; k < id->GetNumberOfTuples(); ++k)
+  {
+    const int c = static_cast<int>(id->GetComponent(k, 0));
+    if (c >= 0)
+    {
+      lo[c] = std::min(lo[c], slope->GetComponent(k, 0));
+      hi[c] = std::max(hi[c], slope->GetComponent(k, 0));
+    }
+  }
+  std::vector<int> order = { 0, 1, 2 };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return lo[a] < lo[b]; });
+  EXPECT_LT(hi[order[0]], lo[order[1]]);
+  EXPECT_LT(hi[order[1]], lo[order[2]]);
+
+  p.ClusterWeights = { 0.0, 0.0, 0.0, 0.0 };
+  EXPECT_EQ(s.ComputeOverlay(ViewerOverlay::Clusters, p).Error,
+    "the clusters need a feature with a weight above 0");
 }
 
 TEST(TerroirViewerSession, RefusesATerrainWithoutElevation)

@@ -6,8 +6,9 @@ baselines are checked to fail darkened, tinted or with a block inverted), a lake
 bowl fills it to its spill level and, undone, gives the same picture as no click, navigation
 events move the camera the right way, a brush stroke dragged over the terrain is one undo step,
 a drag around the compass turns it by the angle swept, the on-screen buttons and the overlay
-list answer clicks, the cluster table comes and goes with the clusters overlay, and a bad
-script is refused before any window work.
+list answer clicks, the cluster table comes and goes with the clusters overlay, the clusters
+follow the painted soil humidity, their keys and weights and export every month as CSV, and a
+bad script is refused before any window work.
 
 The scripts generate real interactor events (clicks, drags, wheel turns, keys), so the
 interaction code of the window is what runs. Needs an X display (run the suite under
@@ -354,6 +355,53 @@ class TerroirViewer(unittest.TestCase):
         b4 = math.degrees(math.atan2(v4[0], v4[1]))
         b5 = math.degrees(math.atan2(v5[0], v5[1]))
         self.assertAlmostEqual((b5 - b4 + 540.0) % 360.0 - 180.0, 20.0, places=4)
+
+    def test_clusters_follow_the_painted_soil_and_the_keys_and_export_every_month(self):
+        """The clusters take the soil humidity of the infiltration map: on BowlDEM (slopes
+        under 30 degrees, so the default 15 mm/h everywhere, more than any month's intensity)
+        every cluster has the same weighted humidity, all the rain; after the fill paints
+        0 mm/h everywhere it is 0 in every cluster. K and the weights follow the keys (K,
+        Shift+K, J, X, Shift+X) and `cluster-weight`; `table-csv` writes every month."""
+        need_display(self)
+        proc, folder, _ = run_view("clusters", [
+            "overlay clusters", "wait", "state", "table-csv before.csv",
+            "key k", "key k", "key shift+k", "state",         # K 5 -> 7 -> 6
+            "key j", "key x", "key j", "key x", "key shift+x", "state",  # slope x2, temp x2/2
+            "cluster-weight humidity 1", "brush-rate 0", "button fill", "wait", "state",
+            "table-csv after.csv", "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 4, proc.stdout)
+        self.assertEqual((s[0]["clusters"], s[0]["weight-slope"], s[0]["weight-temperature"],
+                          s[0]["weight-sun"], s[0]["weight-humidity"]), (5, 1, 1, 1, 0.1))
+        self.assertEqual(s[1]["clusters"], 6)
+        self.assertEqual((s[2]["weight-slope"], s[2]["weight-temperature"]), (2, 1))
+        self.assertEqual(s[3]["weight-humidity"], 1)
+        self.assertEqual(s[3]["infiltration-sum"], 0.0)
+
+        def read(name):
+            with open(os.path.join(folder, name)) as f:
+                lines = f.read().splitlines()
+            header = [h.strip('"') for h in lines[0].split(",")]
+            rows = [[float(v) if k != 1 else v for k, v in enumerate(line.split(","))]
+                    for line in lines[1:]]
+            return header, rows
+
+        header, rows = read("before.csv")
+        self.assertEqual(header[:4], ["Cluster", "Color", "Cells", "Share"])
+        self.assertEqual(len(header), 4 + 1 + 3 * 12)  # slope, then 12 months of 3 resources
+        self.assertEqual(len(rows), 5)
+        self.assertAlmostEqual(sum(r[3] for r in rows), 1.0, places=6)
+        self.assertEqual(sum(int(r[2]) for r in rows), 121 * 101)
+        july = header.index("Humidity Jul (mm)")
+        wet = [r[july] for r in rows]
+        self.assertGreater(min(wet), 0.0)
+        self.assertLess(max(wet) - min(wet), 1e-4)
+        header, rows = read("after.csv")
+        self.assertEqual(len(rows), 6)
+        for month in ("Jan", "Jul", "Dec"):
+            column = header.index("Humidity %s (mm)" % month)
+            self.assertEqual([r[column] for r in rows], [0.0] * 6)
 
     def test_a_bad_script_line_is_refused_before_any_window(self):
         # No DISPLAY: the script is checked first, so the display is never needed.

@@ -74,7 +74,8 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
   EXPECT_EQ(ErrorOf("wait\nfly 3\n"),
     "s.txt:2: unknown action 'fly' (overlay, latitude, longitude, month, hour, orientation, "
     "clusters, lake-depth, brush-size, brush-rate, slope-threshold, sensitivity, style, tool, "
-    "view, button, click, drag, wheel, key, flow, undo, wait, camera, state, screenshot, quit)");
+    "view, button, click, drag, wheel, key, flow, undo, wait, camera, state, screenshot, "
+    "cluster-weight, table-csv, quit)");
   EXPECT_EQ(ErrorOf("button paint"),
     "s.txt:1: 'button': unknown value 'paint' (navigate, lake, brush, fill, slope-rule, flow, "
     "undo, table)");
@@ -101,6 +102,29 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
   EXPECT_EQ(ErrorOf("quit now"), "s.txt:1: 'quit' takes no argument, got 1 argument");
   EXPECT_EQ(
     ErrorOf("tool pencil"), "s.txt:1: 'tool': unknown value 'pencil' (navigate, lake, brush)");
+  EXPECT_EQ(ErrorOf("cluster-weight rain 1"),
+    "s.txt:1: 'cluster-weight': unknown feature 'rain' (slope, temperature, sun, humidity)");
+  EXPECT_EQ(ErrorOf("cluster-weight slope -1"),
+    "s.txt:1: 'cluster-weight': weight -1 is outside [0, 1000]");
+  EXPECT_EQ(ErrorOf("cluster-weight slope"),
+    "s.txt:1: 'cluster-weight' takes a feature (slope, temperature, sun, humidity) and a "
+    "weight, got 1 argument");
+  EXPECT_EQ(ErrorOf("table-csv t.txt"), "s.txt:1: 'table-csv': 't.txt' does not end in .csv");
+}
+
+TEST(TerroirViewerScript, ParsesTheClusterVerbs)
+{
+  std::vector<ViewerAction> a;
+  std::string error;
+  ASSERT_TRUE(ParseViewerScript(
+    "cluster-weight humidity 2.5\ntable-csv out/t.csv\n", "s.txt", 800, 600, a, error))
+    << error;
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a[0].Text, "humidity");
+  EXPECT_EQ(a[0].Numbers, std::vector<double>{ 2.5 });
+  EXPECT_EQ(terroir::viewer::ClusterFeatureIndex(a[0].Text), 3);
+  EXPECT_EQ(a[1].Verb, "table-csv");
+  EXPECT_EQ(a[1].Text, "out/t.csv");
 }
 
 TEST(TerroirViewerScript, UnreadableFilesAreOneLine)
