@@ -70,6 +70,11 @@ const NumericVerb NumericVerbs[] = {
   { "brush-rate", 0.0, 1000.0, false },
   { "slope-threshold", 0.0, 90.0, false },
   { "sensitivity", 0.01, 100.0, false },
+  { "flow-iterations", 1.0, 1000000.0, true },
+  { "flow-water", 0.0, 100000.0, false },
+  { "flow-rain-rate", 0.001, 1000.0, false },
+  { "flow-stop", 0.0, 1.0, false },
+  { "flow-balance", 0.0001, 0.999, false },
 };
 
 /// A whole token as a finite number; false otherwise.
@@ -202,9 +207,10 @@ bool ParseChoice(ScriptLine& s)
   ViewerAction& a = s.A;
   const std::vector<std::string> allowed = a.Verb == "style"
     ? std::vector<std::string>{ "terrain", "first-person" }
-    : a.Verb == "tool"   ? std::vector<std::string>{ "navigate", "lake", "brush" }
-    : a.Verb == "button" ? ViewerButtonNames()
-                         : std::vector<std::string>{ "relief", "map" };
+    : a.Verb == "tool"      ? std::vector<std::string>{ "navigate", "lake", "brush" }
+    : a.Verb == "button"    ? ViewerButtonNames()
+    : a.Verb == "flow-mode" ? std::vector<std::string>{ "pulse", "rivers" }
+                            : std::vector<std::string>{ "relief", "map" };
   std::string list;
   for (const std::string& name : allowed)
   {
@@ -372,7 +378,8 @@ bool ParseArguments(ScriptLine& s)
   {
     return ParseOverlay(s);
   }
-  else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button")
+  else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button" ||
+    a.Verb == "flow-mode")
   {
     return ParseChoice(s);
   }
@@ -418,7 +425,7 @@ bool ParseArguments(ScriptLine& s)
       "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
       "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
       "drag, wheel, key, flow, undo, wait, camera, state, screenshot, cluster-weight, table-csv, "
-      "quit)");
+      "flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance, quit)");
   }
   return true;
 }

@@ -147,6 +147,16 @@ long long ViewerSession::GetFlowFramesPublished() const
   return this->Impl->FramesPublished.load();
 }
 
+long long ViewerSession::GetLastFlowIterations() const
+{
+  return this->Impl->LastFlowIterations;
+}
+
+std::string ViewerSession::GetLastFlowStopReason() const
+{
+  return this->Impl->LastFlowStopReason;
+}
+
 unsigned long ViewerSession::GetInfiltrationVersion() const
 {
   return this->Impl->InfiltrationVersion;

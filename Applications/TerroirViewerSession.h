@@ -83,6 +83,17 @@ struct ViewerParameters
   double BrushRate = 0.0;       ///< mm/h painted by the brush (and set everywhere by the fill)
   double SlopeThreshold = 30.0; ///< degrees: the slope rule sets 0 mm/h on steeper cells
   int FlowIterations = 500;     ///< most iterations of one water-flow run
+  /// Water-flow mode: Long (2016)'s pulse (the water once, then the stop rule) or the
+  /// river-forming mode (depressions filled, rain each iteration until the outflow balances
+  /// it), vtkTerroirWaterFlow's Pulse and Rivers.
+  bool FlowRivers = false;
+  /// Pulse: mm of water put on every cell with data (plus the lakes); NaN: the month's rain
+  /// that the soil does not take (`StandingWater`).
+  double FlowWater = std::numeric_limits<double>::quiet_NaN();
+  /// Rivers: rain, mm/h on every cell; NaN: the month's `StandingWater` spread over its hours.
+  double FlowRainRate = std::numeric_limits<double>::quiet_NaN();
+  double FlowStopRatio = 0.001; ///< pulse: Long (2016)'s stop rule (AutoStopRatio), 0 off
+  double FlowBalance = 0.02;    ///< rivers: stop when the outflow is 1 - this of the rain
   int FlowFrameInterval = 10;   ///< iterations between the frames of a running water flow
 };
 
@@ -170,6 +181,8 @@ public:
   /// replaces the water state, pushing the previous one) and starts what is queued; it returns
   /// true when something finished. TakeOverlay() hands out the newest finished overlay once.
   void RequestOverlay();
+  /// The water flow with the parameters' mode, water or rain, stop rule and iterations,
+  /// starting from the month's standing water (or FlowWater) plus the lakes.
   void RequestWaterFlow();
   bool Pump();
   bool TakeOverlay(OverlayResult& result);
@@ -212,6 +225,10 @@ public:
   long long GetFlowFrameIteration() const;
   /// Frames the worker published during the last (or running) water flow; for tests.
   long long GetFlowFramesPublished() const;
+  /// The last finished water flow: its iterations and stop reason (vtkTerroirWaterFlow's
+  /// `WaterFlowIterations`, `WaterFlowStopReason`); -1 and "" before any.
+  long long GetLastFlowIterations() const;
+  std::string GetLastFlowStopReason() const;
   ///@}
 
   ///@{

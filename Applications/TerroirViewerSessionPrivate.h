@@ -90,6 +90,8 @@ struct ViewerSession::Internals
   long long FrameSerial = 0; ///< frames written (under FrameMutex)
   long long FrameTaken = 0;  ///< frames Pump has shown
   std::atomic<long long> FramesPublished{ 0 };
+  long long LastFlowIterations = -1; ///< the last finished water flow's (window thread)
+  std::string LastFlowStopReason;
   vtkSmartPointer<vtkFloatArray> Preview; ///< the frame on display while a flow runs
   bool HavePreview = false;
   long long PreviewIteration = 0;
@@ -102,6 +104,8 @@ struct ViewerSession::Internals
     bool IsWaterFlow = false;
     OverlayResult Overlay;
     vtkSmartPointer<vtkFloatArray> Water; ///< water flow: the new state
+    long long FlowIterations = -1;        ///< water flow: iterations run
+    std::string FlowStopReason;           ///< water flow: why it stopped
     std::string Error;
   };
   using Job = std::function<JobResult(std::atomic<double>&)>;

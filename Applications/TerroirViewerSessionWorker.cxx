@@ -4,6 +4,8 @@
 
 #include "vtkCallbackCommand.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkStringArray.h"
 
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirWaterFlow.h"
@@ -51,13 +53,102 @@ void ViewerSession::RequestOverlay()
   in.Enqueue(std::move(job), in.PendingOverlay);
 }
 
+namespace
+{
+/// The water-flow input: the terrain with the month's `StandingWater` (or FlowWater mm on
+/// every cell with data) plus the lakes already there (m -> mm) in the month's component; in
+/// the river-forming mode without the lakes (it fills the depressions itself). Null with the
+/// error in `monitor` when the soil filter fails.
+vtkSmartPointer<vtkImageData> FlowStart(vtkImageData* input,
+  const ViewerParameters& params,
+  JobMonitor& monitor)
+{
+  const int month = std::max(1, std::min(12, params.Month));
+  vtkNew<vtkTerroirSoilHumidity> humidity;
+  humidity->SetInputData(input);
+  humidity->ComputeWeightedSoilHumidityOff();
+  if (!RunFilter(humidity, monitor, 0.0, 0.1))
+  {
+    return nullptr;
+  }
+  auto start = vtkSmartPointer<vtkImageData>::New();
+  start->ShallowCopy(humidity->GetOutput());
+  vtkDataArray* standing =
+    start->GetPointData()->GetArray(vtkTerroirSoilHumidity::StandingWaterName());
+  vtkDataArray* lakes = input->GetPointData()->GetArray(vtkTerroirWaterFlow::WaterHeightName());
+  vtkNew<vtkFloatArray> water;
+  water->DeepCopy(standing);
+  water->SetName(vtkTerroirSoilHumidity::StandingWaterName());
+  const bool given = !params.FlowRivers && std::isfinite(params.FlowWater);
+  for (vtkIdType k = 0; k < water->GetNumberOfTuples(); ++k)
+  {
+    const double v = water->GetComponent(k, month - 1);
+    if (std::isfinite(v))
+    {
+      const double lake = params.FlowRivers ? 0.0 : 1000.0 * lakes->GetComponent(k, 0);
+      water->SetComponent(k, month - 1, (given ? params.FlowWater : v) + lake);
+    }
+  }
+  start->GetPointData()->AddArray(water);
+  return start;
+}
+
+/// Mode, source, stop rules and iterations of the parameters.
+void ConfigureFlow(vtkTerroirWaterFlow* flow, const ViewerParameters& params)
+{
+  flow->SetMonth(std::max(1, std::min(12, params.Month)));
+  flow->SetMaximumIterations(std::max(1, params.FlowIterations));
+  flow->SetWaterSourceToStandingWaterMonth();
+  flow->SetAutoStopRatio(std::max(0.0, params.FlowStopRatio));
+  if (params.FlowRivers)
+  {
+    flow->SetModeToRivers();
+    flow->SetBalanceTolerance(std::max(1e-6, std::min(0.999, params.FlowBalance)));
+    if (std::isfinite(params.FlowRainRate))
+    {
+      flow->SetWaterSourceToConstant(); // RainRate on every cell, no water at the start
+      flow->SetInitialWater(0.0);
+      flow->SetRainRate(params.FlowRainRate);
+    }
+  }
+}
+
+/// The flow's output water, no-data cells dry, with its iterations and stop reason.
+void TakeFlowResult(vtkTerroirWaterFlow* flow,
+  vtkSmartPointer<vtkFloatArray>& water,
+  long long& iterationsRun,
+  std::string& stopReason)
+{
+  vtkImageData* out = flow->GetOutput();
+  water = vtkSmartPointer<vtkFloatArray>::New();
+  water->DeepCopy(out->GetPointData()->GetArray(vtkTerroirWaterFlow::WaterHeightName()));
+  for (vtkIdType k = 0; k < water->GetNumberOfValues(); ++k)
+  {
+    if (!std::isfinite(water->GetValue(k)))
+    {
+      water->SetValue(k, 0.0f);
+    }
+  }
+  water->SetName(vtkTerroirWaterFlow::WaterHeightName());
+  vtkFieldData* fd = out->GetFieldData();
+  auto* iterations =
+    vtkDataArray::SafeDownCast(fd->GetAbstractArray(vtkTerroirWaterFlow::IterationsName()));
+  auto* reason =
+    vtkStringArray::SafeDownCast(fd->GetAbstractArray(vtkTerroirWaterFlow::StopReasonName()));
+  iterationsRun = iterations && iterations->GetNumberOfTuples() > 0
+    ? static_cast<long long>(iterations->GetComponent(0, 0))
+    : -1;
+  stopReason = reason && reason->GetNumberOfValues() > 0 ? reason->GetValue(0) : std::string();
+}
+} // namespace
+
 void ViewerSession::RequestWaterFlow()
 {
   Internals& in = *this->Impl;
   vtkSmartPointer<vtkImageData> input = in.Snapshot();
   const ViewerParameters params = in.Params;
   auto job = std::make_unique<Internals::QueuedJob>();
-  job->Label = "Computing water flow";
+  job->Label = params.FlowRivers ? "Computing rivers" : "Computing water flow";
   Internals* self = &in;
   job->Work = [input, params, self](std::atomic<double>& progress)
   {
@@ -66,38 +157,15 @@ void ViewerSession::RequestWaterFlow()
     self->FramesPublished = 0;
     JobMonitor monitor;
     monitor.Progress = &progress;
-    const int month = std::max(1, std::min(12, params.Month));
-    vtkNew<vtkTerroirSoilHumidity> humidity;
-    humidity->SetInputData(input);
-    humidity->ComputeWeightedSoilHumidityOff();
-    if (!RunFilter(humidity, monitor, 0.0, 0.1))
+    vtkSmartPointer<vtkImageData> start = FlowStart(input, params, monitor);
+    if (!start)
     {
       result.Error = monitor.Error;
       return result;
     }
-    // The month's rain that the soil did not take, plus the lakes already there (m -> mm).
-    auto start = vtkSmartPointer<vtkImageData>::New();
-    start->ShallowCopy(humidity->GetOutput());
-    vtkDataArray* standing =
-      start->GetPointData()->GetArray(vtkTerroirSoilHumidity::StandingWaterName());
-    vtkDataArray* lakes = input->GetPointData()->GetArray(vtkTerroirWaterFlow::WaterHeightName());
-    vtkNew<vtkFloatArray> water;
-    water->DeepCopy(standing);
-    water->SetName(vtkTerroirSoilHumidity::StandingWaterName());
-    for (vtkIdType k = 0; k < water->GetNumberOfTuples(); ++k)
-    {
-      const double v = water->GetComponent(k, month - 1);
-      if (std::isfinite(v))
-      {
-        water->SetComponent(k, month - 1, v + 1000.0 * lakes->GetComponent(k, 0));
-      }
-    }
-    start->GetPointData()->AddArray(water);
     vtkNew<vtkTerroirWaterFlow> flow;
     flow->SetInputData(start);
-    flow->SetWaterSourceToStandingWaterMonth();
-    flow->SetMonth(month);
-    flow->SetMaximumIterations(std::max(1, params.FlowIterations));
+    ConfigureFlow(flow, params);
     // Frames for the window while the run goes on: the state every FlowFrameInterval
     // iterations, no-data cells dry.
     struct FrameSink
@@ -137,18 +205,7 @@ void ViewerSession::RequestWaterFlow()
       result.Error = monitor.Error;
       return result;
     }
-    result.Water = vtkSmartPointer<vtkFloatArray>::New();
-    result.Water->DeepCopy(
-      flow->GetOutput()->GetPointData()->GetArray(vtkTerroirWaterFlow::WaterHeightName()));
-    // No-data cells hold no water.
-    for (vtkIdType k = 0; k < result.Water->GetNumberOfValues(); ++k)
-    {
-      if (!std::isfinite(result.Water->GetValue(k)))
-      {
-        result.Water->SetValue(k, 0.0f);
-      }
-    }
-    result.Water->SetName(vtkTerroirWaterFlow::WaterHeightName());
+    TakeFlowResult(flow, result.Water, result.FlowIterations, result.FlowStopReason);
     return result;
   };
   in.Enqueue(std::move(job), in.PendingFlow);
@@ -191,6 +248,8 @@ bool ViewerSession::Pump()
     }
     if (result.IsWaterFlow)
     {
+      in.LastFlowIterations = result.FlowIterations;
+      in.LastFlowStopReason = result.FlowStopReason;
       if (result.Water && result.Water->GetNumberOfValues() == in.Water->GetNumberOfValues())
       {
         std::vector<float> before = Internals::CopyOf(in.Water);

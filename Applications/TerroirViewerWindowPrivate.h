@@ -155,6 +155,14 @@ private:
   bool ClusterKey(const std::string& symbol, bool shift);
   /// Describes K and the weights in Message (the one under edit marked).
   void DescribeClusters();
+  /// O, I, Y: the water-flow mode (pulse / rivers), its iterations doubled (Shift: halved),
+  /// its water (pulse, mm) or rain rate (rivers, mm/h) doubled (Shift: halved; from the
+  /// month's standing water: 10 mm, 1 mm/h); false for another key.
+  bool FlowKey(const std::string& symbol, bool shift);
+  /// Describes the water-flow settings (and the last run) in Message.
+  void DescribeFlow();
+  /// flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance.
+  void SetFlowParameter(const ViewerAction& a);
   /// The cluster table on screen with every month's columns as CSV; false with the error.
   bool ExportTable(const std::string& path, std::string& error);
 

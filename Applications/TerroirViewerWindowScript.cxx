@@ -67,7 +67,9 @@ void ViewerWindow::PrintState()
   std::printf("state overlay %s tool %s latitude %.6g month %d hour %.6g orientation %.6g "
               "lake-depth %.6g brush-size %.6g brush-rate %.6g slope-threshold %.6g undo %zu "
               "water-sum %.9g infiltration-sum %.9g table %s clusters %d weight-slope %.6g "
-              "weight-temperature %.6g weight-sun %.6g weight-humidity %.6g\n",
+              "weight-temperature %.6g weight-sun %.6g weight-humidity %.6g flow-mode %s "
+              "flow-iterations %d flow-water %.6g flow-rain-rate %.6g flow-stop %.6g "
+              "flow-balance %.6g flow-last-iterations %lld flow-last-stop %s\n",
     terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
     ToolName(this->CurrentTool),
     p.Latitude,
@@ -86,7 +88,16 @@ void ViewerWindow::PrintState()
     p.ClusterWeights[0],
     p.ClusterWeights[1],
     p.ClusterWeights[2],
-    p.ClusterWeights[3]);
+    p.ClusterWeights[3],
+    p.FlowRivers ? "rivers" : "pulse",
+    p.FlowIterations,
+    p.FlowWater,
+    p.FlowRainRate,
+    p.FlowStopRatio,
+    p.FlowBalance,
+    this->Session.GetLastFlowIterations(),
+    this->Session.GetLastFlowStopReason().empty() ? "none"
+                                                  : this->Session.GetLastFlowStopReason().c_str());
   std::fflush(stdout);
 }
 
@@ -119,6 +130,27 @@ void ViewerWindow::SetParameter(const ViewerAction& a)
                                  : p.SlopeThreshold) = n[0];
     this->ParametersChanged(false);
   }
+}
+
+void ViewerWindow::SetFlowParameter(const ViewerAction& a)
+{
+  auto& p = this->Session.Parameters();
+  if (a.Verb == "flow-mode")
+  {
+    p.FlowRivers = a.Text == "rivers";
+  }
+  else if (a.Verb == "flow-iterations")
+  {
+    p.FlowIterations = static_cast<int>(a.Numbers[0]);
+  }
+  else
+  {
+    (a.Verb == "flow-water"          ? p.FlowWater
+        : a.Verb == "flow-rain-rate" ? p.FlowRainRate
+        : a.Verb == "flow-stop"      ? p.FlowStopRatio
+                                     : p.FlowBalance) = a.Numbers[0];
+  }
+  this->DescribeFlow();
 }
 
 bool ViewerWindow::SendButton(const ViewerAction& a, const std::string& where, std::string& error)
@@ -201,6 +233,10 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
     auto& w = this->Session.Parameters().ClusterWeights;
     w[static_cast<std::size_t>(terroir::viewer::ClusterFeatureIndex(a.Text))] = n[0];
     this->ParametersChanged(true);
+  }
+  else if (a.Verb.compare(0, 5, "flow-") == 0)
+  {
+    this->SetFlowParameter(a);
   }
   else if (a.Verb == "table-csv")
   {

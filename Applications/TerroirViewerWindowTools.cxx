@@ -34,6 +34,18 @@ bool ToViewport(vtkRenderer* renderer, const int* windowSize, int x, int y, doub
   v = (y / static_cast<double>(windowSize[1]) - vp[1]) / (vp[3] - vp[1]);
   return u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0;
 }
+/// A one-letter key symbol in lower case, `shift` set when it came in capitals (X sends
+/// capitals with Shift; scripts send the lower case and the flag); other symbols unchanged.
+std::string LowerKey(const std::string& symbol, bool& shift)
+{
+  if (symbol.size() != 1)
+  {
+    return symbol;
+  }
+  const auto c = static_cast<unsigned char>(symbol[0]);
+  shift = shift || std::isupper(c);
+  return std::string(1, static_cast<char>(std::tolower(c)));
+}
 } // namespace
 
 void ViewerWindow::Undo()
@@ -269,7 +281,8 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
   {
     this->PressButton(7);
   }
-  else if (this->ClusterKey(sym, rwi->GetShiftKey() != 0))
+  else if (this->ClusterKey(sym, rwi->GetShiftKey() != 0) ||
+    this->FlowKey(sym, rwi->GetShiftKey() != 0))
   {
   }
   else if (sym == "e")
@@ -316,11 +329,7 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
 
 bool ViewerWindow::ClusterKey(const std::string& symbol, bool shift)
 {
-  // X key symbols come in capitals with Shift; scripts send the lower case and the flag.
-  const std::string sym = symbol.size() == 1
-    ? std::string(1, static_cast<char>(std::tolower(static_cast<unsigned char>(symbol[0]))))
-    : symbol;
-  shift = shift || (symbol.size() == 1 && std::isupper(static_cast<unsigned char>(symbol[0])));
+  const std::string sym = LowerKey(symbol, shift);
   auto& p = this->Session.Parameters();
   if (sym == "k")
   {
@@ -363,6 +372,61 @@ void ViewerWindow::DescribeClusters()
     text += line;
   }
   this->Message = text + " (K/Shift+K, J next, X/Shift+X)";
+}
+
+bool ViewerWindow::FlowKey(const std::string& symbol, bool shift)
+{
+  const std::string sym = LowerKey(symbol, shift);
+  auto& p = this->Session.Parameters();
+  if (sym == "o")
+  {
+    p.FlowRivers = !p.FlowRivers;
+  }
+  else if (sym == "i")
+  {
+    p.FlowIterations =
+      std::max(1, std::min(1000000, shift ? p.FlowIterations / 2 : p.FlowIterations * 2));
+  }
+  else if (sym == "y")
+  {
+    double& v = p.FlowRivers ? p.FlowRainRate : p.FlowWater;
+    const double first = p.FlowRivers ? 1.0 : 10.0;
+    v = !std::isfinite(v) ? first : shift ? v / 2.0 : v * 2.0;
+    v = std::max(p.FlowRivers ? 0.001 : 0.0, std::min(p.FlowRivers ? 1000.0 : 100000.0, v));
+  }
+  else
+  {
+    return false;
+  }
+  this->DescribeFlow();
+  this->UpdateTexts();
+  return true;
+}
+
+void ViewerWindow::DescribeFlow()
+{
+  const auto& p = this->Session.Parameters();
+  char line[240];
+  const double amount = p.FlowRivers ? p.FlowRainRate : p.FlowWater;
+  char what[64];
+  if (std::isfinite(amount))
+  {
+    std::snprintf(what, sizeof(what), p.FlowRivers ? "rain %.3g mm/h" : "water %.3g mm", amount);
+  }
+  else
+  {
+    std::snprintf(what, sizeof(what), "the month's standing water");
+  }
+  std::snprintf(line,
+    sizeof(line),
+    "Water flow: %s, %s, stop %s %.3g, at most %d iterations (O mode, Y/Shift+Y water, "
+    "I/Shift+I iterations, G run)",
+    p.FlowRivers ? "rivers" : "pulse",
+    what,
+    p.FlowRivers ? "at balance within" : "below",
+    p.FlowRivers ? p.FlowBalance : p.FlowStopRatio,
+    p.FlowIterations);
+  this->Message = line;
 }
 
 void ViewerWindow::OnWheel(vtkObject*, unsigned long event, void*)

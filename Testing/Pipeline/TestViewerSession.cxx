@@ -798,6 +798,87 @@ TEST(TerroirViewerSession, ClusterWeightsChooseTheFeatures)
     "the clusters need a feature with a weight above 0");
 }
 
+TEST(TerroirViewerSession, WaterFlowControlsSetTheWaterTheStopRuleAndTheIterations)
+{
+  // A closed box: a flat floor at 100 m inside a one-cell rim at 110 m. The border continues
+  // the rim's slope upwards, so no water leaves: 50 mm on each of the 20 x 10 cells is
+  // 0.05 x 200 = 10 m of depths summed at every iteration. The month's standing water is 0
+  // there once 15 mm/h is filled in everywhere, the rim too (it takes every month's rain), so
+  // the sum tells the two sources apart.
+  ViewerSession s;
+  std::string error;
+  ASSERT_TRUE(s.SetTerrain(
+    terroir_test::MakeTerrain(20,
+      10,
+      10.0,
+      10.0,
+      [](int i, int j) { return i == 0 || j == 0 || i == 19 || j == 9 ? 110.0 : 100.0; }),
+    error))
+    << error;
+  auto sum = [](vtkFloatArray* a)
+  {
+    double total = 0.0;
+    for (vtkIdType k = 0; k < a->GetNumberOfValues(); ++k)
+    {
+      total += a->GetValue(k);
+    }
+    return total;
+  };
+  auto& p = s.Parameters();
+  p.BrushRate = 15.0;
+  s.FillInfiltration();
+  p.Month = 7;
+  p.FlowIterations = 200;
+  s.RequestWaterFlow();
+  s.Wait();
+  EXPECT_EQ(s.TakeError(), "");
+  EXPECT_EQ(sum(s.GetWater()), 0.0);
+  p.FlowWater = 50.0;
+  s.RequestWaterFlow();
+  s.Wait();
+  EXPECT_EQ(s.TakeError(), "");
+  EXPECT_NEAR(sum(s.GetWater()), 10.0, 1e-4);
+  EXPECT_FALSE(s.GetLastFlowStopReason().empty());
+  EXPECT_LE(s.GetLastFlowIterations(), 200);
+
+  // The stop rule off and 7 iterations: the run ends after exactly 7, for that reason.
+  ViewerSession t;
+  Session(t);
+  t.Parameters().FlowWater = 50.0;
+  t.Parameters().FlowStopRatio = 0.0;
+  t.Parameters().FlowIterations = 7;
+  t.RequestWaterFlow();
+  t.Wait();
+  EXPECT_EQ(t.TakeError(), "");
+  EXPECT_EQ(t.GetLastFlowIterations(), 7);
+  EXPECT_EQ(t.GetLastFlowStopReason(), "MaximumIterations");
+}
+
+TEST(TerroirViewerSession, RiverFormingModeFillsTheBowlsToTheirSpillLevelAndBalancesTheRain)
+{
+  // The river-forming mode fills each depression to its spill level before the rain (found
+  // here independently by SpillLevel's search), then rains until the outflow balances it.
+  ViewerSession s;
+  Session(s);
+  auto& p = s.Parameters();
+  p.FlowRivers = true;
+  p.FlowRainRate = 5.0;
+  p.FlowIterations = 100000;
+  s.RequestWaterFlow();
+  s.Wait();
+  ASSERT_EQ(s.TakeError(), "");
+  EXPECT_EQ(s.GetLastFlowStopReason(), "Balanced");
+  vtkDataArray* z = s.GetTerrain()->GetPointData()->GetArray("Elevation");
+  const int bowls[2][2] = { { 12, 12 }, { 36, 20 } };
+  for (const auto& c : bowls)
+  {
+    const vtkIdType k = c[1] * 48 + c[0];
+    const double still = SpillLevel(s.GetTerrain(), c[0], c[1]) - z->GetComponent(k, 0);
+    EXPECT_GT(still, 1.0);
+    EXPECT_GE(s.GetWater()->GetValue(k), still - 1e-3) << "bowl at " << c[0] << ", " << c[1];
+  }
+}
+
 TEST(TerroirViewerSession, RefusesATerrainWithoutElevation)
 {
   ViewerSession s;

@@ -403,6 +403,30 @@ class TerroirViewer(unittest.TestCase):
             column = header.index("Humidity %s (mm)" % month)
             self.assertEqual([r[column] for r in rows], [0.0] * 6)
 
+    def test_water_flow_controls_reach_the_run(self):
+        """O, I/Shift+I, Y and the flow-* verbs set what `state` prints, and the run obeys
+        them: the stop rule off and 7 iterations stop a pulse after exactly 7
+        (MaximumIterations); the river-forming mode with 5 mm/h of rain stops at the balance."""
+        need_display(self)
+        proc, _, _ = run_view("flow_controls", [
+            "state", "key o", "key i", "key i", "key shift+i", "key y", "key y", "state",
+            "flow-mode pulse", "flow-water 50", "flow-stop 0", "flow-iterations 7", "flow",
+            "wait", "state",
+            "flow-mode rivers", "flow-rain-rate 5", "flow-iterations 100000", "flow", "wait",
+            "state", "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 4, proc.stdout)
+        self.assertEqual((s[0]["flow-mode"], s[0]["flow-iterations"], s[0]["flow-stop"],
+                          s[0]["flow-last-stop"]), ("pulse", 500, 0.001, "none"))
+        self.assertTrue(math.isnan(s[0]["flow-water"]) and math.isnan(s[0]["flow-rain-rate"]))
+        self.assertEqual((s[1]["flow-mode"], s[1]["flow-iterations"], s[1]["flow-rain-rate"]),
+                         ("rivers", 1000, 2))
+        self.assertEqual((s[2]["flow-last-iterations"], s[2]["flow-last-stop"], s[2]["undo"]),
+                         (7, "MaximumIterations", 1))
+        self.assertGreater(s[2]["water-sum"], 0.0)
+        self.assertEqual((s[3]["flow-last-stop"], s[3]["undo"]), ("Balanced", 2))
+
     def test_a_bad_script_line_is_refused_before_any_window(self):
         # No DISPLAY: the script is checked first, so the display is never needed.
         env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}

@@ -75,7 +75,8 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
     "s.txt:2: unknown action 'fly' (overlay, latitude, longitude, month, hour, orientation, "
     "clusters, lake-depth, brush-size, brush-rate, slope-threshold, sensitivity, style, tool, "
     "view, button, click, drag, wheel, key, flow, undo, wait, camera, state, screenshot, "
-    "cluster-weight, table-csv, quit)");
+    "cluster-weight, table-csv, flow-mode, flow-iterations, flow-water, flow-rain-rate, "
+    "flow-stop, flow-balance, quit)");
   EXPECT_EQ(ErrorOf("button paint"),
     "s.txt:1: 'button': unknown value 'paint' (navigate, lake, brush, fill, slope-rule, flow, "
     "undo, table)");
@@ -110,6 +111,13 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
     "s.txt:1: 'cluster-weight' takes a feature (slope, temperature, sun, humidity) and a "
     "weight, got 1 argument");
   EXPECT_EQ(ErrorOf("table-csv t.txt"), "s.txt:1: 'table-csv': 't.txt' does not end in .csv");
+  EXPECT_EQ(
+    ErrorOf("flow-mode flood"), "s.txt:1: 'flow-mode': unknown value 'flood' (pulse, rivers)");
+  EXPECT_EQ(
+    ErrorOf("flow-iterations 2.5"), "s.txt:1: 'flow-iterations': value 2.5 is not a whole number");
+  EXPECT_EQ(
+    ErrorOf("flow-rain-rate 0"), "s.txt:1: 'flow-rain-rate': value 0 is outside [0.001, 1000]");
+  EXPECT_EQ(ErrorOf("flow-stop 2"), "s.txt:1: 'flow-stop': value 2 is outside [0, 1]");
 }
 
 TEST(TerroirViewerScript, ParsesTheClusterVerbs)
