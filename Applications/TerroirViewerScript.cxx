@@ -75,6 +75,7 @@ const NumericVerb NumericVerbs[] = {
   { "flow-rain-rate", 0.001, 1000.0, false },
   { "flow-stop", 0.0, 1.0, false },
   { "flow-balance", 0.0001, 0.999, false },
+  { "sea", -12000.0, 10000.0, false },
 };
 
 /// A whole token as a finite number; false otherwise.
@@ -207,7 +208,7 @@ bool ParseChoice(ScriptLine& s)
   ViewerAction& a = s.A;
   const std::vector<std::string> allowed = a.Verb == "style"
     ? std::vector<std::string>{ "terrain", "first-person" }
-    : a.Verb == "tool"      ? std::vector<std::string>{ "navigate", "lake", "brush" }
+    : a.Verb == "tool"      ? std::vector<std::string>{ "navigate", "lake", "brush", "sea" }
     : a.Verb == "button"    ? ViewerButtonNames()
     : a.Verb == "flow-mode" ? std::vector<std::string>{ "pulse", "rivers" }
                             : std::vector<std::string>{ "relief", "map" };
@@ -425,7 +426,8 @@ bool ParseArguments(ScriptLine& s)
       "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
       "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
       "drag, wheel, key, flow, undo, wait, camera, state, screenshot, cluster-weight, table-csv, "
-      "flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance, quit)");
+      "flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance, sea, "
+      "quit)");
   }
   return true;
 }

@@ -206,6 +206,12 @@ public:
   /// previous state first. False with `error` (and no change) for a cell outside the terrain,
   /// without data, or not in a depression (water poured on a slope runs off).
   bool FloodFillAt(int i, int j, std::string& error);
+  /// The sea of Long (2016)'s Fig. 3.33: every cell connected (8-connectivity, through cells
+  /// at or below `level`) to an edge cell at or below `level` takes water up to `level`
+  /// (vtkTerroirFloodFill, Seeds mode, one seed per such edge cell); the new state is the
+  /// larger depth on each cell, one undo step. Returns the cells under water (depth > 0), or
+  /// -1 with `error` (and no change) when no edge cell lies that low.
+  long long FloodSea(double level, std::string& error);
   /// Restores the water or infiltration map as it was before the last change (ending a
   /// brush stroke first); false (and no change) when there is none.
   bool Undo();

@@ -9,6 +9,8 @@
 #include "vtkTerroirGeoreference.h"
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 namespace terroir
 {
@@ -96,14 +98,19 @@ bool ViewerSession::FloodFillAt(int i, int j, std::string& error)
     }
     depth = flood->GetOutput()->GetPointData()->GetArray(vtkTerroirFloodFill::WaterDepthName());
   }
-  if (!depth || depth->GetNumberOfTuples() != in.Water->GetNumberOfTuples())
+  return in.MergeWater(depth, error);
+}
+
+bool ViewerSession::Internals::MergeWater(vtkDataArray* depth, std::string& error)
+{
+  if (!depth || depth->GetNumberOfTuples() != this->Water->GetNumberOfTuples())
   {
     error = "the flood fill gave no WaterDepth";
     return false;
   }
-  std::vector<float> before = Internals::CopyOf(in.Water);
-  float* w = in.Water->GetPointer(0);
-  for (vtkIdType m = 0; m < in.Water->GetNumberOfValues(); ++m)
+  std::vector<float> before = Internals::CopyOf(this->Water);
+  float* w = this->Water->GetPointer(0);
+  for (vtkIdType m = 0; m < this->Water->GetNumberOfValues(); ++m)
   {
     const double d = depth->GetComponent(m, 0);
     if (std::isfinite(d) && d > w[m])
@@ -111,8 +118,72 @@ bool ViewerSession::FloodFillAt(int i, int j, std::string& error)
       w[m] = static_cast<float>(d);
     }
   }
-  in.Record(true, std::move(before));
+  this->Record(true, std::move(before));
   return true;
+}
+
+long long ViewerSession::FloodSea(double level, std::string& error)
+{
+  // Every border cell with data at or below the level seeds the fill: the sea is what those
+  // cells reach through cells at or below the level (8-connected), as water from beyond the
+  // edge of the map would.
+  Internals& in = *this->Impl;
+  if (!in.Terrain)
+  {
+    error = "no terrain";
+    return -1;
+  }
+  int dims[3];
+  in.Terrain->GetDimensions(dims);
+  vtkDataArray* z = in.Terrain->GetPointData()->GetArray(vtkTerroirGeoreference::ElevationName());
+  auto input = vtkSmartPointer<vtkImageData>::New();
+  input->ShallowCopy(in.Terrain);
+  vtkNew<vtkTerroirFloodFill> flood;
+  flood->SetInputData(input);
+  flood->SetModeToSeeds();
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < dims[1]; ++j)
+  {
+    const bool edgeRow = j == 0 || j == dims[1] - 1;
+    for (int i = 0; i < dims[0]; i += edgeRow ? 1 : dims[0] - 1)
+    {
+      const double h = z->GetComponent(static_cast<vtkIdType>(j) * dims[0] + i, 0);
+      if (std::isfinite(h) && h <= level)
+      {
+        flood->AddSeedCell(i, j, level);
+      }
+      lowest = std::isfinite(h) ? std::min(lowest, h) : lowest;
+    }
+  }
+  if (flood->GetNumberOfSeeds() == 0)
+  {
+    char line[160];
+    std::snprintf(line,
+      sizeof(line),
+      "no edge cell lies at or below %.2f m (the lowest is %.2f m): the sea stays off the map",
+      level,
+      lowest);
+    error = line;
+    return -1;
+  }
+  JobMonitor monitor;
+  if (!RunFilter(flood, monitor, 0.0, 1.0))
+  {
+    error = monitor.Error;
+    return -1;
+  }
+  vtkDataArray* depth =
+    flood->GetOutput()->GetPointData()->GetArray(vtkTerroirFloodFill::WaterDepthName());
+  if (!in.MergeWater(depth, error))
+  {
+    return -1;
+  }
+  long long cells = 0;
+  for (vtkIdType m = 0; m < depth->GetNumberOfTuples(); ++m)
+  {
+    cells += depth->GetComponent(m, 0) > 0.0 ? 1 : 0;
+  }
+  return cells;
 }
 
 bool ViewerSession::Undo()

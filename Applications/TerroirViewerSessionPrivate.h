@@ -90,6 +90,9 @@ struct ViewerSession::Internals
   long long FrameSerial = 0; ///< frames written (under FrameMutex)
   long long FrameTaken = 0;  ///< frames Pump has shown
   std::atomic<long long> FramesPublished{ 0 };
+  /// The larger of the water state and `depth` on each cell, one undo step; false with the
+  /// error when `depth` is missing or of another size.
+  bool MergeWater(vtkDataArray* depth, std::string& error);
   long long LastFlowIterations = -1; ///< the last finished water flow's (window thread)
   std::string LastFlowStopReason;
   vtkSmartPointer<vtkFloatArray> Preview; ///< the frame on display while a flow runs

@@ -46,7 +46,10 @@ void Forward(vtkObject* caller, unsigned long event, void* clientData, void* cal
 
 const char* ToolName(Tool t)
 {
-  return t == Tool::Lake ? "lake" : t == Tool::Brush ? "brush" : "navigate";
+  return t == Tool::Lake ? "lake"
+    : t == Tool::Brush   ? "brush"
+    : t == Tool::Sea     ? "sea"
+                         : "navigate";
 }
 
 void ButtonCell(int k, double cell[4])

@@ -49,7 +49,8 @@ enum class Tool
 {
   Navigate,
   Lake,
-  Brush
+  Brush,
+  Sea
 };
 
 /// The on-screen buttons, in ViewerButtonNames() order: their labels.
@@ -141,6 +142,8 @@ private:
   void Click(int x, int y);
   void PressButton(int k);
   void InfiltrationChanged();
+  /// The sea at `level` m (ViewerSession::FloodSea), its outcome in Message.
+  void FloodSea(double level);
   void ShowTable(bool show);
   bool Screenshot(const std::string& path, std::string& error);
   /// Runs `write` on a temporary name beside `path`, then renames it into place; false with

@@ -234,6 +234,10 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
     w[static_cast<std::size_t>(terroir::viewer::ClusterFeatureIndex(a.Text))] = n[0];
     this->ParametersChanged(true);
   }
+  else if (a.Verb == "sea")
+  {
+    this->FloodSea(n[0]);
+  }
   else if (a.Verb.compare(0, 5, "flow-") == 0)
   {
     this->SetFlowParameter(a);
@@ -271,6 +275,7 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
   {
     this->CurrentTool = a.Text == "lake" ? Tool::Lake
       : a.Text == "brush"                ? Tool::Brush
+      : a.Text == "sea"                  ? Tool::Sea
                                          : Tool::Navigate;
     this->UpdateTexts();
   }

@@ -9,6 +9,7 @@
 #include "vtkCommand.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
+#include "vtkPointData.h"
 #include "vtkPNGWriter.h"
 #include "vtkWindowToImageFilter.h"
 
@@ -86,7 +87,7 @@ bool ViewerWindow::PickCell(int x, int y, int& i, int& j)
 
 void ViewerWindow::Click(int x, int y)
 {
-  if (this->CurrentTool != Tool::Lake)
+  if (this->CurrentTool != Tool::Lake && this->CurrentTool != Tool::Sea)
   {
     return; // the brush paints on press and drag (OnMouse)
   }
@@ -98,10 +99,40 @@ void ViewerWindow::Click(int x, int y)
     return;
   }
   std::string error;
+  if (this->CurrentTool == Tool::Sea)
+  {
+    // The clicked cell's height is the sea level: the shore passes through the click.
+    int dims[3];
+    vtkImageData* terrain = this->Session.GetTerrain();
+    terrain->GetDimensions(dims);
+    this->FloodSea(terrain->GetPointData()
+                     ->GetArray("Elevation")
+                     ->GetComponent(static_cast<vtkIdType>(j) * dims[0] + i, 0));
+    return;
+  }
   if (this->Session.FloodFillAt(i, j, error))
   {
     this->Message =
       "Lake at cell (" + std::to_string(i) + ", " + std::to_string(j) + ") (Ctrl+Z undoes it)";
+    this->Recolour();
+  }
+  else
+  {
+    this->Message = error;
+  }
+  this->UpdateTexts();
+}
+
+void ViewerWindow::FloodSea(double level)
+{
+  std::string error;
+  const long long cells = this->Session.FloodSea(level, error);
+  if (cells >= 0)
+  {
+    char line[160];
+    std::snprintf(
+      line, sizeof(line), "Sea at %.2f m: %lld cells under water (Ctrl+Z undoes it)", level, cells);
+    this->Message = line;
     this->Recolour();
   }
   else
@@ -267,9 +298,12 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
                                       : "Terrain: drag pans, wheel zooms, Ctrl+drag rotates";
     this->UpdateTexts();
   }
-  else if (sym == "l" || sym == "b" || sym == "n")
+  else if (sym == "l" || sym == "b" || sym == "n" || sym == "c")
   {
-    this->CurrentTool = sym == "l" ? Tool::Lake : sym == "b" ? Tool::Brush : Tool::Navigate;
+    this->CurrentTool = sym == "l" ? Tool::Lake
+      : sym == "b"                 ? Tool::Brush
+      : sym == "c"                 ? Tool::Sea
+                                   : Tool::Navigate;
     this->Message = std::string("Tool: ") + ToolName(this->CurrentTool);
     this->UpdateTexts();
   }

@@ -879,6 +879,41 @@ TEST(TerroirViewerSession, RiverFormingModeFillsTheBowlsToTheirSpillLevelAndBala
   }
 }
 
+TEST(TerroirViewerSession, TheSeaFloodsFromTheEdgeUpToItsLevelAndIsUndone)
+{
+  // A coast rising 1 m per cell to the east (z = i), with a pit of 2 m at (15, 5) far inland.
+  // A sea at 5.5 m covers the six western columns with 5.5 - i m of water (60 cells, all
+  // connected to the western edge) and leaves the pit dry: it is below the level but walled
+  // off by higher ground. Undo gives the dry state back byte for byte.
+  ViewerSession s;
+  std::string error;
+  ASSERT_TRUE(s.SetTerrain(
+    terroir_test::MakeTerrain(
+      20, 10, 10.0, 10.0, [](int i, int j) { return i == 15 && j == 5 ? 2.0 : double(i); }),
+    error))
+    << error;
+  const std::vector<float> dry = Copy(s.GetWater());
+  EXPECT_EQ(s.FloodSea(5.5, error), 60) << error;
+  for (int j = 0; j < 10; ++j)
+  {
+    for (int i = 0; i < 20; ++i)
+    {
+      EXPECT_FLOAT_EQ(s.GetWater()->GetValue(j * 20 + i), i <= 5 ? 5.5f - i : 0.0f)
+        << "cell " << i << ", " << j;
+    }
+  }
+  EXPECT_EQ(s.GetUndoDepth(), 1u);
+  ASSERT_TRUE(s.Undo());
+  EXPECT_TRUE(SameBytes(s.GetWater(), dry));
+
+  // Below every edge cell: nothing changes, and the message says why.
+  EXPECT_EQ(s.FloodSea(-1.0, error), -1);
+  EXPECT_EQ(error,
+    "no edge cell lies at or below -1.00 m (the lowest is 0.00 m): the sea stays off the map");
+  EXPECT_EQ(s.GetUndoDepth(), 0u);
+  EXPECT_TRUE(SameBytes(s.GetWater(), dry));
+}
+
 TEST(TerroirViewerSession, RefusesATerrainWithoutElevation)
 {
   ViewerSession s;

@@ -427,6 +427,43 @@ class TerroirViewer(unittest.TestCase):
         self.assertGreater(s[2]["water-sum"], 0.0)
         self.assertEqual((s[3]["flow-last-stop"], s[3]["undo"]), ("Balanced", 2))
 
+    def test_the_sea_floods_from_the_edge_and_is_undone(self):
+        """`sea 2003` on BowlDEM covers what a breadth-first search from the edge cells at or
+        below 2003 m reaches through such cells (8 neighbours), each with 2003 - z m: the
+        water sum matches. Key C picks the sea tool; a click in the bowl (about 1966 m, below
+        every edge cell) makes no sea; Ctrl+Z takes the first sea back."""
+        need_display(self)
+        proc, _, _ = run_view("sea", [
+            "sea 2003", "state", "key c", "click %d %d" % BOWL, "state", "key ctrl+z", "state",
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 3, proc.stdout)
+        nx, ny, level = 121, 101, 2003.0
+        i = np.arange(nx)[None, :]
+        j = np.arange(ny)[:, None]
+        z = (2000.0 + 0.1 * i - 40.0 * np.exp(-((i - 60.0) ** 2 + (j - 50.0) ** 2)
+                                              / (2 * 20.0 ** 2))).astype(np.float32)
+        wet = np.zeros(z.shape, dtype=bool)
+        queue = [(a, b) for a in range(ny) for b in range(nx)
+                 if (a in (0, ny - 1) or b in (0, nx - 1)) and z[a, b] <= level]
+        for a, b in queue:
+            wet[a, b] = True
+        while queue:
+            a, b = queue.pop()
+            for da in (-1, 0, 1):
+                for db in (-1, 0, 1):
+                    p, q = a + da, b + db
+                    if 0 <= p < ny and 0 <= q < nx and not wet[p, q] and z[p, q] <= level:
+                        wet[p, q] = True
+                        queue.append((p, q))
+        expected = float(np.sum((level - z.astype(np.float64))[wet]))
+        self.assertGreater(expected, 1000.0)
+        self.assertAlmostEqual(s[0]["water-sum"] / expected, 1.0, places=5)
+        self.assertEqual((s[0]["undo"], s[1]["tool"], s[1]["undo"]), (1, "sea", 1))
+        self.assertEqual(s[1]["water-sum"], s[0]["water-sum"])
+        self.assertEqual((s[2]["undo"], s[2]["water-sum"]), (0, 0.0))
+
     def test_a_bad_script_line_is_refused_before_any_window(self):
         # No DISPLAY: the script is checked first, so the display is never needed.
         env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}

@@ -76,7 +76,7 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
     "clusters, lake-depth, brush-size, brush-rate, slope-threshold, sensitivity, style, tool, "
     "view, button, click, drag, wheel, key, flow, undo, wait, camera, state, screenshot, "
     "cluster-weight, table-csv, flow-mode, flow-iterations, flow-water, flow-rain-rate, "
-    "flow-stop, flow-balance, quit)");
+    "flow-stop, flow-balance, sea, quit)");
   EXPECT_EQ(ErrorOf("button paint"),
     "s.txt:1: 'button': unknown value 'paint' (navigate, lake, brush, fill, slope-rule, flow, "
     "undo, table)");
@@ -102,7 +102,7 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
   EXPECT_EQ(ErrorOf("screenshot a.jpg"), "s.txt:1: 'screenshot': 'a.jpg' does not end in .png");
   EXPECT_EQ(ErrorOf("quit now"), "s.txt:1: 'quit' takes no argument, got 1 argument");
   EXPECT_EQ(
-    ErrorOf("tool pencil"), "s.txt:1: 'tool': unknown value 'pencil' (navigate, lake, brush)");
+    ErrorOf("tool pencil"), "s.txt:1: 'tool': unknown value 'pencil' (navigate, lake, brush, sea)");
   EXPECT_EQ(ErrorOf("cluster-weight rain 1"),
     "s.txt:1: 'cluster-weight': unknown feature 'rain' (slope, temperature, sun, humidity)");
   EXPECT_EQ(ErrorOf("cluster-weight slope -1"),
