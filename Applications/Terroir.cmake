@@ -68,7 +68,7 @@ target_link_libraries(TerroirViewerSession PUBLIC TerroirCommandLine VTK::Common
   VTK::CommonDataModel VTK::CommonExecutionModel Terroir::Common Terroir::FiltersBase
   Terroir::FiltersTerrain
   Terroir::FiltersHydrology Terroir::FiltersClustering
-  PRIVATE TerroirTerrainCore Threads::Threads)
+  PRIVATE Terroir::IO TerroirTerrainCore Threads::Threads)
 set_target_properties(TerroirCommandLine PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 add_library(terroir-viewer MODULE TerroirViewerWindow.cxx TerroirViewerWindowCamera.cxx

@@ -76,6 +76,9 @@ const NumericVerb NumericVerbs[] = {
   { "flow-stop", 0.0, 1.0, false },
   { "flow-balance", 0.0001, 0.999, false },
   { "sea", -12000.0, 10000.0, false },
+  { "coldest", -90.0, 60.0, false },
+  { "warmest", -90.0, 60.0, false },
+  { "lapse-rate", 0.0, 20.0, false },
 };
 
 /// A whole token as a finite number; false otherwise.
@@ -339,6 +342,26 @@ bool ParseClusterWeight(ScriptLine& s)
   return s.Numbers(2, 1, 0.0, 1000.0, false, "weight");
 }
 
+/// precipitation MONTH MM, intensity MONTH MM/H.
+bool ParseMonthly(ScriptLine& s)
+{
+  const bool quantity = s.A.Verb == "precipitation";
+  return s.WantArgs(2, 2, quantity ? "a month 1..12 and millimetres" : "a month 1..12 and mm/h") &&
+    s.Numbers(1, 1, 1.0, 12.0, true, "month") &&
+    s.Numbers(2, 1, 0.0, quantity ? 10000.0 : 500.0, false, "value");
+}
+
+/// climate-load FILE, climate-save FILE.
+bool ParseFileVerb(ScriptLine& s)
+{
+  if (!s.WantArgs(1, 1, "one file name"))
+  {
+    return false;
+  }
+  s.A.Text = s.W[1];
+  return true;
+}
+
 /// table-csv FILE.csv.
 bool ParseTableCsv(ScriptLine& s)
 {
@@ -412,6 +435,14 @@ bool ParseArguments(ScriptLine& s)
   {
     return ParseTableCsv(s);
   }
+  else if (a.Verb == "precipitation" || a.Verb == "intensity")
+  {
+    return ParseMonthly(s);
+  }
+  else if (a.Verb == "climate-load" || a.Verb == "climate-save")
+  {
+    return ParseFileVerb(s);
+  }
   else if (a.Verb == "wait" || a.Verb == "quit" || a.Verb == "flow" || a.Verb == "undo" ||
     a.Verb == "camera" || a.Verb == "state")
   {
@@ -427,7 +458,7 @@ bool ParseArguments(ScriptLine& s)
       "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
       "drag, wheel, key, flow, undo, wait, camera, state, screenshot, cluster-weight, table-csv, "
       "flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance, sea, "
-      "quit)");
+      "coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save, quit)");
   }
   return true;
 }

@@ -8,10 +8,15 @@
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 
+#include "vtkTerroirClimateReader.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirWaterFlow.h"
 
+#include "TemperatureLapseRate.h"
+
 #include <cmath>
+#include <fstream>
+#include <iomanip>
 
 namespace terroir
 {
@@ -67,6 +72,72 @@ bool RunFilter(vtkAlgorithm* filter, JobMonitor& monitor, double start, double s
 ViewerSession::ViewerSession()
   : Impl(new Internals)
 {
+  // The filters' default climate.
+  ViewerParameters& p = this->Impl->Params;
+  vtkNew<vtkTerroirSoilHumidity> humidity;
+  std::copy_n(humidity->GetPrecipitation(), 12, p.Precipitation.begin());
+  std::copy_n(humidity->GetPrecipitationIntensity(), 12, p.PrecipitationIntensity.begin());
+  vtkNew<vtkTerroirTemperature> temperature;
+  p.Coldest = temperature->GetSeaLevelTemperatureColdest();
+  p.Warmest = temperature->GetSeaLevelTemperatureWarmest();
+  p.LapseRate = temperature->GetLapseRate();
+  std::copy_n(temperature->GetMonthlySeaLevelTemperatures(), 12, p.MonthlyTemperatures.begin());
+}
+
+bool ViewerSession::LoadClimate(const std::string& path, std::string& error)
+{
+  vtkNew<vtkTerroirClimateReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->GlobalWarningDisplayOff(); // the message goes to the window, once
+  if (!reader->Read())
+  {
+    error = reader->GetErrorMessage();
+    return false;
+  }
+  ViewerParameters& p = this->Impl->Params;
+  if (reader->HasPrecipitation())
+  {
+    std::copy_n(reader->GetPrecipitation(), 12, p.Precipitation.begin());
+  }
+  if (reader->HasPrecipitationIntensity())
+  {
+    std::copy_n(reader->GetPrecipitationIntensity(), 12, p.PrecipitationIntensity.begin());
+  }
+  if (reader->HasTemperature())
+  {
+    std::copy_n(reader->GetTemperature(), 12, p.MonthlyTemperatures.begin());
+    p.UseMonthlyTemperatures = true;
+  }
+  return true;
+}
+
+bool ViewerSession::SaveClimate(const std::string& path, std::string& error) const
+{
+  const ViewerParameters& p = this->Impl->Params;
+  double temperature[12];
+  std::copy(p.MonthlyTemperatures.begin(), p.MonthlyTemperatures.end(), temperature);
+  const bool north = p.Latitude >= 0.0;
+  if (!p.UseMonthlyTemperatures)
+  {
+    terroir::terrain::SeaLevelTemperaturesFromExtremes(
+      p.Coldest, p.Warmest, north ? 1 : 7, north ? 7 : 1, temperature);
+  }
+  std::ofstream out(path, std::ios::binary);
+  out << "# terroir view climate (lapse rate " << p.LapseRate << " C/km)\n"
+      << "month,precipitation_mm,intensity_mm_per_h,temperature_c\n"
+      << std::setprecision(9);
+  for (int m = 0; m < 12; ++m)
+  {
+    out << vtkTerroirTemperature::GetMonthName(m) << "," << p.Precipitation[m] << ","
+        << p.PrecipitationIntensity[m] << "," << temperature[m] << "\n";
+  }
+  out.close();
+  if (!out)
+  {
+    error = path + ": cannot be written";
+    return false;
+  }
+  return true;
 }
 
 ViewerSession::~ViewerSession()

@@ -94,7 +94,19 @@ struct ViewerParameters
   double FlowRainRate = std::numeric_limits<double>::quiet_NaN();
   double FlowStopRatio = 0.001; ///< pulse: Long (2016)'s stop rule (AutoStopRatio), 0 off
   double FlowBalance = 0.02;    ///< rivers: stop when the outflow is 1 - this of the rain
-  int FlowFrameInterval = 10;   ///< iterations between the frames of a running water flow
+  /// The climate (Long 2016, eq. 3.4 and 3.5), January first: monthly precipitation R_q (mm)
+  /// and intensity R_i (mm/h); the sea-level temperatures of the coldest and warmest months
+  /// (°C), or the 12 of MonthlyTemperatures when UseMonthlyTemperatures (a climate file's
+  /// `temperature_c`); the lapse rate (°C per km). ViewerSession's constructor sets the
+  /// defaults of vtkTerroirSoilHumidity and vtkTerroirTemperature.
+  std::array<double, 12> Precipitation{};
+  std::array<double, 12> PrecipitationIntensity{};
+  double Coldest = 0.0;
+  double Warmest = 0.0;
+  double LapseRate = 0.0;
+  bool UseMonthlyTemperatures = false;
+  std::array<double, 12> MonthlyTemperatures{};
+  int FlowFrameInterval = 10; ///< iterations between the frames of a running water flow
 };
 
 /// One row of the cluster table: a cluster's colour, size and mean resources.
@@ -156,6 +168,16 @@ public:
   vtkImageData* GetTerrain() const;
   /// True when the terrain came with a georeference (CRS or centre latitude/longitude).
   bool IsGeoreferenced() const;
+
+  ///@{
+  /// The climate file (CSV or JSON, vtkTerroirClimateReader): LoadClimate takes the series the
+  /// file has (its `temperature_c` as the 12 sea-level temperatures); false with the reader's
+  /// one-line "FILE: problem" and no change. SaveClimate writes a CSV the reader takes back:
+  /// every month's precipitation, intensity and sea-level temperature (from the coldest and
+  /// warmest months when no monthly ones are in use); false with "FILE: problem".
+  bool LoadClimate(const std::string& path, std::string& error);
+  bool SaveClimate(const std::string& path, std::string& error) const;
+  ///@}
 
   ViewerParameters& Parameters();
   const ViewerParameters& Parameters() const;

@@ -29,11 +29,6 @@ namespace viewer
 {
 namespace
 {
-/// Hemisphere of the temperature model from a latitude.
-int HemisphereOf(double latitude)
-{
-  return latitude < 0.0 ? vtkTerroirTemperature::South : vtkTerroirTemperature::North;
-}
 
 /// Sets the place and time of a solar filter from the parameters (clock = local mean time).
 void ConfigureSun(vtkTerroirSolarIllumination* sun, const ViewerParameters& p)
@@ -49,6 +44,23 @@ void ConfigureSun(vtkTerroirSolarIllumination* sun, const ViewerParameters& p)
   sun->SetUTCOffset(std::max(-14.0, std::min(14.0, p.Longitude / 15.0)));
 }
 } // namespace
+
+void ConfigureClimate(vtkTerroirTemperature* temperature, const ViewerParameters& p)
+{
+  temperature->SetHemisphere(
+    p.Latitude < 0.0 ? vtkTerroirTemperature::South : vtkTerroirTemperature::North);
+  temperature->SetSeaLevelTemperatureColdest(p.Coldest);
+  temperature->SetSeaLevelTemperatureWarmest(p.Warmest);
+  temperature->SetLapseRate(p.LapseRate);
+  temperature->SetUseMonthlyTemperatures(p.UseMonthlyTemperatures);
+  temperature->SetMonthlySeaLevelTemperatures(p.MonthlyTemperatures.data());
+}
+
+void ConfigureClimate(vtkTerroirSoilHumidity* humidity, const ViewerParameters& p)
+{
+  humidity->SetPrecipitation(p.Precipitation.data());
+  humidity->SetPrecipitationIntensity(p.PrecipitationIntensity.data());
+}
 
 vtkDataArray* OverlayResult::GetValues() const
 {
@@ -128,7 +140,7 @@ void ComputeTemperature(vtkImageData* input,
 {
   vtkNew<vtkTerroirTemperature> temperature;
   temperature->SetInputData(input);
-  temperature->SetHemisphere(HemisphereOf(p.Latitude));
+  ConfigureClimate(temperature, p);
   if (RunFilter(temperature, monitor, 0.0, 1.0))
   {
     r.Output = temperature->GetOutput();
@@ -147,6 +159,7 @@ void ComputeHumidity(vtkImageData* input,
   humidity->SetInputData(input);
   humidity->ComputeWeightedSoilHumidityOff();
   humidity->ComputeStandingWaterOff();
+  ConfigureClimate(humidity, p);
   if (RunFilter(humidity, monitor, 0.0, 1.0))
   {
     r.Output = humidity->GetOutput();
@@ -167,7 +180,7 @@ void ComputeClusters(vtkImageData* input,
   slope->SetInputData(input);
   vtkNew<vtkTerroirTemperature> temperature;
   temperature->SetInputConnection(slope->GetOutputPort());
-  temperature->SetHemisphere(HemisphereOf(p.Latitude));
+  ConfigureClimate(temperature, p);
   vtkNew<vtkTerroirSolarIllumination> sun;
   sun->SetInputConnection(temperature->GetOutputPort());
   ConfigureSun(sun, p);
@@ -176,6 +189,7 @@ void ComputeClusters(vtkImageData* input,
   humidity->SetInputConnection(sun->GetOutputPort());
   humidity->ComputeWeightedSoilHumidityOn();
   humidity->ComputeStandingWaterOff();
+  ConfigureClimate(humidity, p);
   vtkNew<vtkTerroirKMeans> kmeans;
   kmeans->SetInputConnection(humidity->GetOutputPort());
   kmeans->SetNumberOfClusters(std::max(1, std::min(64, p.Clusters)));

@@ -17,6 +17,8 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 #include "vtkTerroirInfiltration.h"
+#include "vtkTerroirSoilHumidity.h"
+#include "vtkTerroirTemperature.h"
 
 #include <algorithm>
 #include <atomic>
@@ -49,6 +51,10 @@ struct JobMonitor
 /// its first error (observed, so that it is not printed from the worker thread). Returns false
 /// on failure, with `monitor.Error` set.
 bool RunFilter(vtkAlgorithm* filter, JobMonitor& monitor, double start, double share);
+
+/// The parameters' climate and hemisphere on the filters that take it.
+void ConfigureClimate(vtkTerroirTemperature* temperature, const ViewerParameters& p);
+void ConfigureClimate(vtkTerroirSoilHumidity* humidity, const ViewerParameters& p);
 
 /// The overlay's filters on `input` (a snapshot: terrain, WaterHeight, InfiltrationRate),
 /// with the job's progress (TerroirViewerSessionOverlays.cxx).

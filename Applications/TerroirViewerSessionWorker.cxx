@@ -67,6 +67,7 @@ vtkSmartPointer<vtkImageData> FlowStart(vtkImageData* input,
   vtkNew<vtkTerroirSoilHumidity> humidity;
   humidity->SetInputData(input);
   humidity->ComputeWeightedSoilHumidityOff();
+  ConfigureClimate(humidity, params);
   if (!RunFilter(humidity, monitor, 0.0, 0.1))
   {
     return nullptr;

@@ -166,6 +166,9 @@ private:
   void DescribeFlow();
   /// flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance.
   void SetFlowParameter(const ViewerAction& a);
+  /// coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save: sets
+  /// the climate and recomputes the overlay; false with the error of a file verb.
+  bool SetClimate(const ViewerAction& a, std::string& error);
   /// The cluster table on screen with every month's columns as CSV; false with the error.
   bool ExportTable(const std::string& path, std::string& error);
 

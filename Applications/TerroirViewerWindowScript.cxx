@@ -69,7 +69,9 @@ void ViewerWindow::PrintState()
               "water-sum %.9g infiltration-sum %.9g table %s clusters %d weight-slope %.6g "
               "weight-temperature %.6g weight-sun %.6g weight-humidity %.6g flow-mode %s "
               "flow-iterations %d flow-water %.6g flow-rain-rate %.6g flow-stop %.6g "
-              "flow-balance %.6g flow-last-iterations %lld flow-last-stop %s\n",
+              "flow-balance %.6g flow-last-iterations %lld flow-last-stop %s coldest %.6g "
+              "warmest %.6g lapse-rate %.6g temperatures %s precipitation-jul %.6g "
+              "intensity-jul %.6g\n",
     terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
     ToolName(this->CurrentTool),
     p.Latitude,
@@ -97,7 +99,13 @@ void ViewerWindow::PrintState()
     p.FlowBalance,
     this->Session.GetLastFlowIterations(),
     this->Session.GetLastFlowStopReason().empty() ? "none"
-                                                  : this->Session.GetLastFlowStopReason().c_str());
+                                                  : this->Session.GetLastFlowStopReason().c_str(),
+    p.Coldest,
+    p.Warmest,
+    p.LapseRate,
+    p.UseMonthlyTemperatures ? "monthly" : "extremes",
+    p.Precipitation[6],
+    p.PrecipitationIntensity[6]);
   std::fflush(stdout);
 }
 
@@ -151,6 +159,46 @@ void ViewerWindow::SetFlowParameter(const ViewerAction& a)
                                      : p.FlowBalance) = a.Numbers[0];
   }
   this->DescribeFlow();
+}
+
+bool ViewerWindow::SetClimate(const ViewerAction& a, std::string& error)
+{
+  auto& p = this->Session.Parameters();
+  const auto& n = a.Numbers;
+  if (a.Verb == "climate-save")
+  {
+    if (!this->Session.SaveClimate(a.Text, error))
+    {
+      return false;
+    }
+    this->Message = "Saved the climate to " + a.Text;
+    return true;
+  }
+  if (a.Verb == "climate-load")
+  {
+    if (!this->Session.LoadClimate(a.Text, error))
+    {
+      return false;
+    }
+    this->Message = "Climate from " + a.Text;
+  }
+  else if (a.Verb == "precipitation" || a.Verb == "intensity")
+  {
+    (a.Verb == "precipitation" ? p.Precipitation
+                               : p.PrecipitationIntensity)[static_cast<std::size_t>(n[0]) - 1] =
+      n[1];
+  }
+  else if (a.Verb == "lapse-rate")
+  {
+    p.LapseRate = n[0];
+  }
+  else
+  {
+    (a.Verb == "coldest" ? p.Coldest : p.Warmest) = n[0];
+    p.UseMonthlyTemperatures = false; // the extremes make the year again
+  }
+  this->ParametersChanged(true);
+  return true;
 }
 
 bool ViewerWindow::SendButton(const ViewerAction& a, const std::string& where, std::string& error)
@@ -233,6 +281,16 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
     auto& w = this->Session.Parameters().ClusterWeights;
     w[static_cast<std::size_t>(terroir::viewer::ClusterFeatureIndex(a.Text))] = n[0];
     this->ParametersChanged(true);
+  }
+  else if (a.Verb == "coldest" || a.Verb == "warmest" || a.Verb == "lapse-rate" ||
+    a.Verb == "precipitation" || a.Verb == "intensity" || a.Verb == "climate-load" ||
+    a.Verb == "climate-save")
+  {
+    if (!this->SetClimate(a, error))
+    {
+      error = where + ": " + error;
+      return false;
+    }
   }
   else if (a.Verb == "sea")
   {

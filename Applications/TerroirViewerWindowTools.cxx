@@ -9,8 +9,8 @@
 #include "vtkCommand.h"
 #include "vtkImageData.h"
 #include "vtkMath.h"
-#include "vtkPointData.h"
 #include "vtkPNGWriter.h"
+#include "vtkPointData.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <algorithm>

@@ -914,6 +914,62 @@ TEST(TerroirViewerSession, TheSeaFloodsFromTheEdgeUpToItsLevelAndIsUndone)
   EXPECT_TRUE(SameBytes(s.GetWater(), dry));
 }
 
+TEST(TerroirViewerSession, TheClimateReachesTheOverlaysAndSurvivesItsFile)
+{
+  // A flat terrain at 1000 m soaking 15 mm/h. July: 100 mm falling at 4 mm/h, all absorbed
+  // (15 >= 4), so July's soil humidity is 100 mm. Temperatures from a coldest January at
+  // -5 °C and a warmest July at 25 °C, 5 °C/km: at 1000 m January -10, July 20, and April
+  // (3 of the 6 months of warming) -5 + 30 x 3/6 - 5 = 5 °C.
+  ViewerSession s;
+  std::string error;
+  ASSERT_TRUE(s.SetTerrain(
+    terroir_test::MakeTerrain(8, 6, 10.0, 10.0, [](int, int) { return 1000.0; }), error))
+    << error;
+  auto& p = s.Parameters();
+  p.Precipitation[6] = 100.0;
+  p.PrecipitationIntensity[6] = 4.0;
+  p.Coldest = -5.0;
+  p.Warmest = 25.0;
+  p.LapseRate = 5.0;
+  p.Month = 7;
+  const OverlayResult humidity = s.ComputeOverlay(ViewerOverlay::Humidity, p);
+  ASSERT_EQ(humidity.Error, "");
+  EXPECT_NEAR(humidity.GetValues()->GetComponent(20, 6), 100.0, 1e-4);
+  const OverlayResult temperature = s.ComputeOverlay(ViewerOverlay::Temperature, p);
+  ASSERT_EQ(temperature.Error, "");
+  vtkDataArray* t = temperature.GetValues();
+  EXPECT_NEAR(t->GetComponent(20, 0), -10.0, 1e-4);
+  EXPECT_NEAR(t->GetComponent(20, 3), 5.0, 1e-4);
+  EXPECT_NEAR(t->GetComponent(20, 6), 20.0, 1e-4);
+
+  // Saved and loaded into another session: the same monthly values, now as 12 sea-level
+  // temperatures (January -5, April 10, July 25), so the same overlays.
+  const std::string path = testing::TempDir() + "viewer_climate.csv";
+  ASSERT_TRUE(s.SaveClimate(path, error)) << error;
+  ViewerSession u;
+  ASSERT_TRUE(u.SetTerrain(s.GetTerrain(), error)) << error;
+  ASSERT_TRUE(u.LoadClimate(path, error)) << error;
+  const auto& q = u.Parameters();
+  EXPECT_TRUE(q.UseMonthlyTemperatures);
+  EXPECT_DOUBLE_EQ(q.MonthlyTemperatures[0], -5.0);
+  EXPECT_DOUBLE_EQ(q.MonthlyTemperatures[3], 10.0);
+  EXPECT_DOUBLE_EQ(q.MonthlyTemperatures[6], 25.0);
+  EXPECT_DOUBLE_EQ(q.Precipitation[6], 100.0);
+  EXPECT_DOUBLE_EQ(q.PrecipitationIntensity[6], 4.0);
+  u.Parameters().LapseRate = 5.0; // not part of the file
+  const OverlayResult again = u.ComputeOverlay(ViewerOverlay::Temperature, u.Parameters());
+  ASSERT_EQ(again.Error, "");
+  EXPECT_NEAR(again.GetValues()->GetComponent(20, 3), 5.0, 1e-4);
+
+  // A file that is not a climate table: one line naming it, nothing changed.
+  const std::string bad = testing::TempDir() + "viewer_bad_climate.csv";
+  std::ofstream(bad) << "month,rain\nJan,3\n";
+  EXPECT_FALSE(u.LoadClimate(bad, error));
+  EXPECT_EQ(error.rfind(bad + ":", 0), 0u) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos);
+  EXPECT_DOUBLE_EQ(u.Parameters().Precipitation[6], 100.0);
+}
+
 TEST(TerroirViewerSession, RefusesATerrainWithoutElevation)
 {
   ViewerSession s;

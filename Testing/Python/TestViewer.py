@@ -464,6 +464,48 @@ class TerroirViewer(unittest.TestCase):
         self.assertEqual(s[1]["water-sum"], s[0]["water-sum"])
         self.assertEqual((s[2]["undo"], s[2]["water-sum"]), (0, 0.0))
 
+    def test_climate_verbs_set_save_and_load_the_climate(self):
+        """precipitation, intensity, coldest, warmest and lapse-rate set what `state` prints
+        and what climate-save writes (July 100 mm at 4 mm/h; temperatures from -5 in January
+        to 25 in July: April -5 + 30 x 3/6 = 10); climate-load takes a file's 12 sea-level
+        temperatures; a file without a known column stops the script with one line naming it."""
+        need_display(self)
+        folder = os.path.join(TEMP, "viewer_climate_in")
+        os.makedirs(folder, exist_ok=True)
+        given = os.path.join(folder, "given.csv")
+        with open(given, "w") as f:
+            f.write("month,temperature_c\n" + "".join("%d,%d\n" % (m, 10 + m) for m in
+                                                       range(1, 13)))
+        proc, out, _ = run_view("climate", [
+            "precipitation 7 100", "intensity 7 4", "coldest -5", "warmest 25", "lapse-rate 5",
+            "overlay temperature", "wait", "state", "climate-save saved.csv",
+            "climate-load " + given, "state", "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 2, proc.stdout)
+        self.assertEqual((s[0]["coldest"], s[0]["warmest"], s[0]["lapse-rate"],
+                          s[0]["temperatures"], s[0]["precipitation-jul"],
+                          s[0]["intensity-jul"]), (-5, 25, 5, "extremes", 100, 4))
+        self.assertEqual((s[1]["temperatures"], s[1]["precipitation-jul"]), ("monthly", 100))
+        with open(os.path.join(out, "saved.csv")) as f:
+            rows = [line.split(",") for line in f.read().splitlines()
+                    if line and not line.startswith("#")]
+        self.assertEqual(rows[0], ["month", "precipitation_mm", "intensity_mm_per_h",
+                                   "temperature_c"])
+        self.assertEqual(len(rows), 13)
+        self.assertEqual([float(v) for v in rows[7][1:]], [100.0, 4.0, 25.0])
+        self.assertEqual(float(rows[1][3]), -5.0)
+        self.assertEqual(float(rows[4][3]), 10.0)
+        bad = os.path.join(folder, "bad.csv")
+        with open(bad, "w") as f:
+            f.write("month,rain\nJan,3\n")
+        proc, _, script = run_view("climate_bad", ["climate-load " + bad, "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 1)
+        errors = [line for line in proc.stderr.splitlines() if "error" in line]
+        self.assertEqual(len(errors), 1, proc.stderr)
+        self.assertTrue(errors[0].startswith("terroir: error: %s:1: %s: " % (script, bad)),
+                        errors[0])
+
     def test_a_bad_script_line_is_refused_before_any_window(self):
         # No DISPLAY: the script is checked first, so the display is never needed.
         env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}

@@ -76,7 +76,8 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
     "clusters, lake-depth, brush-size, brush-rate, slope-threshold, sensitivity, style, tool, "
     "view, button, click, drag, wheel, key, flow, undo, wait, camera, state, screenshot, "
     "cluster-weight, table-csv, flow-mode, flow-iterations, flow-water, flow-rain-rate, "
-    "flow-stop, flow-balance, sea, quit)");
+    "flow-stop, flow-balance, sea, coldest, warmest, lapse-rate, precipitation, intensity, "
+    "climate-load, climate-save, quit)");
   EXPECT_EQ(ErrorOf("button paint"),
     "s.txt:1: 'button': unknown value 'paint' (navigate, lake, brush, fill, slope-rule, flow, "
     "undo, table)");
@@ -118,6 +119,14 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
   EXPECT_EQ(
     ErrorOf("flow-rain-rate 0"), "s.txt:1: 'flow-rain-rate': value 0 is outside [0.001, 1000]");
   EXPECT_EQ(ErrorOf("flow-stop 2"), "s.txt:1: 'flow-stop': value 2 is outside [0, 1]");
+  EXPECT_EQ(
+    ErrorOf("precipitation 13 50"), "s.txt:1: 'precipitation': month 13 is outside [1, 12]");
+  EXPECT_EQ(ErrorOf("intensity 7 501"), "s.txt:1: 'intensity': value 501 is outside [0, 500]");
+  EXPECT_EQ(ErrorOf("precipitation 7"),
+    "s.txt:1: 'precipitation' takes a month 1..12 and millimetres, got 1 argument");
+  EXPECT_EQ(ErrorOf("lapse-rate 21"), "s.txt:1: 'lapse-rate': value 21 is outside [0, 20]");
+  EXPECT_EQ(
+    ErrorOf("climate-load"), "s.txt:1: 'climate-load' takes one file name, got 0 arguments");
 }
 
 TEST(TerroirViewerScript, ParsesTheClusterVerbs)
