@@ -27,7 +27,10 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 namespace terroir
@@ -426,11 +429,24 @@ int ViewerWindow::Run(TerroirViewerRequest* request)
   if (request->Actions)
   {
     const std::string script = this->Line.View.Script;
+    // TERROIR_VIEW_TIMINGS=1: one line per action, the milliseconds it held the window's
+    // thread (its handling and the redraw; `wait` also waits for the worker), for
+    // Testing/Benchmarks/viewer_session.py.
+    const char* timings = std::getenv("TERROIR_VIEW_TIMINGS");
+    const bool timed = timings && std::string(timings) == "1";
     for (const ViewerAction& a : *request->Actions)
     {
+      const auto start = std::chrono::steady_clock::now();
       if (!this->RunAction(a, script + ":" + std::to_string(a.Line), quit, request->Error))
       {
         return 1;
+      }
+      if (timed)
+      {
+        const std::chrono::duration<double, std::milli> ms =
+          std::chrono::steady_clock::now() - start;
+        std::printf("timing %d %s %.3f\n", a.Line, a.Verb.c_str(), ms.count());
+        std::fflush(stdout);
       }
       if (quit || this->QuitRequested)
       {

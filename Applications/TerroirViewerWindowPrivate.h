@@ -156,6 +156,9 @@ private:
   /// K, J, X: K up (Shift: down), the next feature weight under edit, its weight doubled
   /// (Shift: halved); false for another key.
   bool ClusterKey(const std::string& symbol, bool shift);
+  /// F2 toggles the orientation edit mode; Left / Right turn the compass while it is on;
+  /// false for another key or Left / Right outside the mode.
+  bool OrientationKey(const std::string& symbol, bool shift);
   /// Describes K and the weights in Message (the one under edit marked).
   void DescribeClusters();
   /// O, I, Y: the water-flow mode (pulse / rivers), its iterations doubled (Shift: halved),
@@ -237,6 +240,9 @@ private:
   double CompassCentre[2] = { 0.0, 0.0 };
   double CompassRadius = 1.0;
   bool TurningCompass = false;
+  /// Long (2016)'s orientation edit mode (F2): the compass turns green and Left / Right turn
+  /// grid north 1° (Shift: 10°) anticlockwise / clockwise from true north.
+  bool OrientationEdit = false;
   double TurnStartAngle = 0.0;       ///< pointer angle at the press, degrees
   double TurnStartOrientation = 0.0; ///< orientation at the press, degrees
   // A brush stroke under way: the last cell painted.

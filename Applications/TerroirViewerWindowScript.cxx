@@ -71,7 +71,7 @@ void ViewerWindow::PrintState()
               "flow-iterations %d flow-water %.6g flow-rain-rate %.6g flow-stop %.6g "
               "flow-balance %.6g flow-last-iterations %lld flow-last-stop %s coldest %.6g "
               "warmest %.6g lapse-rate %.6g temperatures %s precipitation-jul %.6g "
-              "intensity-jul %.6g\n",
+              "intensity-jul %.6g orientation-edit %s\n",
     terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
     ToolName(this->CurrentTool),
     p.Latitude,
@@ -105,7 +105,8 @@ void ViewerWindow::PrintState()
     p.LapseRate,
     p.UseMonthlyTemperatures ? "monthly" : "extremes",
     p.Precipitation[6],
-    p.PrecipitationIntensity[6]);
+    p.PrecipitationIntensity[6],
+    this->OrientationEdit ? "on" : "off");
   std::fflush(stdout);
 }
 

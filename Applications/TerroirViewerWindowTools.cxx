@@ -11,6 +11,8 @@
 #include "vtkMath.h"
 #include "vtkPNGWriter.h"
 #include "vtkPointData.h"
+#include "vtkProperty2D.h"
+#include "vtkTextProperty.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
@@ -316,7 +318,8 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
     this->PressButton(7);
   }
   else if (this->ClusterKey(sym, rwi->GetShiftKey() != 0) ||
-    this->FlowKey(sym, rwi->GetShiftKey() != 0))
+    this->FlowKey(sym, rwi->GetShiftKey() != 0) ||
+    this->OrientationKey(sym, rwi->GetShiftKey() != 0))
   {
   }
   else if (sym == "e")
@@ -406,6 +409,33 @@ void ViewerWindow::DescribeClusters()
     text += line;
   }
   this->Message = text + " (K/Shift+K, J next, X/Shift+X)";
+}
+
+bool ViewerWindow::OrientationKey(const std::string& symbol, bool shift)
+{
+  if (symbol == "F2")
+  {
+    this->OrientationEdit = !this->OrientationEdit;
+    const double green[3] = { 0.1, 0.65, 0.15 }, red[3] = { 0.75, 0.1, 0.1 };
+    const double* c = this->OrientationEdit ? green : red;
+    this->CompassActor->GetProperty()->SetColor(c[0], c[1], c[2]);
+    this->CompassLabel->GetTextProperty()->SetColor(c[0], c[1], c[2]);
+    this->Message = this->OrientationEdit
+      ? "Orientation edit: Left / Right turn the compass 1\xc2\xb0 (Shift: 10\xc2\xb0), F2 ends"
+      : "Orientation edit ended";
+    this->UpdateTexts();
+    return true;
+  }
+  if (!this->OrientationEdit || (symbol != "Left" && symbol != "Right"))
+  {
+    return false;
+  }
+  auto& p = this->Session.Parameters();
+  const double step = (shift ? 10.0 : 1.0) * (symbol == "Left" ? -1.0 : 1.0);
+  p.Orientation = std::fmod(this->EffectiveOrientation() + step + 360.0, 360.0);
+  this->ParametersChanged(true);
+  this->UpdateCompass();
+  return true;
 }
 
 bool ViewerWindow::FlowKey(const std::string& symbol, bool shift)

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The benchmarks at a tiny size, so that they cannot rot unseen (CTest label `benchmarks`; the
 # timings mean nothing at this size): `terroir bench` on every stage and backend, and every
-# script of this folder (gdaldem, scikit-learn, the k-means core, GRASS, the outputs of terroir
-# run, the big-DEM memory
-# run), each must run and write its results.
+# script of this folder (gdaldem, scikit-learn, the k-means core, GRASS, the outputs of
+# terroir run, the big-DEM memory run, and with an X display the scripted viewer session), each
+# must run and write its results.
 #   Testing/Benchmarks/smoke.sh BUILD_DIR SCRATCH_DIR
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -35,4 +35,13 @@ bash "$here/Testing/Benchmarks/run_outputs.sh" "$build" 64 >"$scratch/run_output
 grep -q "all identical" "$scratch/run_outputs.log" || { cat "$scratch/run_outputs.log"; exit 1; }
 bash "$here/Testing/Benchmarks/big_dem.sh" "$build" 64 >"$scratch/big_dem.log"
 grep -q "memory check" "$scratch/big_dem.log" || { cat "$scratch/big_dem.log"; exit 1; }
+if [ -n "${DISPLAY:-}" ]; then
+  /usr/bin/python3 "$here/Testing/Benchmarks/viewer_session.py" --build "$build" \
+    --flow-iterations 10 --size 640x480 --json "$scratch/viewer_session.json" \
+    >"$scratch/viewer_session.log"
+  grep -q "slowest interaction" "$scratch/viewer_session.log" || {
+    cat "$scratch/viewer_session.log"
+    exit 1
+  }
+fi
 echo "benchmarks ran: $(ls "$scratch")"

@@ -506,6 +506,35 @@ class TerroirViewer(unittest.TestCase):
         self.assertTrue(errors[0].startswith("terroir: error: %s:1: %s: " % (script, bad)),
                         errors[0])
 
+    def test_orientation_edit_mode_turns_the_compass_with_the_arrow_keys(self):
+        """F2 (Long 2016's orientation edit mode, Fig. 3.5) turns the compass green; then
+        Right, Right and Shift+Left turn grid north +1, +1 and -10 degrees; outside the mode
+        Right changes nothing; F2 again ends the mode."""
+        need_display(self)
+        proc, folder, _ = run_view("orientation_edit", [
+            "state", "key Right", "state", "key F2", "key Right", "key Right", "key shift+Left",
+            "state", "screenshot edit.png", "key F2", "state", "screenshot plain.png", "quit"],
+            dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 4, proc.stdout)
+        o0 = s[0]["orientation"]
+        self.assertEqual((s[1]["orientation"], s[1]["orientation-edit"]), (o0, "off"))
+        # `state` prints 6 significant digits (0.001 degree here).
+        self.assertAlmostEqual((s[2]["orientation"] - (o0 - 8.0) + 540.0) % 360.0 - 180.0, 0.0,
+                               delta=0.002)
+        self.assertEqual((s[2]["orientation-edit"], s[3]["orientation-edit"]), ("on", "off"))
+
+        def green_near_compass(name):
+            (w, h, _), rgb = pixels(os.path.join(folder, name))
+            rgb = rgb.reshape(h, w, 3).astype(int)[::-1]  # rows from the top
+            x, y = compass_centre()
+            box = rgb[int(y) - 40:int(y) + 40, int(x) - 40:int(x) + 40]
+            return int(np.count_nonzero((box[..., 1] > 120) & (box[..., 0] < 80)
+                                        & (box[..., 2] < 100)))
+        self.assertGreater(green_near_compass("edit.png"), 20)
+        self.assertEqual(green_near_compass("plain.png"), 0)
+
     def test_a_bad_script_line_is_refused_before_any_window(self):
         # No DISPLAY: the script is checked first, so the display is never needed.
         env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
