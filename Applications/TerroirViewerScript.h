@@ -20,7 +20,7 @@ namespace terroir
 namespace viewer
 {
 
-/// The overlays of the viewer, in the order of the number keys 0..7.
+/// The overlays of the viewer, in the order of the number keys 0..8.
 enum class ViewerOverlay
 {
   None = 0,
@@ -31,6 +31,7 @@ enum class ViewerOverlay
   Humidity,
   Water,
   Clusters,
+  WeightedHumidity,
   Count
 };
 
@@ -51,6 +52,7 @@ inline constexpr ViewerOverlayInfo kViewerOverlays[] = {
   { "humidity", "Soil humidity" },
   { "water", "Water" },
   { "clusters", "Clusters" },
+  { "weighted-humidity", "Weighted humidity" },
 };
 static_assert(sizeof(kViewerOverlays) / sizeof(kViewerOverlays[0]) ==
     static_cast<std::size_t>(ViewerOverlay::Count),
@@ -78,7 +80,7 @@ inline constexpr std::size_t kViewerClusterFeatureCount =
 int ClusterFeatureIndex(const std::string& name);
 
 /// Script and command-line name of an overlay ("none", "slope", "illumination", "sun-hours",
-/// "temperature", "humidity", "water", "clusters").
+/// "temperature", "humidity", "water", "clusters", "weighted-humidity").
 const char* OverlayName(ViewerOverlay overlay);
 /// Title shown in the window's list ("Slope", "Sun and shadow", ...).
 const char* OverlayTitle(ViewerOverlay overlay);

@@ -155,16 +155,19 @@ void ComputeHumidity(vtkImageData* input,
   JobMonitor& monitor,
   OverlayResult& r)
 {
+  // Humidity: the month's SoilHumidity; WeightedHumidity: its moving weighted average.
+  const bool weighted = r.Overlay == ViewerOverlay::WeightedHumidity;
   vtkNew<vtkTerroirSoilHumidity> humidity;
   humidity->SetInputData(input);
-  humidity->ComputeWeightedSoilHumidityOff();
+  humidity->SetComputeWeightedSoilHumidity(weighted);
   humidity->ComputeStandingWaterOff();
   ConfigureClimate(humidity, p);
   if (RunFilter(humidity, monitor, 0.0, 1.0))
   {
     r.Output = humidity->GetOutput();
   }
-  r.ArrayName = vtkTerroirSoilHumidity::SoilHumidityName();
+  r.ArrayName = weighted ? vtkTerroirSoilHumidity::WeightedSoilHumidityName()
+                         : vtkTerroirSoilHumidity::SoilHumidityName();
   r.Component = MonthOf(p) - 1;
   r.Preset = "Humidity";
 }
@@ -229,6 +232,7 @@ const std::map<ViewerOverlay, OverlayRecipe>& OverlayRecipes()
     { ViewerOverlay::Humidity, ComputeHumidity },
     { ViewerOverlay::Water, ShowWater },
     { ViewerOverlay::Clusters, ComputeClusters },
+    { ViewerOverlay::WeightedHumidity, ComputeHumidity },
   };
   return recipes;
 }

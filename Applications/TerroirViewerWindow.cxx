@@ -168,7 +168,7 @@ void ViewerWindow::BuildTexts(int font)
   text(this->Settings, 0.01, 0.985, true);
   text(this->Help, 0.01, 0.94, true);
   this->Help->GetTextProperty()->SetColor(0.35, 0.35, 0.35);
-  this->Help->SetInput("0-7 overlay  Tab navigation  L lake  B brush  N navigate  Ctrl+Z undo  "
+  this->Help->SetInput("0-8 overlay  Tab navigation  L lake  B brush  N navigate  Ctrl+Z undo  "
                        "G flow  T table  [ ] compass  V/M view  P screenshot  Q quit");
   this->Scene->AddActor2D(this->Status);
   this->Scene->AddActor2D(this->Settings);

@@ -147,7 +147,8 @@ void ViewerWindow::FloodSea(double level)
 void ViewerWindow::InfiltrationChanged()
 {
   const ViewerOverlay o = this->Session.GetCurrentOverlay();
-  if (o == ViewerOverlay::Humidity || o == ViewerOverlay::Clusters)
+  if (o == ViewerOverlay::Humidity || o == ViewerOverlay::Clusters ||
+    o == ViewerOverlay::WeightedHumidity)
   {
     this->Session.RequestOverlay();
   }
@@ -289,7 +290,8 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
   {
     handled = false;
   }
-  else if (sym.size() == 1 && sym[0] >= '0' && sym[0] <= '7')
+  else if (sym.size() == 1 && sym[0] >= '0' &&
+    sym[0] < '0' + static_cast<int>(ViewerOverlay::Count))
   {
     this->SetOverlay(static_cast<ViewerOverlay>(sym[0] - '0'));
   }

@@ -386,6 +386,12 @@ TEST(TerroirViewerSession, OverlaysEqualTheFiltersRunDirectly)
   humidityFilter->Update();
   ExpectSameComponent(
     humidity.GetValues(), humidityFilter->GetOutput()->GetPointData()->GetArray("SoilHumidity"), 6);
+  OverlayResult weighted = s.ComputeOverlay(ViewerOverlay::WeightedHumidity, p);
+  ASSERT_EQ(weighted.Error, "");
+  EXPECT_EQ(weighted.Component, 6);
+  ExpectSameComponent(weighted.GetValues(),
+    humidityFilter->GetOutput()->GetPointData()->GetArray("WeightedSoilHumidity"),
+    6);
 
   // The water overlay is the water state itself.
   std::string error;

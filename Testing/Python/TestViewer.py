@@ -239,8 +239,8 @@ class TerroirViewer(unittest.TestCase):
     def test_buttons_and_the_overlay_list_answer_clicks(self):
         need_display(self)
         # The list's entry "1 Slope": its band is 0.84 - 2h .. 0.84 - h of the list pane
-        # (h = 0.84 / 8), the pane spans the top 36 % of the right 22 %.
-        u, v = 0.3, 0.84 - 1.5 * 0.84 / 8
+        # (h = 0.84 / 9), the pane spans the top 36 % of the right 22 %.
+        u, v = 0.3, 0.84 - 1.5 * 0.84 / 9
         x = int((0.78 + u * 0.22) * SIZE[0])
         y = int(SIZE[1] - 1 - (0.64 + v * 0.36) * SIZE[1])
         proc, _, _ = run_view("buttons", [

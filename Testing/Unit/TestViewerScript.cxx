@@ -86,7 +86,7 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
   EXPECT_EQ(ErrorOf("state now"), "s.txt:1: 'state' takes no argument, got 1 argument");
   EXPECT_EQ(ErrorOf("overlay rivers"),
     "s.txt:1: unknown overlay 'rivers' (none, slope, illumination, sun-hours, temperature, "
-    "humidity, water, clusters)");
+    "humidity, water, clusters, weighted-humidity)");
   EXPECT_EQ(ErrorOf("latitude 91"), "s.txt:1: 'latitude': value 91 is outside [-90, 90]");
   EXPECT_EQ(ErrorOf("month 6.5"), "s.txt:1: 'month': value 6.5 is not a whole number");
   EXPECT_EQ(ErrorOf("hour nan"), "s.txt:1: 'hour': value 'nan' is not a finite number");
