@@ -490,6 +490,15 @@ extern "C" TERROIR_VIEWER_PLUGIN_EXPORT int terroir_run_viewer(TerroirViewerRequ
   p.Orientation = line.View.Orientation;
   p.Clusters = line.View.Clusters;
   p.LakeDepth = line.View.LakeDepth;
+  // The default climate is an illustrative temperate year, not the site's (on Sagehen Creek it
+  // gives July about 6 °C where the station at 1930 m records about 16 °C): say so.
+  std::fprintf(stderr,
+    "terroir view: the climate is a placeholder (sea-level %.3g °C in the coldest month, %.3g °C "
+    "in the warmest, %.3g °C/km, the filters' defaults), not this site's: set it with the "
+    "script's climate-load FILE or climate verbs\n",
+    p.Coldest,
+    p.Warmest,
+    p.LapseRate);
   terroir::viewer::ViewerWindow window(session, line);
   return window.Run(request);
 }

@@ -481,6 +481,9 @@ class TerroirViewer(unittest.TestCase):
             "overlay temperature", "wait", "state", "climate-save saved.csv",
             "climate-load " + given, "state", "quit"], dem=bowl_dem())
         self.assertEqual(proc.returncode, 0, proc.stderr)
+        # The default climate is announced as a placeholder, with its values.
+        self.assertIn("terroir view: the climate is a placeholder (sea-level 2 \u00b0C in the "
+                      "coldest month, 20 \u00b0C in the warmest, 6.4 \u00b0C/km", proc.stderr)
         s = states(proc.stdout)
         self.assertEqual(len(s), 2, proc.stdout)
         self.assertEqual((s[0]["coldest"], s[0]["warmest"], s[0]["lapse-rate"],
