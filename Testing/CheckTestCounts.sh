@@ -10,7 +10,7 @@ ctest=$1
 build=$2
 only=${3:-}
 declare -A minimum=(
-  [unit]=268 [pipeline]=166 [gpu]=71 [rendering]=42 [python]=16 [examples]=16 [fuzz]=5
+  [unit]=269 [pipeline]=178 [gpu]=71 [rendering]=44 [python]=16 [examples]=16 [fuzz]=5
   [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=13
 )
 status=0
