@@ -108,8 +108,8 @@ void MarkdownStages(RunState& r, std::ostream& md)
     // Where writing goes: files are written on a second thread while the stages compute, so the
     // write row above is only what the run waited for them after its last stage.
     const json& w = r.Stages["write"];
-    md << "\nWriting (a second thread, while the stages computed): busy "
-       << std::setprecision(3) << w["busy_seconds"].get<double>() << " s:";
+    md << "\nWriting (a second thread, while the stages computed): busy " << std::setprecision(3)
+       << w["busy_seconds"].get<double>() << " s:";
     const char* separator = " ";
     for (const auto& kind : w["seconds_by_kind"].items())
     {
