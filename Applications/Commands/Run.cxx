@@ -47,8 +47,10 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -504,58 +506,95 @@ std::string StageOption(const char* name)
   return option;
 }
 
-/// The files --outputs selects among `all` (each stage's files, terrain.vti first): file names,
-/// stage names and kinds; every file without --outputs. Throws on a name it does not know.
+/// Every file of a stage.
+std::vector<std::string> AllFiles(const RunFiles& f)
+{
+  std::vector<std::string> all = f.Rasters;
+  all.insert(all.end(), f.Tables.begin(), f.Tables.end());
+  all.insert(all.end(), f.Pictures.begin(), f.Pictures.end());
+  return all;
+}
+
+/// The kinds of file --outputs knows, each with its extensions.
+const std::vector<std::pair<std::string, std::vector<const char*>>>& OutputKinds()
+{
+  static const std::vector<std::pair<std::string, std::vector<const char*>>> kinds = {
+    { "vti", { ".vti" } },
+    { "tif", { ".tif" } },
+    { "png", { ".png" } },
+    { "tables", { ".csv", ".json" } },
+  };
+  return kinds;
+}
+
+/// The files an item of --outputs names among `all` (each stage's files, terrain.vti first):
+/// a stage's files, a kind's or one file. Throws when it names none of them.
+void SelectItem(const std::string& item,
+  const std::vector<RunFiles>& stages,
+  const std::vector<std::string>& all,
+  std::set<std::string>& selected)
+{
+  bool known = false;
+  for (std::size_t s = 0; s < RunSteps().size(); ++s)
+  {
+    if (item == StageOption(RunSteps()[s].Name))
+    {
+      known = true;
+      const std::vector<std::string> files = AllFiles(stages[s]);
+      selected.insert(files.begin(), files.end());
+    }
+  }
+  for (const auto& kind : OutputKinds())
+  {
+    if (item == kind.first)
+    {
+      known = true;
+      for (const std::string& path : all)
+      {
+        for (const char* ext : kind.second)
+        {
+          if (HasExtension(path, ext))
+          {
+            selected.insert(path);
+          }
+        }
+      }
+    }
+  }
+  for (const std::string& path : all)
+  {
+    if (fs::path(path).filename() == item)
+    {
+      known = true;
+      selected.insert(path);
+    }
+  }
+  if (!known)
+  {
+    std::string stageNames;
+    for (const RunStep& step : RunSteps())
+    {
+      stageNames += (stageNames.empty() ? "" : ", ") + StageOption(step.Name);
+    }
+    throw Failure("--outputs: '" + item + "' is not a file, stage or kind of this run (stages: " +
+      stageNames + "; kinds: vti, tif, png, tables; files: as listed in report.json)");
+  }
+}
+
+/// The files --outputs selects (every file without it), less terrain.vti with --no-vti.
 std::set<std::string> SelectOutputs(const RunState& r, const std::vector<RunFiles>& stages)
 {
   std::vector<std::string> all = { r.File("terrain.vti") };
   for (const RunFiles& f : stages)
   {
-    for (const auto* list : { &f.Rasters, &f.Tables, &f.Pictures })
-    {
-      all.insert(all.end(), list->begin(), list->end());
-    }
+    const std::vector<std::string> files = AllFiles(f);
+    all.insert(all.end(), files.begin(), files.end());
   }
   const RunOutputSettings& o = r.Line.RunOutputs;
   std::set<std::string> selected;
-  auto endsWith = [](const std::string& path, const char* ext) { return HasExtension(path, ext); };
   for (const std::string& item : o.Only)
   {
-    const std::size_t before = selected.size();
-    bool known = false;
-    for (std::size_t s = 0; s < RunSteps().size(); ++s)
-    {
-      if (item == StageOption(RunSteps()[s].Name))
-      {
-        known = true;
-        for (const auto* list : { &stages[s].Rasters, &stages[s].Tables, &stages[s].Pictures })
-        {
-          selected.insert(list->begin(), list->end());
-        }
-      }
-    }
-    for (const std::string& path : all)
-    {
-      const bool match = fs::path(path).filename() == item ||
-        (item == "vti" && endsWith(path, ".vti")) || (item == "tif" && endsWith(path, ".tif")) ||
-        (item == "png" && endsWith(path, ".png")) ||
-        (item == "tables" && (endsWith(path, ".csv") || endsWith(path, ".json")));
-      if (match)
-      {
-        selected.insert(path);
-      }
-    }
-    known = known || item == "vti" || item == "tif" || item == "png" || item == "tables";
-    if (!known && selected.size() == before)
-    {
-      std::string stageNames;
-      for (const RunStep& step : RunSteps())
-      {
-        stageNames += (stageNames.empty() ? "" : ", ") + StageOption(step.Name);
-      }
-      throw Failure("--outputs: '" + item + "' is not a file, stage or kind of this run (stages: " +
-        stageNames + "; kinds: vti, tif, png, tables; files: as listed in report.json)");
-    }
+    SelectItem(item, stages, all, selected);
   }
   if (o.Only.empty())
   {
@@ -627,17 +666,9 @@ bool WritesAnything(const RunState& r, const RunStep& step)
 {
   RunFiles f;
   step.Files(r, f);
-  for (const auto* list : { &f.Rasters, &f.Tables, &f.Pictures })
-  {
-    for (const std::string& file : *list)
-    {
-      if (r.Wants(file))
-      {
-        return true;
-      }
-    }
-  }
-  return false;
+  const std::vector<std::string> files = AllFiles(f);
+  return std::any_of(
+    files.begin(), files.end(), [&r](const std::string& file) { return r.Wants(file); });
 }
 
 /// Every stage, each one's files written by the writer thread while the next ones compute;

@@ -219,11 +219,12 @@ class TerroirCommandLine(unittest.TestCase):
         np.testing.assert_array_equal(slope_vti[::-1], slope.GetRasterBand(1).ReadAsArray())
 
     def test_run_writes_the_outputs_asked_for_in_the_layout_asked_for(self):
-        # --outputs takes a stage (slope: slope.tif, aspect.tif), a file and a kind; the reports
-        # always come. The GeoTIFFs: DEFLATE, 256 x 256 tiles, overviews 2 and 4 (720 / 2 >= 256).
+        # --outputs takes a stage (slope: slope.tif, aspect.tif), files (one named twice) and a
+        # kind; the reports always come. The GeoTIFFs: DEFLATE, 256 x 256 tiles, overviews 2 and
+        # 4 (720 / 2 >= 256).
         out = os.path.join(self.work, "some")
         r = terroir("run", "--out", out, "--no-png", "--backend", "cpu", "--outputs",
-                    "slope,clusters.csv,vti", "--vti-compression", "zlib",
+                    "slope,slope.tif,clusters.csv,vti", "--vti-compression", "zlib",
                     "--tiff-compression", "deflate", "--tiff-layout", "tiles", "--tiff-threads",
                     "2", "--tiff-overviews")
         self.assertEqual(r.returncode, 0, r.stderr)
@@ -273,20 +274,25 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(os.listdir(bad), [])
 
     def test_run_interrupted_leaves_the_folder_as_it_was(self):
-        # Every output goes into place at the end of the run: SIGTERM once the first file is
-        # being written (its hidden temporary appears) leaves no output and no temporary.
+        # Every output goes into place at the end of the run: while it runs the folder holds
+        # only hidden temporaries, also of the files already written (slope.tif, aspect.tif,
+        # then temperature.tif: three at once). SIGTERM then leaves no output and no temporary.
         out = os.path.join(self.work, "stopped")
         os.makedirs(out)
         proc = subprocess.Popen([BIN, "run", "--out", out, "--no-png", "--backend", "cpu"],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        seen = []
-        while proc.poll() is None and not seen:
-            seen = [n for n in os.listdir(out) if n.startswith(".")]
+        hidden, shown = [], []
+        while proc.poll() is None and len(hidden) < 3 and not shown:
+            names = os.listdir(out)
+            hidden = [n for n in names if n.startswith(".")]
+            shown += [n for n in names if not n.startswith(".")]
         proc.terminate()
         _, err = proc.communicate(timeout=60)
-        self.assertTrue(seen, "the run ended before writing: " + err.decode())
+        self.assertEqual(shown, [], "outputs in place before the run ended")
+        self.assertEqual(len(hidden), 3, "the run ended before three files were written: " +
+                         err.decode())
         self.assertEqual(proc.returncode, -signal.SIGTERM, err.decode())
-        self.assertEqual(os.listdir(out), [], "seen while running: %s" % seen)
+        self.assertEqual(os.listdir(out), [], "seen while running: %s" % hidden)
 
     def test_soil_water_and_lake_commands(self):
         rates = os.path.join(self.work, "rates.tif")
