@@ -73,6 +73,7 @@ set_target_properties(TerroirCommandLine PROPERTIES POSITION_INDEPENDENT_CODE ON
 
 add_library(terroir-viewer MODULE TerroirViewerWindow.cxx TerroirViewerWindowCamera.cxx
   TerroirViewerWindowOverlay.cxx TerroirViewerWindowScript.cxx TerroirViewerWindowTools.cxx
+  TerroirViewerWindowCards.cxx
   TerroirViewerWindowPrivate.h TerroirViewerPlugin.h)
 set_target_properties(terroir-viewer PROPERTIES PREFIX "" OUTPUT_NAME "terroir-viewer"
   CXX_VISIBILITY_PRESET hidden)

@@ -35,6 +35,12 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// A note for the user ("terroir: note: <text>" on stderr), kept until the command succeeds:
+/// FlushNotes prints each distinct one once (RunCommand calls it after a command returns 0), so
+/// a command that fails prints its one error line and nothing else.
+void AddNote(const std::string& text);
+void FlushNotes();
+
 /// Routes VTK's error and warning text to one clean line each (no file/line/object
 /// address), remembers the last error, and silences VTK's INFO log unless verbose.
 void InstallQuietOutput(bool verbose);

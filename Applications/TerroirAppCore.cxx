@@ -28,6 +28,7 @@
 #include <iostream>
 #include <mutex>
 #include <unistd.h>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -151,6 +152,31 @@ namespace terroir
 {
 namespace app
 {
+
+namespace
+{
+std::mutex NotesMutex;
+std::vector<std::string> Notes;
+} // namespace
+
+void AddNote(const std::string& text)
+{
+  std::lock_guard<std::mutex> lock(NotesMutex);
+  if (std::find(Notes.begin(), Notes.end(), text) == Notes.end())
+  {
+    Notes.push_back(text);
+  }
+}
+
+void FlushNotes()
+{
+  std::lock_guard<std::mutex> lock(NotesMutex);
+  for (const std::string& note : Notes)
+  {
+    std::cerr << "terroir: note: " << note << "\n";
+  }
+  Notes.clear();
+}
 
 void InstallQuietOutput(bool verbose)
 {

@@ -187,6 +187,10 @@ struct ViewSettings
   double Orientation = std::numeric_limits<double>::quiet_NaN(); ///< --orientation DEG
   int Clusters = 5;                                              ///< --clusters K, 1..64
   double LakeDepth = 5.0;                                        ///< --lake-depth M, [0, 10000]
+  std::string ClimateFile; ///< --climate FILE: the session's climate (CSV or JSON)
+  /// --lod-points N: above N grid points the window draws a coarse surface while it is being
+  /// used and the full one when it rests (0: always the full one).
+  long long LodPoints = 250000;
 };
 
 /// `terroir run`'s outputs: which files (--outputs, --no-vti) and their layout.

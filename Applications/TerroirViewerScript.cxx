@@ -70,6 +70,7 @@ const NumericVerb NumericVerbs[] = {
   { "brush-rate", 0.0, 1000.0, false },
   { "slope-threshold", 0.0, 90.0, false },
   { "sensitivity", 0.01, 100.0, false },
+  { "move-speed", 0.01, 100.0, false },
   { "flow-iterations", 1.0, 1000000.0, true },
   { "flow-water", 0.0, 100000.0, false },
   { "flow-rain-rate", 0.001, 1000.0, false },
@@ -204,7 +205,7 @@ bool ParseOverlay(ScriptLine& s)
   return true;
 }
 
-/// style, tool, view and button: one word of a fixed list.
+/// style, tool, view, button, flow-mode and card: one word of a fixed list.
 bool ParseChoice(ScriptLine& s)
 {
   const std::vector<std::string>& w = s.W;
@@ -214,6 +215,7 @@ bool ParseChoice(ScriptLine& s)
     : a.Verb == "tool"      ? std::vector<std::string>{ "navigate", "lake", "brush", "sea" }
     : a.Verb == "button"    ? ViewerButtonNames()
     : a.Verb == "flow-mode" ? std::vector<std::string>{ "pulse", "rivers" }
+    : a.Verb == "card"      ? std::vector<std::string>{ "none", "climate", "settings" }
                             : std::vector<std::string>{ "relief", "map" };
   std::string list;
   for (const std::string& name : allowed)
@@ -403,7 +405,7 @@ bool ParseArguments(ScriptLine& s)
     return ParseOverlay(s);
   }
   else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button" ||
-    a.Verb == "flow-mode")
+    a.Verb == "flow-mode" || a.Verb == "card")
   {
     return ParseChoice(s);
   }
@@ -455,7 +457,8 @@ bool ParseArguments(ScriptLine& s)
   {
     return s.Fail("unknown action '" + a.Verb +
       "' (overlay, latitude, longitude, month, hour, orientation, clusters, lake-depth, "
-      "brush-size, brush-rate, slope-threshold, sensitivity, style, tool, view, button, click, "
+      "brush-size, brush-rate, slope-threshold, sensitivity, move-speed, style, tool, view, "
+      "button, card, click, "
       "drag, wheel, key, flow, undo, wait, camera, state, screenshot, cluster-weight, table-csv, "
       "flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance, sea, "
       "coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save, quit)");
@@ -503,9 +506,16 @@ bool OverlayFromName(const std::string& name, ViewerOverlay& overlay)
 
 const std::vector<std::string>& ViewerButtonNames()
 {
-  static const std::vector<std::string> names = {
-    "navigate", "lake", "brush", "fill", "slope-rule", "flow", "undo", "table"
-  };
+  static const std::vector<std::string> names = { "navigate",
+    "lake",
+    "brush",
+    "fill",
+    "slope-rule",
+    "flow",
+    "undo",
+    "table",
+    "climate",
+    "settings" };
   return names;
 }
 

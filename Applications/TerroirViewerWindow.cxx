@@ -19,6 +19,8 @@
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkCoordinate.h"
+#include "vtkImageData.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyDataMapper2D.h"
 #include "vtkProperty2D.h"
@@ -96,6 +98,10 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   }
   this->Scene->AddActor(this->Relief->GetSurfaceActor());
   this->Scene->AddActor(this->Relief->GetHoleActor());
+  if (!this->BuildLevelOfDetail(v.LodPoints, error))
+  {
+    return false;
+  }
   this->Scene->AddLight(this->Sun);
   this->Picker->PickFromListOn();
   this->Picker->AddPickList(this->Relief->GetSurfaceActor());
@@ -107,6 +113,7 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
 
   this->BuildCompass();
   this->BuildButtons(font);
+  this->BuildCard();
   this->BuildInteraction();
   this->BuildSliders(right);
 
@@ -168,8 +175,9 @@ void ViewerWindow::BuildTexts(int font)
   text(this->Settings, 0.01, 0.985, true);
   text(this->Help, 0.01, 0.94, true);
   this->Help->GetTextProperty()->SetColor(0.35, 0.35, 0.35);
-  this->Help->SetInput("0-8 overlay  Tab navigation  L lake  B brush  N navigate  Ctrl+Z undo  "
-                       "G flow  T table  [ ] compass  V/M view  P screenshot  Q quit");
+  this->Help->SetInput(
+    "0-8 overlay  Tab navigation  L lake  B brush  N navigate  Ctrl+Z undo  "
+    "G flow  T table  F3 climate  F4 settings  [ ] compass  V/M view  P screenshot  Q quit");
   this->Scene->AddActor2D(this->Status);
   this->Scene->AddActor2D(this->Settings);
   this->Scene->AddActor2D(this->Help);
@@ -250,13 +258,47 @@ void ViewerWindow::BuildInteraction()
 void ViewerWindow::BuildSliders(double right)
 {
   const auto& p = this->Session.Parameters();
-  const double w = right; // sliders share the panel's width
+  const double w = right; // sliders share the panel's width: six of 0.145 each
+  const double step = 0.163;
+  auto span = [w, step](int k, double& x0, double& x1)
+  {
+    x0 = (0.015 + k * step) * w;
+    x1 = x0 + 0.145 * w;
+  };
+  double x0, x1;
+  span(0, x0, x1);
+  this->Sliders.push_back(this->AddSlider("Latitude", -90.0, 90.0, p.Latitude, x0, x1, "%.1f"));
+  span(1, x0, x1);
+  this->Sliders.push_back(this->AddSlider("Month", 1.0, 12.0, p.Month, x0, x1, "%.0f"));
+  span(2, x0, x1);
+  this->Sliders.push_back(this->AddSlider("Hour", 0.0, 24.0, p.Hour, x0, x1, "%.2f"));
+  span(3, x0, x1);
+  this->Sliders.push_back(this->AddSlider("Brush mm/h", 0.0, 100.0, p.BrushRate, x0, x1, "%.0f"));
+  span(4, x0, x1);
   this->Sliders.push_back(
-    this->AddSlider("Latitude", -90.0, 90.0, p.Latitude, 0.02 * w, 0.24 * w, "%.1f"));
-  this->Sliders.push_back(this->AddSlider("Month", 1.0, 12.0, p.Month, 0.28 * w, 0.48 * w, "%.0f"));
-  this->Sliders.push_back(this->AddSlider("Hour", 0.0, 24.0, p.Hour, 0.52 * w, 0.74 * w, "%.2f"));
-  this->Sliders.push_back(
-    this->AddSlider("Brush mm/h", 0.0, 100.0, p.BrushRate, 0.78 * w, 0.98 * w, "%.0f"));
+    this->AddSlider("Slope rule deg", 0.0, 90.0, p.SlopeThreshold, x0, x1, "%.0f"));
+  // The sea level runs over the terrain's valid heights; it floods when the drag ends.
+  span(5, x0, x1);
+  this->ElevationRange[0] = 0.0;
+  this->ElevationRange[1] = 1.0;
+  vtkImageData* terrain = this->Session.GetTerrain();
+  if (!this->Relief->ComputeDataRange(
+        terrain->GetPointData()->GetArray("Elevation"), 0, nullptr, this->ElevationRange) ||
+    !(this->ElevationRange[1] > this->ElevationRange[0]))
+  {
+    this->ElevationRange[1] = this->ElevationRange[0] + 1.0;
+  }
+  this->Sliders.push_back(this->AddSlider("Sea level m",
+    this->ElevationRange[0],
+    this->ElevationRange[1],
+    this->ElevationRange[0],
+    x0,
+    x1,
+    "%.1f"));
+  vtkNew<vtkCallbackCommand> released;
+  released->SetCallback(Forward<ViewerWindow, &ViewerWindow::OnSeaSliderReleased>);
+  released->SetClientData(this);
+  this->Sliders[SeaSlider]->AddObserver(vtkCommand::EndInteractionEvent, released);
 }
 
 vtkSmartPointer<vtkSliderWidget> ViewerWindow::AddSlider(const char* title,
@@ -393,7 +435,7 @@ void ViewerWindow::SetQuad(vtkPolyData* quads,
 
 void ViewerWindow::BuildButtons(int font)
 {
-  // A 2 x 4 grid of buttons under the overlay list; a click inside a cell presses it.
+  // A 2 x 5 grid of buttons under the overlay list; a click inside a cell presses it.
   // UpdateButtons (from UpdateTexts) draws the rectangles, the current tool's in blue.
   this->ButtonPane->AddActor2D(MakeQuads(this->ButtonQuads));
   for (int k = 0; k < ButtonCount; ++k)
@@ -412,6 +454,60 @@ void ViewerWindow::BuildButtons(int font)
     this->ButtonPane->AddActor2D(label);
     this->ButtonTexts.push_back(label);
   }
+}
+
+bool ViewerWindow::BuildLevelOfDetail(long long points, std::string& error)
+{
+  vtkImageData* terrain = this->Session.GetTerrain();
+  const double n = static_cast<double>(terrain->GetNumberOfPoints());
+  if (points <= 0 || n <= static_cast<double>(points))
+  {
+    return true;
+  }
+  const int stride = static_cast<int>(std::ceil(std::sqrt(n / static_cast<double>(points))));
+  this->Coarse->SetInputData(terrain);
+  this->Coarse->SetStride(std::max(2, stride));
+  if (!this->Coarse->BuildGeometry(error))
+  {
+    return false;
+  }
+  this->Scene->AddActor(this->Coarse->GetSurfaceActor());
+  this->Scene->AddActor(this->Coarse->GetHoleActor());
+  this->HaveCoarse = true;
+  this->RenderStartCommand->SetCallback(Forward<ViewerWindow, &ViewerWindow::OnRenderStart>);
+  this->RenderStartCommand->SetClientData(this);
+  this->Window->AddObserver(vtkCommand::StartEvent, this->RenderStartCommand);
+  return true;
+}
+
+void ViewerWindow::OnRenderStart(vtkObject*, unsigned long, void*)
+{
+  const bool full = this->StillRender;
+  this->Relief->GetSurfaceActor()->SetVisibility(full);
+  this->Relief->GetHoleActor()->SetVisibility(full);
+  this->Coarse->GetSurfaceActor()->SetVisibility(!full);
+  this->Coarse->GetHoleActor()->SetVisibility(!full);
+  this->LastDrawnFull = full;
+  if (!full)
+  {
+    this->StillPending = true;
+    this->LastCoarse = std::chrono::steady_clock::now();
+  }
+}
+
+void ViewerWindow::RenderStill()
+{
+  if (this->FullColoursStale)
+  {
+    this->ColouringFull = true;
+    this->Recolour();
+    this->ColouringFull = false;
+    this->FullColoursStale = false;
+  }
+  this->StillRender = true;
+  this->Window->Render();
+  this->StillRender = false;
+  this->StillPending = false;
 }
 
 //------------------------------------------------------------------------------
@@ -490,15 +586,26 @@ extern "C" TERROIR_VIEWER_PLUGIN_EXPORT int terroir_run_viewer(TerroirViewerRequ
   p.Orientation = line.View.Orientation;
   p.Clusters = line.View.Clusters;
   p.LakeDepth = line.View.LakeDepth;
-  // The default climate is an illustrative temperate year, not the site's (on Sagehen Creek it
-  // gives July about 6 °C where the station at 1930 m records about 16 °C): say so.
-  std::fprintf(stderr,
-    "terroir view: the climate is a placeholder (sea-level %.3g °C in the coldest month, %.3g °C "
-    "in the warmest, %.3g °C/km, the filters' defaults), not this site's: set it with the "
-    "script's climate-load FILE or climate verbs\n",
-    p.Coldest,
-    p.Warmest,
-    p.LapseRate);
+  if (!line.View.ClimateFile.empty())
+  {
+    if (!session.LoadClimate(line.View.ClimateFile, error))
+    {
+      request->Error = error;
+      return 1;
+    }
+  }
+  else
+  {
+    // The default climate is an illustrative temperate year, not the site's (on Sagehen Creek
+    // it gives July about 6 °C where the station at 1930 m records about 16 °C): say so.
+    std::fprintf(stderr,
+      "terroir view: the climate is a placeholder (sea-level %.3g °C in the coldest month, %.3g "
+      "°C in the warmest, %.3g °C/km, the filters' defaults), not this site's: give --climate "
+      "FILE, or edit it in the climate card (F3) or with the script's climate verbs\n",
+      p.Coldest,
+      p.Warmest,
+      p.LapseRate);
+  }
   terroir::viewer::ViewerWindow window(session, line);
   return window.Run(request);
 }

@@ -120,7 +120,12 @@ void ViewerWindow::ParametersChanged(bool affectsOverlay)
   }
   // Slider values follow the parameters (the script and keys set them too).
   const auto& p = this->Session.Parameters();
-  const double values[4] = { p.Latitude, static_cast<double>(p.Month), p.Hour, p.BrushRate };
+  const double values[6] = { p.Latitude,
+    static_cast<double>(p.Month),
+    p.Hour,
+    p.BrushRate,
+    p.SlopeThreshold,
+    std::isnan(this->SeaLevel) ? this->ElevationRange[0] : this->SeaLevel };
   for (std::size_t k = 0; k < this->Sliders.size(); ++k)
   {
     auto* rep = vtkSliderRepresentation2D::SafeDownCast(this->Sliders[k]->GetRepresentation());
@@ -128,6 +133,10 @@ void ViewerWindow::ParametersChanged(bool affectsOverlay)
     {
       rep->SetValue(values[k]);
     }
+  }
+  if (this->OpenCard == Card::Climate)
+  {
+    this->UpdateCard(); // script verbs and files change the climate too
   }
   this->UpdateTexts();
 }
@@ -142,6 +151,10 @@ void ViewerWindow::SetStyle(bool firstPerson)
   else
   {
     this->Interactor->SetInteractorStyle(this->TerrainStyle);
+  }
+  if (this->OpenCard == Card::Settings)
+  {
+    this->UpdateCard();
   }
 }
 
@@ -169,13 +182,54 @@ void ViewerWindow::OnSlider(vtkObject* caller, unsigned long, void*)
   {
     p.Hour = v;
   }
-  else
+  else if (widget == this->Sliders[3])
   {
     p.BrushRate = v;
     this->UpdateTexts();
     return;
   }
+  else if (widget == this->Sliders[SlopeSlider])
+  {
+    p.SlopeThreshold = std::round(v);
+    rep->SetValue(p.SlopeThreshold);
+    char line[160];
+    std::snprintf(line,
+      sizeof(line),
+      "Slope rule threshold %.0f deg: the Slope rule button sets 0 mm/h on steeper cells",
+      p.SlopeThreshold);
+    this->Message = line;
+    this->UpdateTexts();
+    return;
+  }
+  else
+  {
+    char line[160];
+    std::snprintf(line, sizeof(line), "Sea level %.2f m: let go to flood from the edge", v);
+    this->Message = line;
+    this->UpdateTexts();
+    return;
+  }
   this->ParametersChanged(true);
+}
+
+void ViewerWindow::OnSeaSliderReleased(vtkObject*, unsigned long, void*)
+{
+  auto* rep =
+    vtkSliderRepresentation2D::SafeDownCast(this->Sliders[SeaSlider]->GetRepresentation());
+  const double level = rep->GetValue();
+  // A second release right after the first moves that sea rather than adding to it.
+  if (this->SliderSeaDepth > 0 && this->Session.GetUndoDepth() == this->SliderSeaDepth &&
+    this->Session.GetWaterVersion() == this->SliderSeaWater)
+  {
+    this->Session.Undo();
+  }
+  this->SliderSeaDepth = 0;
+  this->FloodSea(level);
+  if (this->Session.GetUndoDepth() > 0 && this->SeaLevel == level)
+  {
+    this->SliderSeaDepth = this->Session.GetUndoDepth();
+    this->SliderSeaWater = this->Session.GetWaterVersion();
+  }
 }
 
 void ViewerWindow::OnCamera(vtkObject*, unsigned long, void*)

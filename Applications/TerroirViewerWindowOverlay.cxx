@@ -24,20 +24,6 @@ namespace viewer
 {
 namespace
 {
-/// Month names, January first (the settings line and the table title).
-const char* const MonthNames[] = { "January",
-  "February",
-  "March",
-  "April",
-  "May",
-  "June",
-  "July",
-  "August",
-  "September",
-  "October",
-  "November",
-  "December" };
-
 /// Code points of a UTF-8 string (for column widths).
 std::size_t Utf8Length(const std::string& text)
 {
@@ -55,7 +41,8 @@ void ViewerWindow::UpdateButtons()
   {
     const bool on = (k == 0 && this->CurrentTool == Tool::Navigate) ||
       (k == 1 && this->CurrentTool == Tool::Lake) || (k == 2 && this->CurrentTool == Tool::Brush) ||
-      (k == 7 && tableShown);
+      (k == 7 && tableShown) || (k == 8 && this->OpenCard == Card::Climate) ||
+      (k == 9 && this->OpenCard == Card::Settings);
     double cell[4];
     ButtonCell(k, cell);
     const double grey[3] = { 0.8, 0.8, 0.82 };
@@ -78,7 +65,7 @@ void ViewerWindow::UpdateTable()
   // the month's means, one row per cluster (16 at most), in a fixed-width font.
   this->TablePane->RemoveAllViewProps();
   const bool show = this->TableWanted && this->Shown.Overlay == ViewerOverlay::Clusters &&
-    this->Shown.Table && this->Shown.Error.empty();
+    this->Shown.Table && this->Shown.Error.empty() && this->OpenCard == Card::None;
   this->TablePane->SetDraw(show ? 1 : 0);
   if (!show)
   {
@@ -291,13 +278,19 @@ void ViewerWindow::Recolour()
     vtkTerroirColorPresets::ConfigureLookupTable(lut, preset, range[0], range[1]);
     const std::string title =
       vtkTerroirOverlayLegend::ApplyClusterShares(lut, preset, this->Shown.Output);
-    this->Relief->SetColors(values, this->Shown.Component, lut, nullptr);
+    for (vtkTerroirReliefSurface* s : this->Surfaces())
+    {
+      s->SetColors(values, this->Shown.Component, lut, nullptr);
+    }
     vtkTerroirOverlayLegend::AddLegend(this->LegendPane, lut, preset, title, font, 0.0, white);
     legend = true;
   }
   else
   {
-    this->Relief->SetUniformColor();
+    for (vtkTerroirReliefSurface* s : this->Surfaces())
+    {
+      s->SetUniformColor();
+    }
   }
   // The water state (or the running flow's frame) is a layer over every overlay: transparent
   // where dry.
@@ -310,7 +303,10 @@ void ViewerWindow::Recolour()
   {
     vtkNew<vtkLookupTable> lut;
     vtkTerroirColorPresets::ConfigureLookupTable(lut, "Water", 0.0, std::max(1.0, wet[1]));
-    this->Relief->SetColors(water, 0, lut, nullptr, true);
+    for (vtkTerroirReliefSurface* s : this->Surfaces())
+    {
+      s->SetColors(water, 0, lut, nullptr, true);
+    }
     if (!legend)
     {
       vtkTerroirOverlayLegend::AddLegend(this->LegendPane, lut, "Water", "", font, 0.0, white);

@@ -31,7 +31,9 @@
 #include "vtkTerroirXDisplay.h"
 #include "vtkTextActor.h"
 
+#include <chrono>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,43 @@ struct CommandLine;
 }
 namespace viewer
 {
+
+/// Month names, January first (the settings line, the table title, the climate card).
+inline const char* const MonthNames[12] = { "January",
+  "February",
+  "March",
+  "April",
+  "May",
+  "June",
+  "July",
+  "August",
+  "September",
+  "October",
+  "November",
+  "December" };
+
+/// Display coordinates (pixels, origin bottom left) to the normalised viewport coordinates of
+/// `renderer`; false when outside its viewport.
+inline bool ToViewport(vtkRenderer* renderer,
+  const int* windowSize,
+  int x,
+  int y,
+  double& u,
+  double& v)
+{
+  const double* vp = renderer->GetViewport();
+  u = (x / static_cast<double>(windowSize[0]) - vp[0]) / (vp[2] - vp[0]);
+  v = (y / static_cast<double>(windowSize[1]) - vp[1]) / (vp[3] - vp[1]);
+  return u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0;
+}
+
+/// The cards drawn over the terrain (TerroirViewerWindowCards.cxx).
+enum class Card
+{
+  None,
+  Climate, ///< Long (2016)'s climate dialog: monthly precipitation, temperatures, lapse rate
+  Settings ///< the navigation settings: control type, mouse sensitivity, move speed
+};
 
 /// The tool a click applies.
 enum class Tool
@@ -61,7 +100,9 @@ const char* const ButtonLabels[] = { "Navigate",
   "Slope rule",
   "Water flow",
   "Undo",
-  "Table" };
+  "Table",
+  "Climate",
+  "Settings" };
 constexpr int ButtonCount = static_cast<int>(sizeof(ButtonLabels) / sizeof(ButtonLabels[0]));
 
 /// Name of a tool as the texts and the state line spell it.
@@ -102,10 +143,11 @@ public:
 private:
   // ---- set-up ------------------------------------------------------------------------------
   bool Build(const std::string& title, std::string& error);
-  void BuildLayout(double right);  ///< the renderers' viewports (panes right of `right`)
-  void BuildTexts(int font);       ///< status, settings, help and the overlay list
-  void BuildInteraction();         ///< the interactor, the styles and the observers
-  void BuildSliders(double right); ///< latitude, month, hour, brush rate under the terrain
+  void BuildLayout(double right); ///< the renderers' viewports (panes right of `right`)
+  void BuildTexts(int font);      ///< status, settings, help and the overlay list
+  void BuildInteraction();        ///< the interactor, the styles and the observers
+  /// Latitude, month, hour, brush rate, slope-rule threshold and sea level under the terrain.
+  void BuildSliders(double right);
   vtkSmartPointer<vtkSliderWidget> AddSlider(const char* title,
     double lo,
     double hi,
@@ -130,6 +172,25 @@ private:
   void UpdateButtons();
   void UpdateTable();
   void ResetCamera(bool map);
+  /// Level of detail: a DEM of more than `points` grid points (--lod-points; 0 never) also gets
+  /// a coarse surface (every s-th point, s = ceil(sqrt(points in the DEM / `points`))). Every
+  /// render draws the coarse one, except RenderStill's, which the timer makes once the window
+  /// has had nothing to draw for StillDelay, and screenshots make: so dragging, zooming,
+  /// sliders and keys redraw quickly, and the full detail follows when the user stops.
+  bool BuildLevelOfDetail(long long points, std::string& error);
+  /// The surface Recolour colours: the full one, or, when there is a coarse one, that one
+  /// (the full one is coloured by RenderStill, when it is drawn).
+  std::vector<vtkTerroirReliefSurface*> Surfaces()
+  {
+    if (!this->HaveCoarse || this->ColouringFull)
+    {
+      return { this->Relief.Get() };
+    }
+    this->FullColoursStale = true;
+    return { this->Coarse.Get() };
+  }
+  void RenderStill();
+  void OnRenderStart(vtkObject* caller, unsigned long event, void* callData);
   void CollectResults();
   double EffectiveOrientation() const;
 
@@ -172,6 +233,25 @@ private:
   /// coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save: sets
   /// the climate and recomputes the overlay; false with the error of a file verb.
   bool SetClimate(const ViewerAction& a, std::string& error);
+  ///@{
+  /// The cards (TerroirViewerWindowCards.cxx). ShowCard opens one (Card::None closes it; the
+  /// cluster table gives way while one is open); UpdateCard draws it again; CardKey takes Up,
+  /// Down, Left, Right, +, - while one is open; CardMouse a press, drag or release on it
+  /// (false when the event is not the card's). StepCardField steps a field by one step
+  /// (direction -1 or 1); ClimateEdited recomputes the overlay after a climate change.
+  void BuildCard();
+  void ShowCard(Card card);
+  void UpdateCard();
+  void RescaleCharts();
+  int CardFieldCount() const;
+  bool CardKey(const std::string& symbol);
+  bool CardMouse(unsigned long event, int x, int y);
+  void StepCardField(int field, int direction);
+  void ClimateEdited();
+  ///@}
+  /// Mouse sensitivity (both navigation styles) and first-person move speed, clamped to
+  /// [0.01, 100].
+  void SetNavigation(double mouse, double move);
   /// The cluster table on screen with every month's columns as CSV; false with the error.
   bool ExportTable(const std::string& path, std::string& error);
 
@@ -181,6 +261,9 @@ private:
   void OnClick(vtkObject* caller, unsigned long event, void* callData);
   void OnTimer(vtkObject* caller, unsigned long event, void* callData);
   void OnSlider(vtkObject* caller, unsigned long event, void* callData);
+  /// The sea-level slider let go: the sea at its value, replacing the sea the slider made
+  /// just before when nothing changed the water since (one undo step per release).
+  void OnSeaSliderReleased(vtkObject* caller, unsigned long event, void* callData);
   void OnCamera(vtkObject* caller, unsigned long event, void* callData);
   void OnMouse(vtkObject* caller, unsigned long event, void* callData);
 
@@ -209,7 +292,25 @@ private:
   vtkNew<vtkRenderer> ButtonPane;
   vtkNew<vtkRenderer> LegendPane;
   vtkNew<vtkRenderer> TablePane;
+  vtkNew<vtkRenderer> CardPane; ///< layer 1, over the terrain: the open card
+  Card OpenCard = Card::None;
+  /// The card's field under edit: climate 0 precipitation, 1 intensity, 2 coldest, 3 warmest,
+  /// 4 lapse rate; settings 0 control type, 1 mouse sensitivity, 2 move speed.
+  int CardField = 0;
+  int CardMonth = 0;                   ///< the month (0..11) under edit in the climate charts
+  int DraggingChart = -1;              ///< the chart a drag is setting, -1 none
+  double ChartTops[2] = { 50.0, 5.0 }; ///< the charts' scales, fixed while the card is open
   vtkNew<vtkTerroirReliefSurface> Relief;
+  vtkNew<vtkTerroirReliefSurface> Coarse; ///< the level of detail drawn while interacting
+  bool HaveCoarse = false;
+  bool StillRender = false;      ///< the render under way is RenderStill's (full detail)
+  bool StillPending = false;     ///< the screen shows the coarse surface
+  bool LastDrawnFull = true;     ///< what the last render drew (`state` prints it)
+  bool ColouringFull = false;    ///< Recolour colours the full surface (RenderStill)
+  bool FullColoursStale = false; ///< the full surface's colours are older than the coarse's
+  std::chrono::steady_clock::time_point LastCoarse; ///< when the coarse surface was last drawn
+  static constexpr double StillDelay = 0.3;         ///< seconds without a render, then full
+  vtkNew<vtkCallbackCommand> RenderStartCommand;
   vtkNew<vtkLight> Sun;
   vtkNew<vtkTerroirInteractorStyleTerrain> TerrainStyle;
   vtkNew<vtkTerroirInteractorStyleFirstPerson> FirstPersonStyle;
@@ -220,7 +321,17 @@ private:
   std::vector<vtkSmartPointer<vtkTextActor>> ListEntries;
   vtkNew<vtkPolyData> ButtonQuads;
   std::vector<vtkSmartPointer<vtkTextActor>> ButtonTexts;
-  std::vector<vtkSmartPointer<vtkSliderWidget>> Sliders; // latitude, month, hour, brush rate
+  /// Latitude, month, hour, brush rate, slope-rule threshold, sea level (SeaSlider).
+  std::vector<vtkSmartPointer<vtkSliderWidget>> Sliders;
+  static constexpr std::size_t SlopeSlider = 4;
+  static constexpr std::size_t SeaSlider = 5;
+  double ElevationRange[2] = { 0.0, 1.0 }; ///< the sea slider's range: valid heights, m
+  /// The last sea level set (slider, click or script), NaN before any; the slider shows it.
+  double SeaLevel = std::numeric_limits<double>::quiet_NaN();
+  /// Water version and undo depth right after the slider's last sea: when both still hold,
+  /// the next release replaces that sea instead of adding to it.
+  unsigned long SliderSeaWater = 0;
+  std::size_t SliderSeaDepth = 0;
   vtkNew<vtkPolyData> CompassArrow;
   vtkNew<vtkActor2D> CompassActor;
   vtkNew<vtkTextActor> CompassLabel;

@@ -54,6 +54,17 @@ void ViewerWindow::PrintState()
   // One line for scripts and tests: the parameters, the tool, the undo depth, the sums of the
   // water (m) and infiltration (mm/h) arrays over the cells, and whether the table is shown.
   const auto& p = this->Session.Parameters();
+  auto list = [](const std::array<double, 12>& values)
+  {
+    std::string s;
+    for (double v : values)
+    {
+      char number[32];
+      std::snprintf(number, sizeof(number), "%s%.6g", s.empty() ? "" : ",", v);
+      s += number;
+    }
+    return s;
+  };
   auto sum = [](vtkFloatArray* a)
   {
     double total = 0.0;
@@ -71,7 +82,9 @@ void ViewerWindow::PrintState()
               "flow-iterations %d flow-water %.6g flow-rain-rate %.6g flow-stop %.6g "
               "flow-balance %.6g flow-last-iterations %lld flow-last-stop %s coldest %.6g "
               "warmest %.6g lapse-rate %.6g temperatures %s precipitation-jul %.6g "
-              "intensity-jul %.6g orientation-edit %s\n",
+              "intensity-jul %.6g orientation-edit %s card %s card-field %d card-month %d "
+              "sensitivity %.6g move-speed %.6g sea-level %.9g precipitation-months %s "
+              "intensity-months %s style %s detail %s\n",
     terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
     ToolName(this->CurrentTool),
     p.Latitude,
@@ -106,7 +119,21 @@ void ViewerWindow::PrintState()
     p.UseMonthlyTemperatures ? "monthly" : "extremes",
     p.Precipitation[6],
     p.PrecipitationIntensity[6],
-    this->OrientationEdit ? "on" : "off");
+    this->OrientationEdit ? "on" : "off",
+    this->OpenCard == Card::Climate      ? "climate"
+      : this->OpenCard == Card::Settings ? "settings"
+                                         : "none",
+    this->CardField,
+    this->CardMonth + 1,
+    this->TerrainStyle->GetMouseSensitivity(),
+    this->FirstPersonStyle->GetMoveSensitivity(),
+    this->SeaLevel,
+    list(p.Precipitation).c_str(),
+    list(p.PrecipitationIntensity).c_str(),
+    this->FirstPerson ? "first-person" : "terrain",
+    !this->HaveCoarse       ? "full-only"
+      : this->LastDrawnFull ? "full"
+                            : "coarse");
   std::fflush(stdout);
 }
 
@@ -320,10 +347,18 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
   {
     this->PrintState();
   }
-  else if (a.Verb == "sensitivity")
+  else if (a.Verb == "sensitivity" || a.Verb == "move-speed")
   {
-    this->TerrainStyle->SetMouseSensitivity(n[0]);
-    this->FirstPersonStyle->SetMouseSensitivity(n[0]);
+    const bool mouse = a.Verb == "sensitivity";
+    this->SetNavigation(mouse ? n[0] : this->TerrainStyle->GetMouseSensitivity(),
+      mouse ? this->FirstPersonStyle->GetMoveSensitivity() : n[0]);
+    this->UpdateTexts();
+  }
+  else if (a.Verb == "card")
+  {
+    this->ShowCard(a.Text == "climate" ? Card::Climate
+        : a.Text == "settings"         ? Card::Settings
+                                       : Card::None);
   }
   else if (a.Verb == "style")
   {

@@ -12,6 +12,7 @@
 #include "vtkPNGWriter.h"
 #include "vtkPointData.h"
 #include "vtkProperty2D.h"
+#include "vtkSliderRepresentation2D.h"
 #include "vtkTextProperty.h"
 #include "vtkWindowToImageFilter.h"
 
@@ -28,15 +29,6 @@ namespace viewer
 {
 namespace
 {
-/// Display coordinates (pixels, origin bottom left) to the normalised viewport coordinates of
-/// `renderer`; false when outside its viewport.
-bool ToViewport(vtkRenderer* renderer, const int* windowSize, int x, int y, double& u, double& v)
-{
-  const double* vp = renderer->GetViewport();
-  u = (x / static_cast<double>(windowSize[0]) - vp[0]) / (vp[2] - vp[0]);
-  v = (y / static_cast<double>(windowSize[1]) - vp[1]) / (vp[3] - vp[1]);
-  return u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0;
-}
 /// A one-letter key symbol in lower case, `shift` set when it came in capitals (X sends
 /// capitals with Shift; scripts send the lower case and the flag); other symbols unchanged.
 std::string LowerKey(const std::string& symbol, bool& shift)
@@ -72,7 +64,14 @@ void ViewerWindow::Undo()
 
 bool ViewerWindow::PickCell(int x, int y, int& i, int& j)
 {
-  if (!this->Picker->Pick(x, y, 0.0, this->Scene))
+  // The full-detail surface is picked even while the coarse one is drawn (a picker skips
+  // hidden actors).
+  vtkActor* surface = this->Relief->GetSurfaceActor();
+  const int visible = surface->GetVisibility();
+  surface->VisibilityOn();
+  const bool picked = this->Picker->Pick(x, y, 0.0, this->Scene) != 0;
+  surface->SetVisibility(visible);
+  if (!picked)
   {
     return false;
   }
@@ -135,6 +134,11 @@ void ViewerWindow::FloodSea(double level)
     std::snprintf(
       line, sizeof(line), "Sea at %.2f m: %lld cells under water (Ctrl+Z undoes it)", level, cells);
     this->Message = line;
+    this->SeaLevel = level;
+    this->SliderSeaDepth = 0; // a sea by click or script is not the slider's to move
+    auto* rep =
+      vtkSliderRepresentation2D::SafeDownCast(this->Sliders[SeaSlider]->GetRepresentation());
+    rep->SetValue(level);
     this->Recolour();
   }
   else
@@ -210,6 +214,13 @@ void ViewerWindow::PressButton(int k)
         this->Message = "The cluster table comes with the clusters overlay (key 7)";
       }
       break;
+    case 8:
+    case 9:
+    {
+      const Card card = k == 8 ? Card::Climate : Card::Settings;
+      this->ShowCard(this->OpenCard == card ? Card::None : card);
+      break;
+    }
     default:
       break;
   }
@@ -235,7 +246,7 @@ std::string ViewerWindow::NextScreenshotName(const char* extension)
 
 bool ViewerWindow::Screenshot(const std::string& path, std::string& error)
 {
-  this->Window->Render();
+  this->RenderStill(); // screenshots show the full detail
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(this->Window);
   grab->SetInputBufferTypeToRGB();
@@ -294,6 +305,14 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
     sym[0] < '0' + static_cast<int>(ViewerOverlay::Count))
   {
     this->SetOverlay(static_cast<ViewerOverlay>(sym[0] - '0'));
+  }
+  else if (sym == "F3" || sym == "F4")
+  {
+    this->PressButton(sym == "F3" ? 8 : 9);
+  }
+  else if (this->CardKey(sym))
+  {
+    this->UpdateTexts();
   }
   else if (sym == "Tab")
   {
@@ -530,6 +549,13 @@ void ViewerWindow::OnTimer(vtkObject*, unsigned long, void*)
     this->Window->Render();
   }
   this->Computing = !this->Session.IsIdle();
+  // The full detail once the window has rested (the coarse surface meanwhile).
+  if (this->StillPending &&
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - this->LastCoarse).count() >=
+      StillDelay)
+  {
+    this->RenderStill();
+  }
 }
 
 void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
@@ -545,7 +571,11 @@ void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
       std::atan2(x - this->CompassCentre[0], y - this->CompassCentre[1]));
   };
   bool handled = false;
-  if (event == vtkCommand::LeftButtonPressEvent)
+  if (this->CardMouse(event, x, y))
+  {
+    handled = true; // a press on the open card, or a drag of its bars
+  }
+  else if (event == vtkCommand::LeftButtonPressEvent)
   {
     double u = 0.0, v = 0.0;
     if (ToViewport(this->ListPane, size, x, y, u, v))

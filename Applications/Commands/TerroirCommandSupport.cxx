@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <dlfcn.h>
 #include <filesystem>
@@ -57,9 +58,27 @@ void LoadClimate(terroir::app::TemperatureSettings& t, terroir::app::SoilWaterSe
   }
 }
 
-/// Sets the temperature filter from the command line's temperature settings.
+/// Sets the temperature filter from the command line's temperature settings. The default
+/// climate is an illustrative temperate year, not the site's (on Sagehen Creek it gives July
+/// about 6 °C where the station at 1,930 m records about 16 °C): a run on it says so on stderr.
 void ApplyTemperature(const terroir::app::TemperatureSettings& t, vtkTerroirTemperature* filter)
 {
+  const terroir::app::TemperatureSettings defaults;
+  if (t.Monthly.empty() && t.ClimateFile.empty() && t.Coldest == defaults.Coldest &&
+    t.Warmest == defaults.Warmest && t.LapseRate == defaults.LapseRate)
+  {
+    char note[320];
+    std::snprintf(note,
+      sizeof(note),
+      "the temperatures come from a placeholder climate (sea level %.3g \xc2\xb0"
+      "C in the coldest month, %.3g \xc2\xb0"
+      "C in the warmest, %.3g \xc2\xb0"
+      "C/km), not this site's: give --coldest/--warmest, --monthly or --climate FILE",
+      t.Coldest,
+      t.Warmest,
+      t.LapseRate);
+    AddNote(note);
+  }
   filter->SetSeaLevelTemperatureColdest(t.Coldest);
   filter->SetSeaLevelTemperatureWarmest(t.Warmest);
   if (t.ColdestMonth > 0)

@@ -46,7 +46,12 @@ int RunCommand(CommandLine& line)
   {
     if (line.Command == command.Name)
     {
-      return command.Run(line);
+      const int status = command.Run(line);
+      if (status == 0)
+      {
+        FlushNotes(); // the notes of a command that worked (placeholder climate, ...)
+      }
+      return status;
     }
   }
   throw Failure("no command named '" + line.Command + "' (see terroir --help)");

@@ -151,6 +151,22 @@ void ApplyInfiltration(const SoilWaterSettings& s,
 
 void ApplyClimate(const SoilWaterSettings& s, vtkTerroirSoilHumidity* filter)
 {
+  // The filter's default rain is an illustrative year, not the site's: say so (stderr).
+  if (s.ClimateFile.empty() && s.Precipitation.empty() && s.Intensity.empty())
+  {
+    double total = 0.0;
+    for (int m = 0; m < 12; ++m)
+    {
+      total += filter->GetPrecipitation()[m];
+    }
+    char note[240];
+    std::snprintf(note,
+      sizeof(note),
+      "the precipitation comes from a placeholder climate (%.0f mm a year), not this site's: "
+      "give --precip and --intensity or --climate FILE",
+      total);
+    AddNote(note);
+  }
   if (!s.ClimateFile.empty())
   {
     vtkNew<vtkTerroirClimateReader> climate;

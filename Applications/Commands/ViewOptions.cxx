@@ -69,6 +69,15 @@ public:
     sub->add_option("--lake-depth", line.View.LakeDepth, "Lake level above a clicked cell, m")
       ->check(FiniteIn(0.0, 10000.0))
       ->capture_default_str();
+    sub->add_option("--climate",
+      line.View.ClimateFile,
+      "Climate file (CSV or JSON): monthly precipitation, intensity, temperatures");
+    sub
+      ->add_option("--lod-points",
+        line.View.LodPoints,
+        "Above this many grid points, draw a coarse surface while interacting (0: never)")
+      ->check(CLI::Range(0LL, 1000000000000LL))
+      ->capture_default_str();
     sub->add_flag(
       "--allow-network-paths", line.AllowNetwork, "Allow GDAL network and archive paths");
     AddZUnitOption(sub, line);

@@ -447,6 +447,36 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 2)
         self.assertEqual(r.stderr, "terroir: error: --monthly: expected 12 values, got 3\n")
 
+    def test_the_placeholder_climate_is_announced(self):
+        """Issue 24 item 7: a run on the default climate (the filters' illustrative year) says
+        so once on stderr after it worked, with the values; any climate option silences it;
+        a command that fails prints its one error line and no note."""
+        out = os.path.join(self.work, "t.tif")
+        r = terroir("temperature", DEM, out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        notes = [line for line in r.stderr.splitlines() if line.startswith("terroir: note:")]
+        self.assertEqual(notes, [
+            "terroir: note: the temperatures come from a placeholder climate (sea level 2 \u00b0C "
+            "in the coldest month, 20 \u00b0C in the warmest, 6.4 \u00b0C/km), not this site's: "
+            "give --coldest/--warmest, --monthly or --climate FILE"])
+        r = terroir("temperature", DEM, os.path.join(self.work, "t2.tif"), "--coldest", "-3")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("note:", r.stderr)
+        r = terroir("humidity", DEM, os.path.join(self.work, "h.tif"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        notes = [line for line in r.stderr.splitlines() if line.startswith("terroir: note:")]
+        self.assertEqual(len(notes), 1, r.stderr)
+        self.assertTrue(notes[0].startswith("terroir: note: the precipitation comes from a "
+                                            "placeholder climate ("), notes[0])
+        r = terroir("humidity", DEM, os.path.join(self.work, "h2.tif"),
+                    "--precip", ",".join(["50"] * 12), "--intensity", ",".join(["2"] * 12))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("note:", r.stderr)
+        r = terroir("temperature", DEM, out)  # exists: fails, one line
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(len(r.stderr.splitlines()), 1, r.stderr)
+        self.assertIn("error", r.stderr)
+
     def test_temperature_from_a_climate_file(self):
         # The same 12 sea-level temperatures from a CSV climate table and from --monthly give
         # the same raster; a table without temperature_c is refused before any work.

@@ -65,15 +65,17 @@ def need_display(test):
     test.skipTest("no X display")
 
 
-def run_view(name, lines, env=None, dem=DEM):
-    """Writes the script `lines` and runs `terroir view` on `dem` (the bundled DEM) with it."""
+def run_view(name, lines, env=None, dem=DEM, extra=()):
+    """Writes the script `lines` and runs `terroir view` on `dem` (the bundled DEM) with it
+    (and the options `extra`)."""
     folder = os.path.join(TEMP, "viewer_" + name)
     shutil.rmtree(folder, ignore_errors=True)
     os.makedirs(folder)
     script = os.path.join(folder, "script.txt")
     with open(script, "w") as f:
         f.write("\n".join(lines) + "\n")
-    proc = subprocess.run([BIN, "view", dem, "--size", "%dx%d" % SIZE, "--script", script],
+    proc = subprocess.run([BIN, "view", dem, "--size", "%dx%d" % SIZE, "--script", script]
+                          + list(extra),
                           cwd=folder, capture_output=True, text=True, timeout=600, env=env)
     return proc, folder, script
 
@@ -185,6 +187,13 @@ class TerroirViewer(unittest.TestCase):
         self.assertEqual(proc.returncode, 0, proc.stderr)
         self.check_baseline(os.path.join(folder, "clusters.png"),
                             "TerroirViewer_ClusterTable")
+        # The climate card over the temperature overlay of the bowl, July's intensity under
+        # edit (orange).
+        proc, folder, _ = run_view("bowl_climate_card", [
+            "overlay temperature", "card climate", "key Down", "month 7", "wait",
+            "screenshot climate.png", "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.check_baseline(os.path.join(folder, "climate.png"), "TerroirViewer_ClimateCard")
 
     def test_a_brush_stroke_is_one_undo_step(self):
         need_display(self)
@@ -508,6 +517,188 @@ class TerroirViewer(unittest.TestCase):
         self.assertEqual(len(errors), 1, proc.stderr)
         self.assertTrue(errors[0].startswith("terroir: error: %s:1: %s: " % (script, bad)),
                         errors[0])
+
+    def test_the_climate_card_edits_the_climate_by_keys_and_mouse(self):
+        """The climate card (F3, Viewer.md's layout: card 1-55 % across and 17-93 % up the
+        window; precipitation chart 11-97 % across and 63-86 % up the card, 0 to the smallest
+        multiple of 50 mm at least 1.25 x the wettest month, i.e. 100 mm for the default 65 mm;
+        rows of [-] [+] at 20.5, 13.5 and 6.5 % up, [+] at 86-96 % across). Keys: Right x 6
+        picks July, + adds 5 mm, Down then - takes 0.5 mm/h off July's intensity, Down + warms
+        the coldest month by 1 degree. Mouse: a press half-way up January's bar sets 50 mm
+        (+-1 mm: one pixel is 1.2 mm), a drag from there to March at a quarter sets March to
+        25 mm and February on the way between; [+] of the lapse rate adds 0.5; Save CSV writes
+        the same numbers; F3 closes the card."""
+        need_display(self)
+        w, h = SIZE
+
+        def card_pixel(u, v):  # the card's normalised coordinates to script pixels
+            x = (0.01 + u * 0.54) * w
+            y_up = (0.17 + v * 0.76) * h
+            return int(round(x)), int(round(h - 1 - y_up))
+
+        def chart(month, fraction):  # month 0..11, fraction of the chart's height
+            return card_pixel(0.11 + (month + 0.5) * 0.86 / 12, 0.63 + fraction * 0.23)
+
+        def value_at(pixel_y):  # what the chart reads at a script row, mm
+            v = ((h - 1 - pixel_y) / h - 0.17) / 0.76
+            return (v - 0.63) / 0.23 * 100.0
+
+        jan = chart(0, 0.5)
+        mar = chart(2, 0.25)
+        plus_lapse = card_pixel(0.91, 0.065)
+        proc, out, _ = run_view("climate_card", [
+            "state", "key F3", "state"] + ["key Right"] * 6 + [
+            "key plus", "key Down", "key minus", "key Down", "key plus", "state",
+            "click %d %d" % jan, "state", "drag %d %d %d %d" % (jan + mar), "state",
+            "click %d %d" % plus_lapse, "state", "key F3", "state", "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 7, proc.stdout)
+        months = [[float(v) for v in d["precipitation-months"].split(",")] for d in s]
+        rates = [[float(v) for v in d["intensity-months"].split(",")] for d in s]
+        self.assertEqual((s[0]["card"], s[1]["card"], s[6]["card"]), ("none", "climate", "none"))
+        self.assertEqual(max(months[0]), 65.0)  # the chart's top is then 100 mm
+        self.assertEqual((s[2]["card-month"], s[2]["card-field"]), (7, 2))
+        self.assertEqual(months[2][6], months[0][6] + 5.0)
+        self.assertEqual(rates[2][6], rates[0][6] - 0.5)
+        self.assertEqual(s[2]["coldest"], s[0]["coldest"] + 1.0)
+        self.assertEqual(months[2][:6] + months[2][7:], months[0][:6] + months[0][7:])
+        self.assertAlmostEqual(months[3][0], value_at(jan[1]), delta=0.51)
+        self.assertAlmostEqual(months[3][0], 50.0, delta=1.5)
+        self.assertEqual(s[3]["card-field"], 0)
+        self.assertAlmostEqual(months[4][2], value_at(mar[1]), delta=0.51)
+        self.assertAlmostEqual(months[4][2], 25.0, delta=1.5)
+        self.assertTrue(25.0 - 1.5 <= months[4][1] <= 50.0 + 1.5, months[4])
+        self.assertNotEqual(months[4][1], months[0][1])
+        self.assertEqual(s[5]["lapse-rate"], s[0]["lapse-rate"] + 0.5)
+        # Save CSV (top right of the card) writes what the state says.
+        proc, out, _ = run_view("climate_card_save", [
+            "card climate", "precipitation 2 42", "click %d %d" % card_pixel(0.885, 0.955),
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        with open(os.path.join(out, "terroir-view-001.csv")) as f:
+            rows = [line.split(",") for line in f.read().splitlines()
+                    if line and not line.startswith("#")]
+        self.assertEqual(float(rows[2][1]), 42.0)
+        self.assertEqual([float(r[1]) for r in rows[1:]][6], months[0][6])
+
+    def test_the_settings_card_sets_the_navigation(self):
+        """The settings card (F4, the Settings button; card 60-93 % up the window, rows at 70,
+        50 and 30 % up it, [+] at 86-96 % across): [+] of the mouse sensitivity multiplies it
+        by 1.25; Down, - divides the move speed by 1.25; [+] of the control type switches to
+        first-person; the script's sensitivity and move-speed set the same values; F4 closes
+        the card."""
+        need_display(self)
+        w, h = SIZE
+
+        def card_pixel(u, v):
+            x = (0.01 + u * 0.54) * w
+            y_up = (0.60 + v * 0.33) * h
+            return int(round(x)), int(round(h - 1 - y_up))
+
+        proc, _, _ = run_view("settings_card", [
+            "key F4", "click %d %d" % card_pixel(0.91, 0.50), "state", "key Down", "key minus",
+            "state", "click %d %d" % card_pixel(0.91, 0.70), "state", "sensitivity 3",
+            "move-speed 0.5", "state", "key F4", "state", "button settings", "state", "quit"],
+            dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 6, proc.stdout)
+        self.assertEqual((s[0]["card"], s[0]["sensitivity"], s[0]["style"]),
+                         ("settings", 1.25, "terrain"))
+        self.assertEqual((s[1]["card-field"], s[1]["move-speed"]), (2, 0.8))
+        self.assertEqual(s[2]["style"], "first-person")
+        self.assertEqual((s[3]["sensitivity"], s[3]["move-speed"]), (3, 0.5))
+        self.assertEqual((s[4]["card"], s[5]["card"]), ("none", "settings"))
+
+    def test_the_slope_and_sea_sliders(self):
+        """The fifth and sixth sliders under the terrain (Viewer.md: slider k spans
+        (1.5 + 16.3 k) % to that + 14.5 % of the terrain's 78 % of the width, 4.5 % up; VTK's
+        2-D slider: a click on an end cap jumps to that end, a press on the handle drags it;
+        its handle, about 25 % long, travels with its centre from 24 % to 75 % of that span). The slope-rule threshold (0-90
+        degrees): the left cap gives 0, the handle dragged from there past the right end 90,
+        from the right end past the left 0. The sea level (the terrain's lowest to highest
+        height) floods at the release: the right cap covers every cell (water = sum of max - z);
+        the handle dragged back a little (below the highest edge cell) replaces that sea (the water is the breadth-first
+        flood from the edge at the new level, not the higher sea kept), one undo step; Ctrl+Z
+        leaves the terrain dry."""
+        need_display(self)
+        w, h = SIZE
+
+        def slider(k, t):  # a point t of the way along slider k, script pixels
+            x0 = (0.015 + 0.163 * k) * 0.78
+            return int(round((x0 + t * 0.145 * 0.78) * w)), int(round(h - 1 - 0.045 * h))
+
+        def click(k, t):
+            return "click %d %d" % slider(k, t)
+
+        def drag(k, a, b):
+            return "drag %d %d %d %d" % (slider(k, a) + slider(k, b))
+
+        proc, _, _ = run_view("sliders", [
+            click(4, 0.02), "state", drag(4, 0.24, 1.2), "state", click(4, 0.99),
+            drag(4, 0.75, -0.2), "state",
+            click(5, 0.99), "state", drag(5, 0.75, 0.70), "state", "key ctrl+z", "state",
+            "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 6, proc.stdout)
+        self.assertEqual([d["slope-threshold"] for d in s[:3]], [0, 90, 0])
+        s = s[1:]
+        nx, ny = 121, 101
+        i = np.arange(nx)[None, :]
+        j = np.arange(ny)[:, None]
+        z = (2000.0 + 0.1 * i - 40.0 * np.exp(-((i - 60.0) ** 2 + (j - 50.0) ** 2)
+                                              / (2 * 20.0 ** 2))).astype(np.float32)
+        top = float(z.max())
+        self.assertAlmostEqual(s[2]["sea-level"], top, places=3)
+        full = float(np.sum(top - z.astype(np.float64)))
+        self.assertAlmostEqual(s[2]["water-sum"] / full, 1.0, places=5)
+        level = s[3]["sea-level"]
+        self.assertTrue(2000.0 < level < top - 1.0, level)  # above the lowest edge cell
+        wet = np.zeros(z.shape, dtype=bool)
+        queue = [(a, b) for a in range(ny) for b in range(nx)
+                 if (a in (0, ny - 1) or b in (0, nx - 1)) and z[a, b] <= level]
+        for a, b in queue:
+            wet[a, b] = True
+        while queue:
+            a, b = queue.pop()
+            for da in (-1, 0, 1):
+                for db in (-1, 0, 1):
+                    p, q = a + da, b + db
+                    if 0 <= p < ny and 0 <= q < nx and not wet[p, q] and z[p, q] <= level:
+                        wet[p, q] = True
+                        queue.append((p, q))
+        expected = float(np.sum((level - z.astype(np.float64))[wet]))
+        self.assertGreater(expected, 0.0)
+        self.assertAlmostEqual(s[3]["water-sum"] / expected, 1.0, places=4)
+        self.assertEqual((s[2]["undo"], s[3]["undo"]), (1, 1))
+        self.assertEqual((s[4]["undo"], s[4]["water-sum"]), (0, 0.0))
+
+    def test_the_level_of_detail_draws_coarse_while_busy_and_full_when_still(self):
+        """--lod-points 1000 on the 121 x 101 bowl (12,221 points) gives a coarse surface
+        (every 4th point): renders after actions draw it (`state`: detail coarse), a screenshot
+        draws the full one: its pixels equal those of the same session
+        without a level of detail (--lod-points 0), whose state says full-only; the tools pick
+        cells on the full surface (a lake clicked while the coarse one is shown fills the same
+        water as without)."""
+        need_display(self)
+        lines = ["overlay slope", "tool lake", "click %d %d" % BOWL, "wait", "state",
+                 "screenshot a.png", "state", "quit"]
+        lod, folder_lod, _ = run_view("lod", lines, dem=bowl_dem(), extra=("--lod-points", "1000"))
+        full, folder_full, _ = run_view("lod_off", lines, dem=bowl_dem(),
+                                        extra=("--lod-points", "0"))
+        for proc in (lod, full):
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+        s, t = states(lod.stdout), states(full.stdout)
+        self.assertEqual([d["detail"] for d in s], ["coarse", "coarse"])  # the runner redraws
+        self.assertEqual([d["detail"] for d in t], ["full-only", "full-only"])
+        self.assertGreater(s[0]["water-sum"], 0.0)
+        self.assertEqual(s[0]["water-sum"], t[0]["water-sum"])
+        (dims_a, a), (dims_b, b) = (pixels(os.path.join(folder_lod, "a.png")),
+                                    pixels(os.path.join(folder_full, "a.png")))
+        self.assertEqual(dims_a, dims_b)
+        np.testing.assert_array_equal(a, b)
 
     def test_orientation_edit_mode_turns_the_compass_with_the_arrow_keys(self):
         """F2 (Long 2016's orientation edit mode, Fig. 3.5) turns the compass green; then

@@ -73,14 +73,17 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
 {
   EXPECT_EQ(ErrorOf("wait\nfly 3\n"),
     "s.txt:2: unknown action 'fly' (overlay, latitude, longitude, month, hour, orientation, "
-    "clusters, lake-depth, brush-size, brush-rate, slope-threshold, sensitivity, style, tool, "
-    "view, button, click, drag, wheel, key, flow, undo, wait, camera, state, screenshot, "
+    "clusters, lake-depth, brush-size, brush-rate, slope-threshold, sensitivity, move-speed, "
+    "style, tool, view, button, card, click, drag, wheel, key, flow, undo, wait, camera, state, "
+    "screenshot, "
     "cluster-weight, table-csv, flow-mode, flow-iterations, flow-water, flow-rain-rate, "
     "flow-stop, flow-balance, sea, coldest, warmest, lapse-rate, precipitation, intensity, "
     "climate-load, climate-save, quit)");
+  EXPECT_EQ(ErrorOf("card map"), "s.txt:1: 'card': unknown value 'map' (none, climate, settings)");
+  EXPECT_EQ(ErrorOf("move-speed 200"), "s.txt:1: 'move-speed': value 200 is outside [0.01, 100]");
   EXPECT_EQ(ErrorOf("button paint"),
     "s.txt:1: 'button': unknown value 'paint' (navigate, lake, brush, fill, slope-rule, flow, "
-    "undo, table)");
+    "undo, table, climate, settings)");
   EXPECT_EQ(
     ErrorOf("slope-threshold 91"), "s.txt:1: 'slope-threshold': value 91 is outside [0, 90]");
   EXPECT_EQ(ErrorOf("state now"), "s.txt:1: 'state' takes no argument, got 1 argument");
