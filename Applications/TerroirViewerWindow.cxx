@@ -20,6 +20,7 @@
 #include "vtkCommand.h"
 #include "vtkCoordinate.h"
 #include "vtkImageData.h"
+#include "vtkMapper.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyDataMapper2D.h"
@@ -106,6 +107,15 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   this->Picker->PickFromListOn();
   this->Picker->AddPickList(this->Relief->GetSurfaceActor());
   this->Picker->SetTolerance(0.0);
+  // A cell locator on the surface: a pick (every brush move) then costs a tree walk instead of
+  // a test of every triangle.
+  if (auto* surface = vtkDataSet::SafeDownCast(
+        this->Relief->GetSurfaceActor()->GetMapper()->GetInputDataObject(0, 0)))
+  {
+    this->SurfaceLocator->SetDataSet(surface);
+    this->SurfaceLocator->BuildLocator();
+    this->Picker->AddLocator(this->SurfaceLocator);
+  }
 
   const int font = std::max(10, this->Height / 52);
   this->FontSize = font;

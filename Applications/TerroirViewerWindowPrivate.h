@@ -25,6 +25,7 @@
 #include "vtkRenderer.h"
 #include "vtkSliderWidget.h"
 #include "vtkSmartPointer.h"
+#include "vtkStaticCellLocator.h"
 #include "vtkTerroirInteractorStyleFirstPerson.h"
 #include "vtkTerroirInteractorStyleTerrain.h"
 #include "vtkTerroirReliefSurface.h"
@@ -336,6 +337,7 @@ private:
   vtkNew<vtkActor2D> CompassActor;
   vtkNew<vtkTextActor> CompassLabel;
   vtkNew<vtkCellPicker> Picker;
+  vtkNew<vtkStaticCellLocator> SurfaceLocator; ///< the full surface's cells, for the picker
   vtkNew<vtkCallbackCommand> KeyCommand;
   vtkNew<vtkCallbackCommand> WheelCommand;
   vtkNew<vtkCallbackCommand> MouseCommand;
