@@ -15,6 +15,11 @@
 #include "vtkTerroirIOPrivate.h"
 #include "vtkUnsignedCharArray.h"
 
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
+#endif
+
 #include "MemoryBudget.h"
 
 #include <cpl_string.h>
@@ -559,8 +564,8 @@ void ApplyVerticalUnit(int verticalUnit, Description& d)
   d.zScale = chosen;
 }
 
-/// Where ReadElevations puts the heights (metres, row 0 = south) and the validity of nx*ny
-/// cells, and how many cells it found invalid.
+/// Where ReadElevations puts the heights (metres, row 0 = south) and the validity of the cells
+/// of the window it reads, and how many cells it found invalid.
 struct ElevationTarget
 {
   float* Elevation = nullptr;
@@ -568,35 +573,60 @@ struct ElevationTarget
   vtkIdType InvalidCount = 0;
 };
 
-/// Reads the band in blocks of chunkRows rows as Sample (float or double, GDAL type ioType),
-/// converts to metres, masks no-data and flips rows (row 0 = south) into `target`; reports
-/// progress to `algorithm`. On a failed read sets `error` and returns false.
+/// The part of the raster a read covers, in VTK's indices (i east, j north, j = 0 the southern
+/// row): columns i0..i1, rows j0..j1. The whole raster unless a piece is asked for.
+struct ReadWindow
+{
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+  int Width() const { return this->i1 - this->i0 + 1; }
+  int Height() const { return this->j1 - this->j0 + 1; }
+};
+
+/// Reads `w` of the band in blocks of chunkRows rows as Sample (float or double, GDAL type
+/// ioType), converts to metres, masks no-data and flips rows (row 0 = south) into `target`
+/// (Width() x Height() cells); reports progress to `algorithm`. On a failed read sets `error`
+/// and returns false. A cell's value does not depend on the window: the same conversion runs
+/// on the same sample.
 template<typename Sample>
 bool ReadElevations(GDALRasterBandH band,
   GDALDataType ioType,
   const Description& d,
+  const ReadWindow& w,
   int chunkRows,
   ElevationTarget& target,
   vtkAlgorithm* algorithm,
   const GDALErrorCapture& capture,
   std::string& error)
 {
-  const vtkIdType nx = d.nx;
-  const vtkIdType ny = d.ny;
+  const vtkIdType nx = w.Width();
+  const int ny = w.Height();
   const bool northUp = d.NorthUp();
+  // GDAL rows of the window: row 0 is the first row of the file (the northern one when
+  // north-up), so VTK rows j0..j1 are GDAL rows ny - 1 - j1 .. ny - 1 - j0 there.
+  const int gdalRow0 = northUp ? d.ny - 1 - w.j1 : w.j0;
   const float nodataF = static_cast<float>(d.nodata);
   const double factor = d.bandScale * d.zScale;
   const double offset = d.bandOffset * d.zScale;
   std::vector<Sample> buffer(static_cast<std::size_t>(nx) * chunkRows);
   const Sample nodataS = static_cast<Sample>(d.nodata);
   const bool scaled = factor != 1.0 || offset != 0.0;
-  for (int r0 = 0; r0 < d.ny; r0 += chunkRows)
+  for (int r0 = 0; r0 < ny; r0 += chunkRows)
   {
-    const int rows = std::min(chunkRows, d.ny - r0);
-    if (GDALRasterIO(band, GF_Read, 0, r0, d.nx, rows, buffer.data(), d.nx, rows, ioType, 0, 0) !=
-      CE_None)
+    const int rows = std::min(chunkRows, ny - r0);
+    if (GDALRasterIO(band,
+          GF_Read,
+          w.i0,
+          gdalRow0 + r0,
+          w.Width(),
+          rows,
+          buffer.data(),
+          w.Width(),
+          rows,
+          ioType,
+          0,
+          0) != CE_None)
     {
-      error = "read failed at row " + std::to_string(r0) + capture.Suffix();
+      error = "read failed at row " + std::to_string(gdalRow0 + r0) + capture.Suffix();
       return false;
     }
     // Drop the blocks GDAL cached for these rows: the elevation array is the one copy kept.
@@ -627,21 +657,23 @@ bool ReadElevations(GDALRasterBandH band,
         target.InvalidCount += isValid ? 0 : 1;
       }
     }
-    algorithm->UpdateProgress(static_cast<double>(r0 + rows) / d.ny);
+    algorithm->UpdateProgress(static_cast<double>(r0 + rows) / ny);
   }
   return true;
 }
 
-/// Gives the output its grid, the elevation (and the mask when `masked`) and the
-/// georeference of `d`, and names the source file.
+/// Gives the output its extent (the window `w`; spacing and origin those of the whole grid),
+/// the elevation (and the mask when `masked`) and the georeference of `d` (whole-grid values,
+/// the same for every piece), and names the source file.
 void AssembleTerrain(vtkImageData* output,
   const Description& d,
+  const ReadWindow& w,
   vtkFloatArray* elevation,
   vtkUnsignedCharArray* mask,
   bool masked,
   const char* fileName)
 {
-  output->SetExtent(0, d.nx - 1, 0, d.ny - 1, 0, 0);
+  output->SetExtent(w.i0, w.i1, w.j0, w.j1, 0, 0);
   output->SetSpacing(d.spacing[0], d.spacing[1], 1.0);
   output->SetOrigin(d.origin[0], d.origin[1], 0.0);
   output->GetPointData()->SetScalars(elevation);
@@ -727,6 +759,8 @@ int vtkTerroirDEMReader::RequestInformation(vtkInformation*,
     d.spacing[1],
     d.origin[0],
     d.origin[1]);
+  // Pieces: RequestData reads only the update extent (a GDAL window).
+  outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 
@@ -760,29 +794,60 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   ApplyVerticalUnit(this->VerticalUnit, d);
   this->VerticalUnitToMetres = d.zScale;
 
-  const vtkIdType nx = d.nx;
-  const vtkIdType ny = d.ny;
+  ReadWindow w;
+  w.i1 = d.nx - 1;
+  w.j1 = d.ny - 1;
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    int ext[6];
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext);
+    if (ext[0] > ext[1] || ext[2] > ext[3] || ext[4] > ext[5])
+    {
+      // An empty piece (more pieces than rows): nothing to read, nothing to report.
+      this->ReadExtent[0] = this->ReadExtent[2] = this->ReadExtent[4] = 0;
+      this->ReadExtent[1] = this->ReadExtent[3] = this->ReadExtent[5] = -1;
+      vtkIdType none[2];
+      this->ReducePieces(outInfo, 0, 0, none);
+      return 1;
+    }
+    if (ext[0] < 0 || ext[1] > d.nx - 1 || ext[2] < 0 || ext[3] > d.ny - 1 || ext[4] != 0 ||
+      ext[5] != 0)
+    {
+      std::ostringstream os;
+      os << "requested extent " << ext[0] << ".." << ext[1] << " x " << ext[2] << ".." << ext[3]
+         << " x " << ext[4] << ".." << ext[5] << " is outside the raster's 0.." << d.nx - 1
+         << " x 0.." << d.ny - 1 << " x 0..0";
+      this->Fail(os.str());
+      return 0;
+    }
+    w.i0 = ext[0];
+    w.i1 = ext[1];
+    w.j0 = ext[2];
+    w.j1 = ext[3];
+  }
+  const bool whole = w.i0 == 0 && w.j0 == 0 && w.i1 == d.nx - 1 && w.j1 == d.ny - 1;
+  const vtkIdType nx = w.Width();
+  const vtkIdType ny = w.Height();
   // Elevation (4 B) and mask (1 B) per cell, plus one block of rows read as doubles.
   const int chunkRows =
-    std::max(1, std::min(d.ny, static_cast<int>((std::size_t(4) << 20) / d.nx)));
+    std::max(1, std::min(w.Height(), static_cast<int>((std::size_t(4) << 20) / w.Width())));
   error = terroir::CheckMemory(static_cast<double>(nx) * static_cast<double>(ny) * 5.0 +
       8.0 * static_cast<double>(nx) * chunkRows,
     "reading the raster");
-  if (!error.empty())
-  {
-    this->Fail(error);
-    return 0;
-  }
   vtkNew<vtkFloatArray> elevation;
   elevation->SetName(vtkTerroirGeoreference::ElevationName());
-  elevation->SetNumberOfTuples(nx * ny);
-  elevation->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m");
   vtkNew<vtkUnsignedCharArray> mask;
   mask->SetName(vtkTerroirGeoreference::ValidMaskName());
-  mask->SetNumberOfTuples(nx * ny);
   ElevationTarget target;
-  target.Elevation = elevation->GetPointer(0);
-  target.Valid = mask->GetPointer(0);
+  if (error.empty())
+  {
+    elevation->SetNumberOfTuples(nx * ny);
+    elevation->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m");
+    mask->SetNumberOfTuples(nx * ny);
+    target.Elevation = elevation->GetPointer(0);
+    target.Valid = mask->GetPointer(0);
+  }
 
   GDALRasterBandH band = GDALGetRasterBand(dataset, this->Band);
   // Bands whose values float32 holds exactly (Float32, Byte, Int16, UInt16) are read as float,
@@ -790,25 +855,73 @@ int vtkTerroirDEMReader::RequestData(vtkInformation*,
   const GDALDataType bandType = GDALGetRasterDataType(band);
   const bool asFloat = bandType == GDT_Float32 || bandType == GDT_Byte || bandType == GDT_Int16 ||
     bandType == GDT_UInt16;
-  const bool ok = asFloat
-    ? ReadElevations<float>(band, GDT_Float32, d, chunkRows, target, this, capture, error)
-    : ReadElevations<double>(band, GDT_Float64, d, chunkRows, target, this, capture, error);
+  const bool ok = error.empty() &&
+    (asFloat
+        ? ReadElevations<float>(band, GDT_Float32, d, w, chunkRows, target, this, capture, error)
+        : ReadElevations<double>(band, GDT_Float64, d, w, chunkRows, target, this, capture, error));
+  // Every piece takes part in the reduction, even one whose read failed, so that no rank waits.
+  const vtkIdType cells = ok ? nx * ny : 0;
+  const vtkIdType invalid = ok ? target.InvalidCount : 0;
+  vtkIdType totals[2] = { invalid, cells - invalid };
+  const bool reduced = this->ReducePieces(outInfo, invalid, cells - invalid, totals);
+  const vtkIdType anyInvalid = totals[0];
+  const vtkIdType anyValid = totals[1];
   if (!ok)
   {
     this->Fail(error);
     output->Initialize();
     return 0;
   }
-  if (target.InvalidCount == nx * ny)
+  this->ReadExtent[0] = w.i0;
+  this->ReadExtent[1] = w.i1;
+  this->ReadExtent[2] = w.j0;
+  this->ReadExtent[3] = w.j1;
+  this->ReadExtent[4] = this->ReadExtent[5] = 0;
+  // The whole raster, or the pieces of one parallel run (whose union is the whole raster): the
+  // serial rule, from every piece's counts. A piece read alone cannot see the other cells: it
+  // keeps the mask whenever the file can hold no-data, so that all its pieces have the same
+  // arrays, and an all no-data piece is no error.
+  bool masked = anyInvalid > 0;
+  if (!whole && !reduced)
+  {
+    masked = target.InvalidCount > 0 || d.hasNodata || GDALDataTypeIsFloating(bandType);
+  }
+  if ((whole || reduced) && anyValid == 0)
   {
     this->Fail("every cell is no-data (nothing to read)");
     output->Initialize();
     return 0;
   }
-  for (const std::string& w : d.warnings)
+  for (const std::string& msg : d.warnings)
   {
-    vtkWarningMacro(<< terroir::io::detail::FileError(this->FileName, w));
+    vtkWarningMacro(<< terroir::io::detail::FileError(this->FileName, msg));
   }
-  AssembleTerrain(output, d, elevation, mask, target.InvalidCount > 0, this->FileName);
+  AssembleTerrain(output, d, w, elevation, mask, masked, this->FileName);
   return 1;
+}
+
+bool vtkTerroirDEMReader::ReducePieces(vtkInformation* outInfo,
+  vtkIdType invalid,
+  vtkIdType valid,
+  vtkIdType totals[2])
+{
+  totals[0] = invalid;
+  totals[1] = valid;
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (!controller || controller->GetNumberOfProcesses() < 2 ||
+    pieces != controller->GetNumberOfProcesses())
+  {
+    return false;
+  }
+  const vtkIdType local[2] = { invalid, valid };
+  controller->AllReduce(local, totals, 2, vtkCommunicator::SUM_OP);
+  return true;
+#else
+  (void)outInfo;
+  return false;
+#endif
 }

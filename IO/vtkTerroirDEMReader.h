@@ -29,7 +29,15 @@
  * - No CRS: error when RequireGeoreference is on; otherwise a warning, spacing = |pixel
  *   size| taken as metres, no georeference arrays but the geotransform.
  *
- * RequestInformation reports WHOLE_EXTENT, spacing and origin without reading pixels.
+ * RequestInformation reports WHOLE_EXTENT, spacing and origin without reading pixels, and
+ * CAN_PRODUCE_SUB_EXTENT: RequestData reads only the UPDATE_EXTENT asked for (one GDAL window;
+ * GetReadExtent() says which), so under pvbatch + MPI each rank reads its piece and its ghost
+ * cells. Spacing, origin and the georeference field data are those of the whole raster on every
+ * piece, and a cell's value and validity do not depend on the piece. `vtkValidPointMask` is
+ * present when some cell of the whole raster is no-data: in a parallel run (a global
+ * vtkMultiProcessController with as many processes as pieces) the pieces all-reduce their
+ * counts for it; a piece read without one has it whenever the file can hold no-data (a nodata
+ * value or a floating-point band), so that all its pieces have the same arrays.
  * Errors (one line "<file>: <problem>", GetErrorMessage() and vtkErrorMacro, empty output):
  * missing file, not a raster GDAL reads (GDAL's own message included), band out of range,
  * a folder, FIFO or unreadable file, more cells than MaxCells or than the memory available
@@ -128,6 +136,11 @@ public:
   /// Factor applied to the band values to get metres in the last read (1, 0.3048, ...).
   vtkGetMacro(VerticalUnitToMetres, double);
 
+  /// Extent (i0, i1, j0, j1, 0, 0; j = 0 south) of the GDAL window the last read covered: the
+  /// update extent asked for (a piece and its ghost cells), the whole raster when no piece was
+  /// asked for; (0, -1, 0, -1, 0, -1) before the first read and for an empty piece.
+  vtkGetVector6Macro(ReadExtent, int);
+
 protected:
   vtkTerroirDEMReader();
   ~vtkTerroirDEMReader() override;
@@ -143,12 +156,22 @@ protected:
   int VerticalUnit = VERTICAL_UNIT_AUTO;
   double VerticalUnitToMetres = 1.0;
   std::string ErrorMessage;
+  int ReadExtent[6] = { 0, -1, 0, -1, 0, -1 };
 
 private:
   vtkTerroirDEMReader(const vtkTerroirDEMReader&) = delete;
   void operator=(const vtkTerroirDEMReader&) = delete;
 
   void Fail(const std::string& problem);
+  /**
+   * In a parallel run (a global vtkMultiProcessController of N > 1 processes, N pieces asked
+   * for) sums the invalid and valid cell counts of every piece into `totals` (collective: every
+   * rank's RequestData calls it once) and returns true; otherwise copies them and returns false.
+   */
+  bool ReducePieces(vtkInformation* outInfo,
+    vtkIdType invalid,
+    vtkIdType valid,
+    vtkIdType totals[2]);
 };
 
 #endif

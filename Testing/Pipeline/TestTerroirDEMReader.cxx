@@ -7,6 +7,7 @@
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtentTranslator.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkNew.h"
@@ -17,6 +18,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <sys/stat.h>
 
@@ -531,4 +533,122 @@ TEST(TerroirDEMReader, DegenerateEllipsoidIsAnErrorNotACrash)
     vrt +
       ": the CRS ellipsoid (semi-major axis 1.000000 m, inverse flattening 0.500000) is not "
       "usable");
+}
+
+// Pieces (issue 25): an update extent is read as one GDAL window whose cells are the whole
+// read's cells bit for bit, with the whole raster's origin, spacing and georeference (and the
+// mask, all valid: see PieceOfAFileWithNoDataKeepsTheMask); the
+// window is reported by GetReadExtent. The north-up flip is checked with a window touching
+// neither the south nor the north row. A piece request (2 of 4 with 1 ghost level) reads the
+// block vtkExtentTranslator gives, grown by the ghost level.
+TEST(TerroirDEMReader, ReadsOnlyTheRequestedExtent)
+{
+  vtkNew<vtkTerroirDEMReader> whole;
+  whole->SetFileName(kUTM.c_str());
+  whole->Update();
+  vtkImageData* all = whole->GetOutput();
+  int wholeExtent[6];
+  all->GetExtent(wholeExtent);
+  EXPECT_EQ(whole->GetReadExtent()[1], wholeExtent[1]);
+  EXPECT_EQ(whole->GetReadExtent()[3], wholeExtent[3]);
+
+  auto check = [&](vtkTerroirDEMReader* piece, const int* expected)
+  {
+    vtkImageData* img = piece->GetOutput();
+    int ext[6];
+    img->GetExtent(ext);
+    for (int a = 0; a < 6; ++a)
+    {
+      EXPECT_EQ(ext[a], expected[a]) << a;
+      EXPECT_EQ(piece->GetReadExtent()[a], expected[a]) << a;
+    }
+    EXPECT_EQ(img->GetNumberOfPoints(),
+      static_cast<vtkIdType>(expected[1] - expected[0] + 1) * (expected[3] - expected[2] + 1));
+    double o1[3], o2[3], s1[3], s2[3];
+    img->GetOrigin(o1);
+    all->GetOrigin(o2);
+    img->GetSpacing(s1);
+    all->GetSpacing(s2);
+    for (int a = 0; a < 3; ++a)
+    {
+      EXPECT_EQ(o1[a], o2[a]);
+      EXPECT_EQ(s1[a], s2[a]);
+    }
+    EXPECT_EQ(vtkTerroirGeoreference::GetCRS(img), vtkTerroirGeoreference::GetCRS(all));
+    // Sagehen has no no-data cell, so the whole read has no mask; a piece read alone cannot
+    // know that of the other cells and, the file declaring a nodata value, has one: all valid.
+    vtkDataArray* mask = img->GetPointData()->GetArray("vtkValidPointMask");
+    ASSERT_NE(mask, nullptr);
+    EXPECT_EQ(mask->GetRange()[0], 1.0);
+    int mismatches = 0;
+    for (int j = expected[2]; j <= expected[3]; ++j)
+    {
+      for (int i = expected[0]; i <= expected[1]; ++i)
+      {
+        const int index[3] = { i, j, 0 };
+        const vtkIdType a = img->ComputePointId(const_cast<int*>(index));
+        const vtkIdType b = all->ComputePointId(const_cast<int*>(index));
+        const float x =
+          static_cast<float>(img->GetPointData()->GetArray("Elevation")->GetComponent(a, 0));
+        const float y =
+          static_cast<float>(all->GetPointData()->GetArray("Elevation")->GetComponent(b, 0));
+        mismatches += std::memcmp(&x, &y, sizeof(float)) != 0 ? 1 : 0;
+      }
+    }
+    EXPECT_EQ(mismatches, 0);
+  };
+
+  vtkNew<vtkTerroirDEMReader> window;
+  window->SetFileName(kUTM.c_str());
+  window->UpdateInformation();
+  const int sub[6] = { 100, 350, 40, 517, 0, 0 };
+  window->UpdateExtent(sub);
+  EXPECT_STREQ(window->GetErrorMessage(), "");
+  check(window, sub);
+
+  vtkNew<vtkTerroirDEMReader> piece;
+  piece->SetFileName(kUTM.c_str());
+  piece->UpdateInformation();
+  piece->UpdatePiece(2, 4, 1);
+  int expected[6];
+  vtkNew<vtkExtentTranslator> translator;
+  translator->PieceToExtentThreadSafe(
+    2, 4, 1, wholeExtent, expected, vtkExtentTranslator::BLOCK_MODE, 0);
+  EXPECT_LT(static_cast<double>(expected[1] - expected[0] + 1) * (expected[3] - expected[2] + 1),
+    0.3 * all->GetNumberOfPoints());
+  check(piece, expected);
+}
+
+// A piece read alone (no parallel run to all-reduce the no-data counts with) keeps the mask
+// whenever the file can hold no-data, even if the piece has none, and an all-no-data piece is
+// no error; the mask's values are the whole read's.
+TEST(TerroirDEMReader, PieceOfAFileWithNoDataKeepsTheMask)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("dem_pieces");
+  const std::string path = dir + "/holes.asc";
+  ASSERT_TRUE(terroir::testing::WriteTextFile(path,
+    terroir::testing::AsciiGrid(
+      4, 3, 0, 0, 10, -9999, { "-9999 -9999 3 4", "5 6 7 8", "9 10 11 -9999" })));
+  vtkNew<vtkTerroirDEMReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->UpdateInformation();
+  // South row (the file's last line), the three western cells: 9 10 11, all valid.
+  const int south[6] = { 0, 2, 0, 0, 0, 0 };
+  reader->UpdateExtent(south);
+  vtkDataArray* mask = reader->GetOutput()->GetPointData()->GetArray("vtkValidPointMask");
+  ASSERT_NE(mask, nullptr);
+  for (int k = 0; k < 3; ++k)
+  {
+    EXPECT_EQ(mask->GetComponent(k, 0), 1.0) << k;
+    EXPECT_EQ(ElevationAt(reader->GetOutput(), k, 0), 9.0f + k);
+  }
+  // North-west corner: two no-data cells only.
+  vtkNew<vtkTerroirDEMReader> corner;
+  corner->SetFileName(path.c_str());
+  corner->UpdateInformation();
+  const int holes[6] = { 0, 1, 2, 2, 0, 0 };
+  corner->UpdateExtent(holes);
+  EXPECT_STREQ(corner->GetErrorMessage(), "");
+  ASSERT_EQ(corner->GetOutput()->GetNumberOfPoints(), 2);
+  EXPECT_TRUE(std::isnan(ElevationAt(corner->GetOutput(), 0, 0)));
 }
