@@ -1,10 +1,12 @@
 #include "vtkTerroirImageAlgorithm.h"
 
 #include "vtkDataArray.h"
+#include "vtkExtentTranslator.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLogger.h"
+#include "vtkNew.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTerroirComputeContext.h"
 #include "vtkTerroirGPU.h"
@@ -73,8 +75,92 @@ int vtkTerroirImageAlgorithm::RequestUpdateExtent(vtkInformation*,
     }
   }
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), ext, 6);
+  // A piece request (pvbatch + MPI) is turned into an extent by the upstream executive, from
+  // the piece number and ghost levels, whatever UPDATE_EXTENT says: the halo travels as ghost
+  // levels (vtkExtentTranslator grows the piece by them, clamped to the whole extent), and a
+  // whole-extent filter asks for the one piece of one.
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (halo < 0)
+  {
+    inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), 0);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), 1);
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  }
+  else if (halo > 0 && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES()))
+  {
+    const int ghost = outInfo->Has(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      : 0;
+    inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghost + halo);
+  }
   return 1;
 }
+
+//------------------------------------------------------------------------------
+namespace
+{
+/**
+ * The extent this request asks of the output: in a piece request (UPDATE_NUMBER_OF_PIECES > 1,
+ * as pvbatch + MPI makes) the piece and its ghost levels, turned into an extent as the source
+ * turned them (vtkExtentTranslator in block mode, the pipeline's default); else
+ * UPDATE_EXTENT. False when the request names none.
+ */
+bool RequestedExtent(vtkInformation* outInfo, int extent[6])
+{
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (!outInfo)
+  {
+    return false;
+  }
+  const int pieces = outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (pieces > 1 && outInfo->Has(SDDP::WHOLE_EXTENT()))
+  {
+    int whole[6];
+    outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+    const int piece = outInfo->Get(SDDP::UPDATE_PIECE_NUMBER());
+    const int ghost = outInfo->Has(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+      : 0;
+    vtkNew<vtkExtentTranslator> translator;
+    return translator->PieceToExtentThreadSafe(
+             piece, pieces, ghost, whole, extent, vtkExtentTranslator::BLOCK_MODE, 0) == 1;
+  }
+  if (!outInfo->Has(SDDP::UPDATE_EXTENT()))
+  {
+    return false;
+  }
+  outInfo->Get(SDDP::UPDATE_EXTENT(), extent);
+  return true;
+}
+
+/// A piece computed with its halo (or on the whole extent) is given back as exactly the extent
+/// asked for, so that the pieces of a parallel run do not overlap. The serial path asks for
+/// the extent it computed: nothing is copied there.
+void CropToUpdateExtent(vtkInformation* outInfo, vtkImageData* output)
+{
+  int update[6];
+  if (!RequestedExtent(outInfo, update))
+  {
+    return;
+  }
+  int extent[6];
+  output->GetExtent(extent);
+  bool same = true;
+  bool inside = true;
+  for (int a = 0; a < 3; ++a)
+  {
+    same = same && update[2 * a] == extent[2 * a] && update[2 * a + 1] == extent[2 * a + 1];
+    inside = inside && update[2 * a] >= extent[2 * a] && update[2 * a + 1] <= extent[2 * a + 1] &&
+      update[2 * a] <= update[2 * a + 1];
+  }
+  if (!same && inside)
+  {
+    output->Crop(update);
+  }
+}
+} // namespace
 
 //------------------------------------------------------------------------------
 int vtkTerroirImageAlgorithm::RequestData(vtkInformation*,
@@ -131,6 +217,7 @@ int vtkTerroirImageAlgorithm::RequestData(vtkInformation*,
       output->Initialize();
       return 0;
     }
+    CropToUpdateExtent(outputVector->GetInformationObject(0), output);
   }
   catch (const std::bad_alloc&)
   {

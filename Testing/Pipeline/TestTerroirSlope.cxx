@@ -4,22 +4,28 @@
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtentTranslator.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkShortArray.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTerroirComputeContext.h"
+#include "vtkTerroirDEMReader.h"
 #include "vtkTerroirGeoreference.h"
+#include "vtkTerroirInfiltration.h"
 #include "vtkTerroirSlope.h"
+#include "vtkTerroirTemperature.h"
 #include "vtkTrivialProducer.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <sstream>
 
 namespace
@@ -391,5 +397,102 @@ TEST(TerroirSlope, ZFactorMustBeFiniteAndPositive)
     EXPECT_NE(obs->Errors.find("plane.tif: ZFactor "), std::string::npos) << obs->Errors;
     EXPECT_NE(obs->Errors.find(" must be finite and positive"), std::string::npos) << obs->Errors;
     EXPECT_EQ(slope->GetOutput()->GetPointData()->GetArray("Slope"), nullptr);
+  }
+}
+
+// Pieces (issue 25): slope (one ghost layer), temperature (pointwise) and infiltration (one more
+// ghost layer) on each of 4 pieces of the bundled DEM give back exactly the piece the pipeline
+// asked for, and every added array equals the whole run's at the piece's cells bit for bit
+// (the piece's border cells see their real neighbours through the ghost layers); the reader
+// read the piece grown by the two ghost layers. An explicit update extent is given back cropped
+// the same way.
+TEST(TerroirSlope, PiecesEqualTheWholeRunBitForBit)
+{
+  const std::string dem =
+    std::string(TERROIR_DATA_DIR) + "/sagehen_creek_ca/sagehen_dem_utm11n_10m.tif";
+  auto chain = [&dem](vtkSmartPointer<vtkTerroirDEMReader>& reader)
+  {
+    reader = vtkSmartPointer<vtkTerroirDEMReader>::New();
+    reader->SetFileName(dem.c_str());
+    auto slope = vtkSmartPointer<vtkTerroirSlope>::New();
+    slope->SetBackendToCPU();
+    slope->SetInputConnection(reader->GetOutputPort());
+    auto temperature = vtkSmartPointer<vtkTerroirTemperature>::New();
+    temperature->SetBackendToCPU();
+    temperature->SetInputConnection(slope->GetOutputPort());
+    auto infiltration = vtkSmartPointer<vtkTerroirInfiltration>::New();
+    infiltration->SetInputConnection(temperature->GetOutputPort());
+    return infiltration;
+  };
+  vtkSmartPointer<vtkTerroirDEMReader> wholeReader;
+  auto whole = chain(wholeReader);
+  whole->Update();
+  vtkImageData* all = whole->GetOutput();
+  int wholeExtent[6];
+  all->GetExtent(wholeExtent);
+  const char* names[] = { "Slope", "Aspect", "Temperature", "InfiltrationRate" };
+
+  auto compare = [&](vtkImageData* img, const int* expected)
+  {
+    int ext[6];
+    img->GetExtent(ext);
+    for (int a = 0; a < 6; ++a)
+    {
+      EXPECT_EQ(ext[a], expected[a]) << a;
+    }
+    for (const char* name : names)
+    {
+      vtkDataArray* x = img->GetPointData()->GetArray(name);
+      vtkDataArray* y = all->GetPointData()->GetArray(name);
+      ASSERT_NE(x, nullptr) << name;
+      const int nc = x->GetNumberOfComponents();
+      int mismatches = 0;
+      for (int j = expected[2]; j <= expected[3]; ++j)
+      {
+        for (int i = expected[0]; i <= expected[1]; ++i)
+        {
+          int index[3] = { i, j, 0 };
+          const vtkIdType a = img->ComputePointId(index);
+          const vtkIdType b = all->ComputePointId(index);
+          for (int c = 0; c < nc; ++c)
+          {
+            const float u = static_cast<float>(x->GetComponent(a, c));
+            const float v = static_cast<float>(y->GetComponent(b, c));
+            mismatches += std::memcmp(&u, &v, sizeof(float)) != 0 ? 1 : 0;
+          }
+        }
+      }
+      EXPECT_EQ(mismatches, 0) << name;
+    }
+  };
+
+  vtkNew<vtkExtentTranslator> translator;
+  for (int piece = 0; piece < 4; ++piece)
+  {
+    vtkSmartPointer<vtkTerroirDEMReader> reader;
+    auto last = chain(reader);
+    last->UpdateInformation();
+    last->UpdatePiece(piece, 4, 0);
+    int expected[6], read[6];
+    translator->PieceToExtentThreadSafe(
+      piece, 4, 0, wholeExtent, expected, vtkExtentTranslator::BLOCK_MODE, 0);
+    translator->PieceToExtentThreadSafe(
+      piece, 4, 2, wholeExtent, read, vtkExtentTranslator::BLOCK_MODE, 0);
+    compare(last->GetOutput(), expected);
+    for (int a = 0; a < 6; ++a)
+    {
+      EXPECT_EQ(reader->GetReadExtent()[a], read[a]) << "piece " << piece << " axis " << a;
+    }
+  }
+  vtkSmartPointer<vtkTerroirDEMReader> reader;
+  auto last = chain(reader);
+  last->UpdateInformation();
+  const int sub[6] = { 0, 200, 333, 719, 0, 0 };
+  last->UpdateExtent(sub);
+  compare(last->GetOutput(), sub);
+  const int read[6] = { 0, 202, 331, 719, 0, 0 };
+  for (int a = 0; a < 6; ++a)
+  {
+    EXPECT_EQ(reader->GetReadExtent()[a], read[a]) << a;
   }
 }
