@@ -14,6 +14,7 @@
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkTerroirKMeansGPU.h"
@@ -26,9 +27,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <new>
 #include <sstream>
 #include <stdexcept>
+
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
+#endif
 
 vtkStandardNewMacro(vtkTerroirKMeans);
 
@@ -47,6 +54,60 @@ const struct
   { "IlluminationHours", 1.0 },
   { "WeightedSoilHumidity", 0.1 },
 };
+
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+/// The core's all-reduce through a vtkMultiProcessController (every process calls it alike).
+class ControllerReduction : public cl::KMeansReduction
+{
+public:
+  explicit ControllerReduction(vtkMultiProcessController* controller)
+    : Controller(controller)
+  {
+  }
+  void Sum(double* v, std::size_t n) override { this->Reduce(v, n, vtkCommunicator::SUM_OP); }
+  void Sum(std::int64_t* v, std::size_t n) override { this->Reduce(v, n, vtkCommunicator::SUM_OP); }
+  void Max(double* v, std::size_t n) override { this->Reduce(v, n, vtkCommunicator::MAX_OP); }
+  void Min(double* v, std::size_t n) override { this->Reduce(v, n, vtkCommunicator::MIN_OP); }
+  void Min(std::int64_t* v, std::size_t n) override { this->Reduce(v, n, vtkCommunicator::MIN_OP); }
+
+private:
+  template<typename T>
+  void Reduce(T* values, std::size_t n, int operation)
+  {
+    if (n == 0)
+    {
+      return;
+    }
+    const std::vector<T> local(values, values + n);
+    if (!this->Controller->AllReduce(local.data(), values, static_cast<vtkIdType>(n), operation))
+    {
+      throw std::runtime_error("k-means: the all-reduce over the MPI processes failed");
+    }
+  }
+  vtkMultiProcessController* Controller;
+};
+#endif
+
+/// The reduction of a distributed run for `outInfo`'s request: a global controller of N > 1
+/// processes and N pieces asked for; null otherwise (a serial run).
+std::unique_ptr<cl::KMeansReduction> DistributedReduction(vtkInformation* outInfo)
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int pieces =
+    outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  if (controller && controller->GetNumberOfProcesses() > 1 &&
+    pieces == controller->GetNumberOfProcesses())
+  {
+    return std::unique_ptr<cl::KMeansReduction>(new ControllerReduction(controller));
+  }
+#else
+  (void)outInfo;
+#endif
+  return nullptr;
+}
 
 /// vtkSMPTools over [begin, end); the ranges are disjoint, their order and count free.
 cl::KMeansParallelFor SMPParallelFor()
@@ -169,7 +230,8 @@ void AddFeatureMeanColumns(vtkTable* table,
   const InputFeature& f,
   const std::vector<std::size_t>& cells,
   const std::vector<std::int32_t>& labels,
-  int k)
+  int k,
+  cl::KMeansReduction* reduction)
 {
   const std::size_t m = cells.size();
   const int nc = f.array->GetNumberOfComponents();
@@ -187,6 +249,11 @@ void AddFeatureMeanColumns(vtkTable* table,
         ++count[base + j];
       }
     }
+  }
+  if (reduction)
+  {
+    reduction->Sum(sum.data(), sum.size());
+    reduction->Sum(count.data(), count.size());
   }
   const char* units = f.array->GetInformation()->Has(vtkDataArray::UNITS_LABEL())
     ? f.array->GetInformation()->Get(vtkDataArray::UNITS_LABEL())
@@ -231,6 +298,15 @@ struct vtkTerroirKMeans::Clustering
   std::vector<std::int32_t> labels;   ///< per cell that takes part
   std::vector<float> distances;       ///< per cell that takes part (GPU path)
   vtkSmartPointer<vtkDoubleArray> share; ///< the table's Share column
+  /// A distributed run's all-reduce (null: serial)
+  std::unique_ptr<cl::KMeansReduction> reduction;
+  std::size_t totalCells = 0;            ///< cells taking part on every process
+  std::vector<std::int64_t> globalCells; ///< distributed: each packed cell's whole-grid index
+  int pieceExtent[6] = { 0, -1, 0, -1, 0, -1 }; ///< the input's extent
+  /// Distributed: the cells that would take part but whose point the next piece owns (image
+  /// pieces share their boundary points); labelled from the final centres, counted nowhere.
+  std::vector<std::size_t> shared;
+  std::vector<cl::KMeansPreparedArray> prepared; ///< what PrepareMatrix did with each array
 };
 
 //------------------------------------------------------------------------------
@@ -374,6 +450,12 @@ int vtkTerroirKMeans::RequestData(vtkInformation* request,
   {
     table->Initialize();
   }
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), this->WholeExtent);
+  }
+  this->DistributedRun = DistributedReduction(outputVector->GetInformationObject(0)) != nullptr;
   // The feature components of this input size the memory estimate.
   this->InputComponents = 0;
   if (vtkImageData* input = vtkImageData::GetData(inputVector[0]))
@@ -394,6 +476,16 @@ int vtkTerroirKMeans::RequestData(vtkInformation* request,
     }
   }
   return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirKMeans::RequestUpdateExtent(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  // A piece of a distributed run asks for its piece (GetHaloWidth 0), a serial run for all.
+  this->DistributedRun = DistributedReduction(outputVector->GetInformationObject(0)) != nullptr;
+  return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------
@@ -489,8 +581,44 @@ bool vtkTerroirKMeans::SelectCells(const terroir::GridView<float>& v, Clustering
       c.cells.push_back(i);
     }
   }
-  const std::size_t m = c.cells.size();
-  if (m < static_cast<std::size_t>(c.k))
+  if (c.reduction)
+  {
+    // Each point once over the pieces: a piece owns its points but those of its upper
+    // boundary, which it shares with the next piece (the last piece along an axis owns them).
+    const int* e = c.pieceExtent;
+    const std::size_t pnx = static_cast<std::size_t>(e[1] - e[0] + 1);
+    const bool lastI = e[1] == this->WholeExtent[1];
+    const bool lastJ = e[3] == this->WholeExtent[3];
+    std::vector<std::size_t> owned;
+    owned.reserve(c.cells.size());
+    for (std::size_t cell : c.cells)
+    {
+      const bool mine = (lastI || static_cast<int>(cell % pnx) + e[0] < e[1]) &&
+        (lastJ || static_cast<int>(cell / pnx) + e[2] < e[3]);
+      (mine ? owned : c.shared).push_back(cell);
+      valid[cell] = mine ? 1 : 0;
+    }
+    c.cells.swap(owned);
+  }
+  std::int64_t m = static_cast<std::int64_t>(c.cells.size());
+  if (c.reduction)
+  {
+    // Whole-grid indices of this piece's cells, and the count over every piece.
+    const int* e = c.pieceExtent;
+    const std::int64_t wnx = this->WholeExtent[1] - this->WholeExtent[0] + 1;
+    const std::int64_t pnx = e[1] - e[0] + 1;
+    c.globalCells.resize(c.cells.size());
+    for (std::size_t i = 0; i < c.cells.size(); ++i)
+    {
+      const std::int64_t li = static_cast<std::int64_t>(c.cells[i]) % pnx;
+      const std::int64_t lj = static_cast<std::int64_t>(c.cells[i]) / pnx;
+      c.globalCells[i] =
+        (lj + e[2] - this->WholeExtent[2]) * wnx + (li + e[0] - this->WholeExtent[0]);
+    }
+    c.reduction->Sum(&m, 1);
+  }
+  c.totalCells = static_cast<std::size_t>(m);
+  if (m < c.k)
   {
     vtkErrorMacro(<< c.prefix << m << " cell(s) have data for every feature, fewer than the " << c.k
                   << " clusters asked for");
@@ -513,13 +641,18 @@ void vtkTerroirKMeans::PackFeatures(Clustering& c)
 void vtkTerroirKMeans::PrepareMatrix(Clustering& c)
 {
   const std::size_t m = c.cells.size();
-  const std::vector<cl::KMeansPreparedArray> prepared = cl::KMeansPrepareFeatures(
-    c.inputs, m, this->Standardize, this->CollapseConstantOffsets, c.matrix, c.parallelFor);
+  c.prepared = cl::KMeansPrepareFeatures(c.inputs,
+    m,
+    this->Standardize,
+    this->CollapseConstantOffsets,
+    c.matrix,
+    c.parallelFor,
+    c.reduction.get());
   c.packed.clear();
   c.packed.shrink_to_fit();
   int total = 0;
   c.uncollapsed = 0; // the features without the storage trick
-  for (const cl::KMeansPreparedArray& p : prepared)
+  for (const cl::KMeansPreparedArray& p : c.prepared)
   {
     total += p.features;
     c.uncollapsed += p.features > 0 ? p.components : 0;
@@ -539,6 +672,11 @@ void vtkTerroirKMeans::PrepareMatrix(Clustering& c)
 void vtkTerroirKMeans::SeedCentres(const terroir::GridView<float>& v, Clustering& c)
 {
   std::vector<std::size_t> seeds;
+  if (c.reduction)
+  {
+    this->SeedCentresDistributed(c);
+    return;
+  }
   if (this->Seeding == Diagonal)
   {
     vtkDebugMacro(<< "seeds: Long (2016)'s diagonal cells (Long (2016))");
@@ -558,6 +696,76 @@ void vtkTerroirKMeans::SeedCentres(const terroir::GridView<float>& v, Clustering
 }
 
 //------------------------------------------------------------------------------
+void vtkTerroirKMeans::SeedCentresDistributed(Clustering& c)
+{
+  if (this->Seeding != Diagonal)
+  {
+    throw std::invalid_argument(
+      "k-means++ seeding is serial only: use the Diagonal seeding in a distributed run");
+  }
+  // The serial rule on the whole grid's diagonal: each piece marks its own diagonal cells that
+  // take part (the pieces do not overlap), the marks are summed over the processes.
+  const int wnx = this->WholeExtent[1] - this->WholeExtent[0] + 1;
+  const int wny = this->WholeExtent[3] - this->WholeExtent[2] + 1;
+  const std::vector<std::size_t> diagonal = cl::KMeansDiagonalCells(wnx, wny);
+  const int* e = c.pieceExtent;
+  const std::int64_t pnx = e[1] - e[0] + 1;
+  auto local = [&](std::size_t g) -> std::int64_t
+  {
+    const std::int64_t gi = static_cast<std::int64_t>(g % wnx) + this->WholeExtent[0];
+    const std::int64_t gj = static_cast<std::int64_t>(g / wnx) + this->WholeExtent[2];
+    if (gi < e[0] || gi > e[1] || gj < e[2] || gj > e[3])
+    {
+      return -1;
+    }
+    return (gj - e[2]) * pnx + (gi - e[0]);
+  };
+  std::vector<std::int64_t> marks(diagonal.size(), 0);
+  for (std::size_t t = 0; t < diagonal.size(); ++t)
+  {
+    const std::int64_t l = local(diagonal[t]);
+    marks[t] = l >= 0 && c.valid[static_cast<std::size_t>(l)] ? 1 : 0;
+  }
+  c.reduction->Sum(marks.data(), marks.size());
+  std::vector<std::size_t> candidates;
+  for (std::size_t t = 0; t < diagonal.size(); ++t)
+  {
+    if (marks[t] > 0)
+    {
+      candidates.push_back(diagonal[t]);
+    }
+  }
+  if (candidates.size() < static_cast<std::size_t>(c.k))
+  {
+    throw std::invalid_argument(std::to_string(candidates.size()) +
+      " diagonal cells have data, fewer than the " + std::to_string(c.k) +
+      " clusters: the row-order fallback of the Diagonal seeding is serial only");
+  }
+  // Each seed's owner contributes its prepared features, the others zeros.
+  const std::size_t nf = static_cast<std::size_t>(c.x.features);
+  std::vector<double> centres(static_cast<std::size_t>(c.k) * nf, 0.0);
+  const std::vector<std::size_t> positions =
+    cl::KMeansDiagonalSeedPositions(candidates.size(), c.k);
+  for (std::size_t i = 0; i < positions.size(); ++i)
+  {
+    const std::int64_t l = local(candidates[positions[i]]);
+    if (l < 0)
+    {
+      continue;
+    }
+    const std::size_t packed = static_cast<std::size_t>(
+      std::lower_bound(c.cells.begin(), c.cells.end(), static_cast<std::size_t>(l)) -
+      c.cells.begin());
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      centres[i * nf + f] = static_cast<double>(c.x.At(static_cast<int>(f), packed));
+    }
+  }
+  c.reduction->Sum(centres.data(), centres.size());
+  c.centres.assign(centres.begin(), centres.end());
+}
+
+//------------------------------------------------------------------------------
 bool vtkTerroirKMeans::RunLloyd(int backend, Clustering& c)
 {
   const int k = c.k;
@@ -569,6 +777,8 @@ bool vtkTerroirKMeans::RunLloyd(int backend, Clustering& c)
   // scikit-learn would see them): a collapsed array carries its components' total variance
   // in one feature, so the core's mean over `total` features is scaled back.
   options.tolerance = this->Tolerance * static_cast<double>(total) / c.uncollapsed;
+  options.reduction = c.reduction.get();
+  options.globalCells = c.reduction ? c.globalCells.data() : nullptr;
   vtkDebugMacro(<< "Lloyd (1982) iterations, K = " << k << ", " << total << " features, " << m
                 << " cells");
   int ran = backend;
@@ -609,6 +819,31 @@ void vtkTerroirKMeans::AddClusterIds(vtkImageData* output, const Clustering& c)
   {
     id[c.cells[i]] = c.labels[i];
   }
+  if (!c.shared.empty())
+  {
+    // The shared boundary points: the nearest final centre, with the arithmetic of the
+    // assignment that labelled them in the piece that owns them, so the same label.
+    std::vector<std::vector<float>> packed(c.features.size());
+    std::vector<cl::KMeansInputArray> inputs;
+    for (std::size_t a = 0; a < c.features.size(); ++a)
+    {
+      inputs.push_back(PackFeature(c.features[a], c.shared, c.n, packed[a]));
+    }
+    std::vector<float> matrix;
+    cl::KMeansApplyPreparation(inputs, c.prepared, c.shared.size(), this->Standardize, matrix);
+    cl::KMeansFeatures xs;
+    xs.data = matrix.data();
+    xs.cells = c.shared.size();
+    xs.features = c.x.features;
+    std::vector<std::int32_t> labels(c.shared.size(), -1);
+    std::vector<float> distance(c.shared.size());
+    cl::KMeansAssignRange(
+      xs, c.result.centres.data(), c.k, 0, xs.cells, labels.data(), distance.data());
+    for (std::size_t i = 0; i < c.shared.size(); ++i)
+    {
+      id[c.shared[i]] = labels[i];
+    }
+  }
   output->GetPointData()->AddArray(ids);
 }
 
@@ -616,10 +851,10 @@ void vtkTerroirKMeans::AddClusterIds(vtkImageData* output, const Clustering& c)
 void vtkTerroirKMeans::FillClusterTable(Clustering& c)
 {
   vtkTable* table = this->GetClusterTable();
-  c.share = AddMemberColumns(table, c.result.counts, c.k, c.cells.size());
+  c.share = AddMemberColumns(table, c.result.counts, c.k, c.totalCells);
   for (const InputFeature& f : c.features)
   {
-    AddFeatureMeanColumns(table, f, c.cells, c.labels, c.k);
+    AddFeatureMeanColumns(table, f, c.cells, c.labels, c.k, c.reduction.get());
   }
 }
 
@@ -659,13 +894,19 @@ int vtkTerroirKMeans::RequestTerrainData(vtkImageData* input,
   c.n = v.Size();
   c.k = this->NumberOfClusters;
   c.prefix = this->SourcePrefix(input);
+  if (this->DistributedRun)
+  {
+    c.reduction = DistributedReduction(this->GetOutputInformation(0));
+    input->GetExtent(c.pieceExtent);
+  }
 
   // 1. The features.
   if (!this->ResolveFeatures(input, c))
   {
     return 0;
   }
-  const int backend = this->SelectBackend(this->HasGPUPath());
+  // The distributed path all-reduces inside the CPU engine's iterations: CPU only.
+  const int backend = this->SelectBackend(this->HasGPUPath() && !c.reduction);
   if (backend < 0)
   {
     return 0;

@@ -40,7 +40,21 @@
  * (scikit-learn's `cluster_centers_` are the same), so the two differ by less than the
  * tolerance allows.
  *
- * Whole extent (global filter). CPU (vtkSMPTools over blocks of 4096 cells) and GPU
+ * Whole extent (global filter) in a serial run. In a distributed run (pvbatch + MPI: a global
+ * vtkMultiProcessController of N > 1 processes and N pieces asked for; needs VTK::ParallelCore,
+ * which both Debian's VTK 9.1 and ParaView 5.11 have) each process asks for its piece only and
+ * every step is all-reduced over the processes (terroir::clustering::KMeansReduction): the
+ * means and standard deviations, the collapse test, the per-cluster sums and counts of each
+ * iteration (as vtkPKMeansStatistics does), the changed labels, the inertia, the mean variance
+ * of the tolerance and the table's means. Seeds are the serial ones: the validity of the
+ * diagonal's cells is summed over the processes and each seed's owner contributes its features.
+ * Empty clusters take the serial run's farthest cells (all-reduced maximum, ties to the lowest
+ * cell of the whole grid). Sums are taken per process and then added, so their last bits may
+ * differ from a serial run's (whose blocks span the whole grid); labels are the serial ones
+ * unless a cell is within that rounding of two centres. The distributed path runs on the CPU;
+ * k-means++ seeding and fewer valid diagonal cells than clusters are serial only (an error).
+ *
+ * CPU (vtkSMPTools over blocks of 4096 cells) and GPU
  * (Shaders/KMeansAssign.comp, KMeansPartialSums.comp) paths give the same labels, centres and
  * inertia bit for bit: distances in float in feature order without fused multiply-add, sums in
  * double per block in cell order, blocks added in order. Same input, same result on any thread
@@ -170,7 +184,9 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int GetHaloWidth() override { return -1; }
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// The whole extent in a serial run, the piece alone in a distributed one.
+  int GetHaloWidth() override { return this->DistributedRun ? 0 : -1; }
   bool HasGPUPath() override { return true; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
@@ -200,6 +216,10 @@ private:
   std::vector<Feature> Features;
   /// Feature components of the current input (set by RequestData, for EstimateMemory).
   int InputComponents = 0;
+  /// Whether the current request is one piece of a distributed run (see the class comment).
+  bool DistributedRun = false;
+  /// The input's whole extent (global cell indices of a piece's cells).
+  int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
 
 #ifndef __VTK_WRAP__
   // RequestTerrainData in steps, over the state of one request (Clustering).
@@ -214,6 +234,8 @@ private:
   void PrepareMatrix(Clustering& c);
   /// Step 4: the initial centres (Long (2016)'s diagonal cells or k-means++).
   void SeedCentres(const terroir::GridView<float>& v, Clustering& c);
+  /// Step 4 in a distributed run: the serial Diagonal seeds from every process's cells.
+  void SeedCentresDistributed(Clustering& c);
   /// Step 5: the Lloyd iterations on the GPU or the CPU; false when the GPU path failed.
   bool RunLloyd(int backend, Clustering& c);
   /// Step 6: the ClusterId point array (-1 on the cells left out).

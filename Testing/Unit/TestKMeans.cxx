@@ -8,11 +8,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -181,6 +184,155 @@ Matrix RandomMatrix(std::size_t cells, int features, std::uint64_t seed)
     v = static_cast<float>(2.0 * Uniform(rng) - 1.0);
   }
   return Matrix(std::move(data), cells, features);
+}
+
+/**
+ * KMeansReduction among `ranks` threads standing in for MPI processes: each call waits until
+ * every thread has brought its values, then each takes the sum (or max, min) over the threads
+ * in rank order.
+ */
+class ThreadReduction
+{
+public:
+  explicit ThreadReduction(int ranks)
+    : Ranks(ranks)
+    , Slots(static_cast<std::size_t>(ranks))
+  {
+  }
+
+  template<typename T>
+  void Reduce(int rank, T* values, std::size_t n, int op)
+  {
+    std::unique_lock<std::mutex> lock(this->Mutex);
+    const long generation = this->Generation;
+    this->Slots[static_cast<std::size_t>(rank)].assign(values, values + n);
+    if (++this->Arrived == this->Ranks)
+    {
+      this->Arrived = 0;
+      this->Result.assign(n, 0.0L);
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        long double r = this->Slots[0][i];
+        for (int q = 1; q < this->Ranks; ++q)
+        {
+          const long double v = this->Slots[static_cast<std::size_t>(q)][i];
+          r = op == 0 ? r + v : (op == 1 ? std::max(r, v) : std::min(r, v));
+        }
+        this->Result[i] = r;
+      }
+      if (op == 0 && std::is_floating_point<T>::value)
+      {
+        // Sums of doubles in rank order, in double (as an MPI sum of two or four would be).
+        for (std::size_t i = 0; i < n; ++i)
+        {
+          double d = static_cast<double>(this->Slots[0][i]);
+          for (int q = 1; q < this->Ranks; ++q)
+          {
+            d += static_cast<double>(this->Slots[static_cast<std::size_t>(q)][i]);
+          }
+          this->Result[i] = d;
+        }
+      }
+      ++this->Generation;
+      this->Done.notify_all();
+    }
+    else
+    {
+      this->Done.wait(lock, [&] { return this->Generation != generation; });
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      values[i] = static_cast<T>(this->Result[i]);
+    }
+  }
+
+private:
+  int Ranks;
+  int Arrived = 0;
+  long Generation = 0;
+  std::vector<std::vector<long double>> Slots;
+  std::vector<long double> Result;
+  std::mutex Mutex;
+  std::condition_variable Done;
+};
+
+/// One thread's view of a ThreadReduction, as the core sees it.
+class RankReduction : public km::KMeansReduction
+{
+public:
+  RankReduction(ThreadReduction& all, int rank)
+    : All(all)
+    , Rank(rank)
+  {
+  }
+  void Sum(double* v, std::size_t n) override { this->All.Reduce(this->Rank, v, n, 0); }
+  void Sum(std::int64_t* v, std::size_t n) override { this->All.Reduce(this->Rank, v, n, 0); }
+  void Max(double* v, std::size_t n) override { this->All.Reduce(this->Rank, v, n, 1); }
+  void Min(double* v, std::size_t n) override { this->All.Reduce(this->Rank, v, n, 2); }
+  void Min(std::int64_t* v, std::size_t n) override { this->All.Reduce(this->Rank, v, n, 2); }
+
+private:
+  ThreadReduction& All;
+  int Rank;
+};
+
+/**
+ * Lloyd on `x` split into `ranks` contiguous parts, one thread each with a RankReduction (the
+ * distributed path of KMeansLloyd); the parts' labels put back in cell order.
+ */
+LloydRun DistributedLloyd(const Matrix& x,
+  const std::vector<float>& centres,
+  int k,
+  const km::KMeansOptions& options,
+  int ranks,
+  const std::vector<std::size_t>& starts)
+{
+  ThreadReduction all(ranks);
+  const std::size_t n = x.view.cells;
+  const int nf = x.view.features;
+  std::vector<LloydRun> runs(static_cast<std::size_t>(ranks));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r)
+  {
+    threads.emplace_back(
+      [&, r]
+      {
+        const std::size_t b = starts[static_cast<std::size_t>(r)];
+        const std::size_t e = r + 1 < ranks ? starts[static_cast<std::size_t>(r) + 1] : n;
+        std::vector<float> part((e - b) * static_cast<std::size_t>(nf));
+        std::vector<std::int64_t> ids;
+        for (int f = 0; f < nf; ++f)
+        {
+          for (std::size_t c = b; c < e; ++c)
+          {
+            part[static_cast<std::size_t>(f) * (e - b) + (c - b)] = x.view.At(f, c);
+          }
+        }
+        for (std::size_t c = b; c < e; ++c)
+        {
+          ids.push_back(static_cast<std::int64_t>(c));
+        }
+        Matrix local(std::move(part), e - b, nf);
+        RankReduction reduction(all, r);
+        km::KMeansOptions o = options;
+        o.reduction = &reduction;
+        o.globalCells = ids.data();
+        runs[static_cast<std::size_t>(r)] = Lloyd(local.view, centres, k, o);
+      });
+  }
+  for (std::thread& t : threads)
+  {
+    t.join();
+  }
+  LloydRun joined = runs[0];
+  for (int r = 1; r < ranks; ++r)
+  {
+    const LloydRun& run = runs[static_cast<std::size_t>(r)];
+    joined.labels.insert(joined.labels.end(), run.labels.begin(), run.labels.end());
+    EXPECT_EQ(run.result.centres, joined.result.centres) << "rank " << r;
+    EXPECT_EQ(run.result.iterations, joined.result.iterations) << "rank " << r;
+  }
+  return joined;
 }
 
 /// The 1-D example worked by hand in Lloyd1D below.
@@ -880,6 +1032,115 @@ TEST(KMeans, NoRelocationWhenAllOnCentres)
   EXPECT_EQ(run.result.centres, (std::vector<float>{ 5.0f, 0.0f }));
   EXPECT_EQ(run.result.counts, (std::vector<std::int64_t>{ 3, 0 }));
   EXPECT_EQ(run.result.inertia, 0.0);
+}
+
+//------------------------------------------------------------------------------
+// The distributed path (KMeansOptions::reduction, as vtkTerroirKMeans uses it under MPI) gives
+// the serial answer when the cells are split among "processes" (threads here): on the
+// hand-worked examples above, including the relocations and their tie (the farthest cells sit
+// on different processes), with every split; and on random data with three and four parts,
+// whose per-process sums are added in another order than the serial blocks: the same labels,
+// centres within a few float ulps.
+TEST(KMeans, DistributedMatchesSerial)
+{
+  struct Case
+  {
+    std::vector<std::vector<float>> points;
+    std::vector<float> centres;
+    int k;
+    double tolerance;
+  };
+  const std::vector<Case> cases = {
+    { kLine, { 1, 2 }, 2, 1e-4 },
+    { { { 0 }, { 1 }, { 2 }, { 10 } }, { 0, 0, 10 }, 3, 1e-4 },
+    { { { 0 }, { 4 }, { -4 }, { 1 } }, { 0, 0, 0 }, 3, 0.0 },
+    { { { 5 }, { 5 }, { 5 } }, { 5, 5 }, 2, 1e-4 },
+  };
+  for (const Case& c : cases)
+  {
+    Matrix x(c.points);
+    const LloydRun serial = Lloyd(x.view, c.centres, c.k, Options(300, c.tolerance));
+    for (std::size_t split = 1; split < c.points.size(); ++split)
+    {
+      const LloydRun run =
+        DistributedLloyd(x, c.centres, c.k, Options(300, c.tolerance), 2, { 0, split });
+      EXPECT_EQ(run.labels, serial.labels) << "split " << split;
+      EXPECT_EQ(run.result.centres, serial.result.centres) << "split " << split;
+      EXPECT_EQ(run.result.counts, serial.result.counts) << "split " << split;
+      EXPECT_EQ(run.result.relocated, serial.result.relocated) << "split " << split;
+      EXPECT_EQ(run.result.iterations, serial.result.iterations) << "split " << split;
+      EXPECT_EQ(run.result.reason, serial.result.reason) << "split " << split;
+      EXPECT_EQ(run.result.inertia, serial.result.inertia) << "split " << split;
+    }
+  }
+  const Matrix random = RandomMatrix(30000, 3, 7);
+  const std::vector<float> centres = { -0.5f, 0, 0, 0.5f, 0, 0, 0, 0.5f, 0.5f, 0, -0.5f, -0.5f };
+  const LloydRun serial = Lloyd(random.view, centres, 4, Options(300, 0.0));
+  for (const std::vector<std::size_t>& starts :
+    { std::vector<std::size_t>{ 0, 9000, 21000 }, std::vector<std::size_t>{ 0, 1, 4097, 29999 } })
+  {
+    const LloydRun run = DistributedLloyd(
+      random, centres, 4, Options(300, 0.0), static_cast<int>(starts.size()), starts);
+    EXPECT_EQ(run.labels, serial.labels);
+    EXPECT_EQ(run.result.counts, serial.result.counts);
+    EXPECT_EQ(run.result.iterations, serial.result.iterations);
+    ASSERT_EQ(run.result.centres.size(), serial.result.centres.size());
+    for (std::size_t i = 0; i < centres.size(); ++i)
+    {
+      EXPECT_NEAR(run.result.centres[i], serial.result.centres[i], 1e-6);
+    }
+    EXPECT_NEAR(run.result.inertia, serial.result.inertia, 1e-9 * serial.result.inertia);
+  }
+}
+
+// The seeds' positions among the valid diagonal cells (the rule a distributed run applies to the
+// gathered validity) and the diagonal itself are KMeansDiagonalSeedCells' own: on a 7 x 4 grid
+// with no mask the diagonal is (0,0) (1,1) (2,1) (3,2) (4,2) (5,3) (6,3), and K = 3 picks
+// positions 1, 3, 5.
+TEST(KMeans, DiagonalSeedPositions)
+{
+  EXPECT_EQ(km::KMeansDiagonalCells(7, 4), (std::vector<std::size_t>{ 0, 8, 9, 17, 18, 26, 27 }));
+  EXPECT_EQ(km::KMeansDiagonalSeedPositions(7, 3), (std::vector<std::size_t>{ 1, 3, 5 }));
+  EXPECT_EQ(km::KMeansDiagonalSeedCells(7, 4, nullptr, 3), (std::vector<std::size_t>{ 8, 17, 26 }));
+}
+
+// KMeansApplyPreparation gives cells prepared later the bits KMeansPrepareFeatures gave them,
+// standardised or not, with a collapsed array.
+TEST(KMeans, ApplyPreparationSameBits)
+{
+  const std::size_t n = 50;
+  std::vector<float> a(n), t(n * 3);
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    a[c] = static_cast<float>(c * c % 17) * 0.37f;
+    for (int j = 0; j < 3; ++j)
+    {
+      t[c * 3 + j] = static_cast<float>(c) * 0.1f + static_cast<float>(j);
+    }
+  }
+  for (bool standardize : { false, true })
+  {
+    std::vector<float> all;
+    const auto prepared = km::KMeansPrepareFeatures(
+      { { "a", a.data(), 1, 2.0 }, { "t", t.data(), 3, 0.5 } }, n, standardize, true, all);
+    ASSERT_TRUE(prepared[1].collapsed);
+    // Cells 10..19 prepared again from the same statistics.
+    std::vector<float> later;
+    km::KMeansApplyPreparation({ { "a", a.data() + 10, 1, 2.0 }, { "t", t.data() + 30, 3, 0.5 } },
+      prepared,
+      10,
+      standardize,
+      later);
+    ASSERT_EQ(later.size(), 20u);
+    for (int f = 0; f < 2; ++f)
+    {
+      for (std::size_t c = 0; c < 10; ++c)
+      {
+        EXPECT_TRUE(SameBits(&later[f * 10 + c], &all[f * n + 10 + c], sizeof(float)))
+          << "feature " << f << " cell " << c;
+      }
+    }
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -598,7 +598,9 @@ void CheckInputArrays(const std::vector<KMeansInputArray>& arrays)
 void ArrayMeans(const KMeansInputArray& array,
   std::size_t a,
   std::size_t cells,
+  double totalCells,
   const KMeansParallelFor& parallelFor,
+  KMeansReduction* reduction,
   KMeansPreparedArray& p)
 {
   const std::size_t blocks = BlockCount(cells);
@@ -631,6 +633,10 @@ void ArrayMeans(const KMeansInputArray& array,
       p.mean[j] += partial[b * nc + j];
     }
   }
+  if (reduction)
+  {
+    reduction->Sum(p.mean.data(), nc);
+  }
   for (std::size_t j = 0; j < nc; ++j)
   {
     // Finite floats cannot overflow a double sum: a non-finite sum means a non-finite value.
@@ -639,7 +645,7 @@ void ArrayMeans(const KMeansInputArray& array,
       throw std::invalid_argument("k-means: " + ArrayLabel(array, a) + " component " +
         std::to_string(j) + " has a non-finite value (NaN or infinity)");
     }
-    p.mean[j] = cells > 0 ? p.mean[j] / static_cast<double>(cells) : 0.0;
+    p.mean[j] = totalCells > 0 ? p.mean[j] / totalCells : 0.0;
   }
 }
 
@@ -648,8 +654,10 @@ void ArrayMeans(const KMeansInputArray& array,
 /// allowed by every cell, [max(d - tol), min(d + tol)], is not empty.
 void ArrayDeviations(const KMeansInputArray& array,
   std::size_t cells,
+  double totalCells,
   bool allowCollapse,
   const KMeansParallelFor& parallelFor,
+  KMeansReduction* reduction,
   KMeansPreparedArray& p)
 {
   const std::size_t blocks = BlockCount(cells);
@@ -704,24 +712,37 @@ void ArrayDeviations(const KMeansInputArray& array,
       squares[j] += partial[b * nc + j];
     }
   }
+  if (reduction)
+  {
+    reduction->Sum(squares.data(), nc);
+  }
   for (std::size_t j = 0; j < nc; ++j)
   {
-    p.stddev[j] = cells > 0 ? std::sqrt(squares[j] / static_cast<double>(cells)) : 0.0;
+    p.stddev[j] = totalCells > 0 ? std::sqrt(squares[j] / totalCells) : 0.0;
   }
   p.collapsed = false;
   if (tryCollapse)
   {
+    // Each component's interval over this process's blocks, then over every process.
+    std::vector<double> l(nc, -std::numeric_limits<double>::infinity());
+    std::vector<double> h(nc, std::numeric_limits<double>::infinity());
+    for (std::size_t j = 1; j < nc; ++j)
+    {
+      for (std::size_t b = 0; b < blocks; ++b)
+      {
+        l[j] = std::max(l[j], lo[b * nc + j]);
+        h[j] = std::min(h[j], hi[b * nc + j]);
+      }
+    }
+    if (reduction)
+    {
+      reduction->Max(l.data(), nc);
+      reduction->Min(h.data(), nc);
+    }
     p.collapsed = true;
     for (std::size_t j = 1; j < nc && p.collapsed; ++j)
     {
-      double l = -std::numeric_limits<double>::infinity();
-      double h = std::numeric_limits<double>::infinity();
-      for (std::size_t b = 0; b < blocks; ++b)
-      {
-        l = std::max(l, lo[b * nc + j]);
-        h = std::min(h, hi[b * nc + j]);
-      }
-      p.collapsed = l <= h;
+      p.collapsed = l[j] <= h[j];
     }
   }
 }
@@ -775,9 +796,17 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
   bool standardize,
   bool allowCollapse,
   std::vector<float>& out,
-  const KMeansParallelFor& parallelFor)
+  const KMeansParallelFor& parallelFor,
+  KMeansReduction* reduction)
 {
   CheckInputArrays(arrays);
+  double totalCells = static_cast<double>(cells);
+  if (reduction)
+  {
+    std::int64_t n = static_cast<std::int64_t>(cells);
+    reduction->Sum(&n, 1);
+    totalCells = static_cast<double>(n);
+  }
   std::vector<KMeansPreparedArray> prepared(arrays.size());
   int features = 0;
   for (std::size_t a = 0; a < arrays.size(); ++a)
@@ -798,8 +827,8 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
     }
     // Means (per block, per component, in cell order; the blocks added in block order), then
     // the standard deviations and the collapse test.
-    ArrayMeans(array, a, cells, parallelFor, p);
-    ArrayDeviations(array, cells, allowCollapse, parallelFor, p);
+    ArrayMeans(array, a, cells, totalCells, parallelFor, reduction, p);
+    ArrayDeviations(array, cells, totalCells, allowCollapse, parallelFor, reduction, p);
     p.features = p.collapsed ? 1 : array.components;
     features += p.features;
   }
@@ -824,6 +853,45 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
 }
 
 //------------------------------------------------------------------------------
+void KMeansApplyPreparation(const std::vector<KMeansInputArray>& arrays,
+  const std::vector<KMeansPreparedArray>& prepared,
+  std::size_t cells,
+  bool standardize,
+  std::vector<float>& out)
+{
+  if (arrays.size() != prepared.size())
+  {
+    throw std::invalid_argument("k-means: " + std::to_string(arrays.size()) +
+      " arrays for the preparation of " + std::to_string(prepared.size()));
+  }
+  int features = 0;
+  for (const KMeansPreparedArray& p : prepared)
+  {
+    features += p.features;
+  }
+  out.assign(static_cast<std::size_t>(features) * cells, 0.0f);
+  for (std::size_t a = 0; a < arrays.size(); ++a)
+  {
+    const KMeansPreparedArray& p = prepared[a];
+    if (p.features == 0 || cells == 0)
+    {
+      continue;
+    }
+    if (arrays[a].components != p.components || !arrays[a].values)
+    {
+      throw std::invalid_argument(
+        "k-means: array '" + arrays[a].name + "' does not match its preparation");
+    }
+    WriteArrayFeatures(arrays[a],
+      p,
+      cells,
+      standardize,
+      KMeansParallelFor(),
+      out.data() + static_cast<std::size_t>(p.firstFeature) * cells);
+  }
+}
+
+//------------------------------------------------------------------------------
 std::vector<std::size_t> KMeansDiagonalSeedCells(int nx, int ny, const std::uint8_t* valid, int k)
 {
   if (k < 1)
@@ -836,29 +904,16 @@ std::vector<std::size_t> KMeansDiagonalSeedCells(int nx, int ny, const std::uint
     throw std::invalid_argument("k-means: the grid is empty (" + std::to_string(nx) + " x " +
       std::to_string(ny) + "), no cell to seed " + std::to_string(k) + " clusters");
   }
-  const std::uint64_t NX = static_cast<std::uint64_t>(nx);
-  const std::uint64_t NY = static_cast<std::uint64_t>(ny);
-  const std::uint64_t L = std::max(NX, NY);
-  // round(t a / b) with halves up, in integers: floor((2 t a + b) / (2 b)).
-  auto along = [L](std::uint64_t t, std::uint64_t n) -> std::uint64_t
-  {
-    if (L == 1)
-    {
-      return 0;
-    }
-    const std::uint64_t b = L - 1;
-    return (2 * t * (n - 1) + b) / (2 * b);
-  };
   std::vector<std::size_t> candidates;
-  candidates.reserve(static_cast<std::size_t>(L));
-  for (std::uint64_t t = 0; t < L; ++t)
+  for (std::size_t cell : KMeansDiagonalCells(nx, ny))
   {
-    const std::size_t cell = static_cast<std::size_t>(along(t, NY) * NX + along(t, NX));
     if (!valid || valid[cell])
     {
       candidates.push_back(cell);
     }
   }
+  const std::uint64_t NX = static_cast<std::uint64_t>(nx);
+  const std::uint64_t NY = static_cast<std::uint64_t>(ny);
   const std::size_t K = static_cast<std::size_t>(k);
   if (candidates.size() < K)
   {
@@ -878,13 +933,49 @@ std::vector<std::size_t> KMeansDiagonalSeedCells(int nx, int ny, const std::uint
         std::to_string(candidates.size()) + " valid cells");
     }
   }
-  const std::size_t M = candidates.size();
-  std::vector<std::size_t> seeds(K);
-  for (std::size_t i = 0; i < K; ++i)
+  std::vector<std::size_t> seeds;
+  for (std::size_t position : KMeansDiagonalSeedPositions(candidates.size(), k))
   {
-    seeds[i] = candidates[(2 * i + 1) * M / (2 * K)];
+    seeds.push_back(candidates[position]);
   }
   return seeds;
+}
+
+//------------------------------------------------------------------------------
+std::vector<std::size_t> KMeansDiagonalCells(int nx, int ny)
+{
+  const std::uint64_t NX = static_cast<std::uint64_t>(std::max(nx, 1));
+  const std::uint64_t NY = static_cast<std::uint64_t>(std::max(ny, 1));
+  const std::uint64_t L = std::max(NX, NY);
+  // round(t a / b) with halves up, in integers: floor((2 t a + b) / (2 b)).
+  auto along = [L](std::uint64_t t, std::uint64_t n) -> std::uint64_t
+  {
+    if (L == 1)
+    {
+      return 0;
+    }
+    const std::uint64_t b = L - 1;
+    return (2 * t * (n - 1) + b) / (2 * b);
+  };
+  std::vector<std::size_t> cells;
+  cells.reserve(static_cast<std::size_t>(L));
+  for (std::uint64_t t = 0; t < L; ++t)
+  {
+    cells.push_back(static_cast<std::size_t>(along(t, NY) * NX + along(t, NX)));
+  }
+  return cells;
+}
+
+//------------------------------------------------------------------------------
+std::vector<std::size_t> KMeansDiagonalSeedPositions(std::size_t m, int k)
+{
+  const std::size_t K = static_cast<std::size_t>(std::max(k, 1));
+  std::vector<std::size_t> positions(K);
+  for (std::size_t i = 0; i < K; ++i)
+  {
+    positions[i] = (2 * i + 1) * m / (2 * K);
+  }
+  return positions;
 }
 
 //------------------------------------------------------------------------------
@@ -1196,15 +1287,22 @@ const char* KMeansStopReasonName(KMeansStopReason reason)
 }
 
 //------------------------------------------------------------------------------
-double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFor& parallelFor)
+double KMeansMeanVariance(const KMeansFeatures& features,
+  const KMeansParallelFor& parallelFor,
+  KMeansReduction* reduction)
 {
   const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
   const std::size_t blocks = features.Blocks();
-  if (nf == 0 || features.cells == 0)
+  std::int64_t cells = static_cast<std::int64_t>(features.cells);
+  if (reduction)
+  {
+    reduction->Sum(&cells, 1);
+  }
+  if (nf == 0 || cells == 0)
   {
     return 0.0;
   }
-  const double n = static_cast<double>(features.cells);
+  const double n = static_cast<double>(cells);
   // Per-feature sums of x (mean == nullptr) or of (x - mean)^2: each block in cell order, in
   // parallel, then the blocks added in block order.
   std::vector<double> partial(blocks * nf);
@@ -1235,6 +1333,10 @@ double KMeansMeanVariance(const KMeansFeatures& features, const KMeansParallelFo
         total[f] += partial[b * nf + f];
       }
     }
+    if (reduction)
+    {
+      reduction->Sum(total.data(), nf);
+    }
     return total;
   };
   std::vector<double> mean = blockOrderSums(nullptr);
@@ -1255,6 +1357,7 @@ namespace
 {
 /// KMeansLloyd's argument checks, in its documented order (std::invalid_argument).
 void CheckLloydArguments(const KMeansFeatures& features,
+  std::size_t totalCells,
   const std::vector<float>& initialCentres,
   int k,
   const KMeansOptions& options)
@@ -1264,10 +1367,10 @@ void CheckLloydArguments(const KMeansFeatures& features,
     throw std::invalid_argument("k-means: the number of clusters must be in [1, " +
       std::to_string(KMeansMaxClusters) + "] (got " + std::to_string(k) + ")");
   }
-  if (static_cast<std::size_t>(k) > features.cells)
+  if (static_cast<std::size_t>(k) > totalCells)
   {
     throw std::invalid_argument("k-means: " + std::to_string(k) + " clusters but only " +
-      std::to_string(features.cells) + " cells");
+      std::to_string(totalCells) + " cells");
   }
   const std::size_t K = static_cast<std::size_t>(k);
   const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
@@ -1360,6 +1463,104 @@ int RelocateEmptyClusters(KMeansEngine& engine,
 }
 
 /**
+ * Step 3 in a distributed run: the same cells as RelocateEmptyClusters would pick from all the
+ * processes' cells together. For each empty cluster in increasing order, the largest kept d2
+ * over every process (all-reduced maximum) among the cells not yet taken, ties to the lowest
+ * cell of the whole grid (all-reduced minimum of `globalCells`); its owner contributes its
+ * features and old label (all-reduced sum: the others add zeros), and every process moves it
+ * in `sums` and `counts`, which are already the totals. Nothing when the farthest cell sits on
+ * its centre.
+ */
+int RelocateEmptyClustersDistributed(KMeansEngine& engine,
+  const KMeansFeatures& features,
+  std::size_t K,
+  KMeansReduction& reduction,
+  const std::int64_t* globalCells,
+  std::vector<double>& sums,
+  std::vector<std::int64_t>& counts)
+{
+  const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
+  std::vector<std::size_t> empty;
+  for (std::size_t kk = 0; kk < K; ++kk)
+  {
+    if (counts[kk] == 0)
+    {
+      empty.push_back(kk);
+    }
+  }
+  if (empty.empty())
+  {
+    return 0;
+  }
+  const float* d = engine.Distances();
+  const std::int32_t* labels = engine.Labels();
+  std::vector<std::size_t> taken;
+  int relocated = 0;
+  for (std::size_t e = 0; e < empty.size(); ++e)
+  {
+    // This process's farthest cell not taken yet (ties: lowest cell, as the scan is in order).
+    std::size_t best = features.cells;
+    for (std::size_t c = 0; c < features.cells; ++c)
+    {
+      if ((best == features.cells || d[c] > d[best]) &&
+        std::find(taken.begin(), taken.end(), c) == taken.end())
+      {
+        best = c;
+      }
+    }
+    double farthest = best < features.cells ? static_cast<double>(d[best])
+                                            : -std::numeric_limits<double>::infinity();
+    reduction.Max(&farthest, 1);
+    if (e == 0 && !(farthest > 0.0))
+    {
+      return 0; // every cell sits on its centre
+    }
+    const bool candidate = best < features.cells && static_cast<double>(d[best]) == farthest;
+    std::int64_t cell = candidate ? globalCells[best] : std::numeric_limits<std::int64_t>::max();
+    reduction.Min(&cell, 1);
+    const bool mine = candidate && globalCells[best] == cell;
+    // The owner's features and old label + 1 (the others contribute zeros).
+    std::vector<double> payload(nf + 1, 0.0);
+    if (mine)
+    {
+      for (std::size_t f = 0; f < nf; ++f)
+      {
+        payload[f] = static_cast<double>(features.At(static_cast<int>(f), best));
+      }
+      payload[nf] = static_cast<double>(labels[best]) + 1.0;
+      taken.push_back(best);
+    }
+    reduction.Sum(payload.data(), nf + 1);
+    const std::size_t kk = empty[e];
+    const std::size_t old = static_cast<std::size_t>(payload[nf]) - 1;
+    for (std::size_t f = 0; f < nf; ++f)
+    {
+      sums[old * nf + f] -= payload[f];
+      sums[kk * nf + f] = payload[f];
+    }
+    counts[kk] = 1;
+    counts[old] -= 1;
+    ++relocated;
+  }
+  return relocated;
+}
+
+/// Adds every process's sums, counts and inertia (a distributed run), in place.
+void ReduceSums(KMeansReduction* reduction,
+  std::vector<double>& sums,
+  std::vector<std::int64_t>& counts,
+  double& inertia)
+{
+  if (!reduction)
+  {
+    return;
+  }
+  reduction->Sum(sums.data(), sums.size());
+  reduction->Sum(counts.data(), counts.size());
+  reduction->Sum(&inertia, 1);
+}
+
+/**
  * Step 4 of KMeansLloyd, the new centres (K * nf) into `next`: sums / counts. A cluster left
  * empty keeps sums of 0 as its centre (scikit-learn's _average_centers only divides clusters
  * with members). Returns the squared shift from `centres` (per cluster, then summed).
@@ -1404,12 +1605,23 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
   const KMeansOptions& options,
   const std::function<void(int, std::size_t)>& progress)
 {
-  CheckLloydArguments(features, initialCentres, k, options);
+  KMeansReduction* reduction = options.reduction;
+  if (reduction && !options.globalCells)
+  {
+    throw std::invalid_argument("k-means: a distributed run needs the cells' global indices");
+  }
+  std::int64_t totalCells = static_cast<std::int64_t>(features.cells);
+  if (reduction)
+  {
+    reduction->Sum(&totalCells, 1);
+  }
+  CheckLloydArguments(features, static_cast<std::size_t>(totalCells), initialCentres, k, options);
   const std::size_t K = static_cast<std::size_t>(k);
   const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
   // scikit-learn's _tolerance: tol * mean of the features' variances (0 needs no pass).
-  const double threshold =
-    options.tolerance > 0.0 ? options.tolerance * KMeansMeanVariance(features) : 0.0;
+  const double threshold = options.tolerance > 0.0
+    ? options.tolerance * KMeansMeanVariance(features, KMeansParallelFor(), reduction)
+    : 0.0;
 
   KMeansResult result;
   std::vector<float> centres = initialCentres; // used by the next assignment
@@ -1423,12 +1635,22 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
   for (;; ++i)
   {
     // 1-2. Assignment to `centres`, sums of the new labels.
-    const std::size_t changed = engine.Assign(centres, k);
+    std::size_t changed = engine.Assign(centres, k);
     engine.Sums(k, sums, counts, inertia);
+    ReduceSums(reduction, sums, counts, inertia);
+    if (reduction)
+    {
+      std::int64_t all = static_cast<std::int64_t>(changed);
+      reduction->Sum(&all, 1);
+      changed = static_cast<std::size_t>(all);
+    }
     rawCounts = counts;
 
     // 3. Empty clusters take the cells farthest from their centres; 4. new centres.
-    result.relocated += RelocateEmptyClusters(engine, features, K, sums, counts);
+    result.relocated += reduction
+      ? RelocateEmptyClustersDistributed(
+          engine, features, K, *reduction, options.globalCells, sums, counts)
+      : RelocateEmptyClusters(engine, features, K, sums, counts);
     const double shift = NewCentres(sums, counts, K, nf, centres, next);
     std::swap(centres, next); // centres: new; next: those the labels were assigned to
 
@@ -1462,6 +1684,7 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
   {
     engine.Assign(centres, k);
     engine.Sums(k, sums, rawCounts, inertia);
+    ReduceSums(reduction, sums, rawCounts, inertia);
   }
   result.centres = std::move(centres);
   result.counts = std::move(rawCounts);

@@ -81,6 +81,24 @@ using KMeansParallelFor = std::function<void(std::size_t begin,
   std::size_t end,
   const std::function<void(std::size_t, std::size_t)>& body)>;
 
+/**
+ * All-reduce over the processes of a distributed run: each call replaces `values` (n of them)
+ * on every process by their sum, maximum or minimum over all processes, the same on all. The
+ * VTK layer implements it with vtkMultiProcessController (vtkTerroirKMeans); the core never
+ * sees MPI. Every process must make the same calls in the same order. A null reduction (the
+ * default everywhere) is a serial run.
+ */
+class KMeansReduction
+{
+public:
+  virtual ~KMeansReduction() = default;
+  virtual void Sum(double* values, std::size_t n) = 0;
+  virtual void Sum(std::int64_t* values, std::size_t n) = 0;
+  virtual void Max(double* values, std::size_t n) = 0;
+  virtual void Min(double* values, std::size_t n) = 0;
+  virtual void Min(std::int64_t* values, std::size_t n) = 0;
+};
+
 /// One input column before preparation: `components` interleaved values per cell (VTK's
 /// layout), a weight, and its name (for reports).
 struct KMeansInputArray
@@ -122,6 +140,12 @@ struct KMeansPreparedArray
  * sqrt(w * components) (after standardisation: z_j == z_0 for every j). Arrays with one
  * component are never collapsed. `allowCollapse` = false turns the trick off.
  *
+ * With a `reduction` (a distributed run, each process holding some of the cells) the means,
+ * standard deviations and collapse test are those of all the processes' cells: block sums are
+ * added over the processes (so the last bits of the means may differ from a serial run's, whose
+ * blocks span the whole grid), the collapse intervals are intersected over them (the same
+ * verdict as a serial run).
+ *
  * @param cells number of packed (valid) cells
  * @param out filled with the feature-major matrix (features * cells floats)
  * @return one entry per input array, in order
@@ -133,7 +157,22 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
   bool standardize,
   bool allowCollapse,
   std::vector<float>& out,
-  const KMeansParallelFor& parallelFor = {});
+  const KMeansParallelFor& parallelFor = {},
+  KMeansReduction* reduction = nullptr);
+
+/**
+ * @brief The prepared features of more cells with the statistics and collapse verdicts of an
+ *        earlier KMeansPrepareFeatures (`prepared`, for arrays with the same names, components
+ *        and weights), with the same arithmetic: a cell gets the bits it would have got had it
+ *        been one of the cells prepared then. For cells that take no part in the statistics,
+ *        such as the boundary points a piece of a distributed run shares with its neighbour.
+ * @param out filled with the feature-major matrix (features * cells floats)
+ */
+void KMeansApplyPreparation(const std::vector<KMeansInputArray>& arrays,
+  const std::vector<KMeansPreparedArray>& prepared,
+  std::size_t cells,
+  bool standardize,
+  std::vector<float>& out);
 
 /**
  * @brief Long (2016)'s deterministic seeds: K valid cells equally spaced along the diagonal from
@@ -147,6 +186,17 @@ std::vector<KMeansPreparedArray> KMeansPrepareFeatures(const std::vector<KMeansI
  * @throws std::invalid_argument when k < 1 or there are fewer than k valid cells
  */
 std::vector<std::size_t> KMeansDiagonalSeedCells(int nx, int ny, const std::uint8_t* valid, int k);
+
+/// The L = max(nx, ny) cells of KMeansDiagonalSeedCells' diagonal, t = 0..L-1, as grid indices
+/// j * nx + i (one cell when L = 1).
+std::vector<std::size_t> KMeansDiagonalCells(int nx, int ny);
+
+/**
+ * Positions, among `m` valid diagonal cells, of KMeansDiagonalSeedCells' K seeds:
+ * floor((2i + 1) m / (2K)), i = 0..K-1 (the rule a distributed run applies to the diagonal's
+ * validity gathered from every process). Needs m >= k >= 1.
+ */
+std::vector<std::size_t> KMeansDiagonalSeedPositions(std::size_t m, int k);
 
 /**
  * @brief k-means++ seeds (Arthur & Vassilvitskii 2007), reproducible.
@@ -247,6 +297,18 @@ struct KMeansOptions
   /// Relative to the mean feature variance. 0: stop when no label changes, or when no centre
   /// moves at all (scikit-learn's `<=`).
   double tolerance = 1e-4;
+  /**
+   * A distributed run: the sums, counts, inertia and changed labels of every iteration are
+   * all-reduced, and so are the mean variance (tolerance) and the choice of the cells that
+   * re-seed empty clusters. Null: serial.
+   */
+  KMeansReduction* reduction = nullptr;
+  /**
+   * With `reduction`: each packed cell's index in the whole grid (j * nx + i), which breaks
+   * ties between equally far cells of different processes as a serial run breaks them (lowest
+   * cell first). Needed only then.
+   */
+  const std::int64_t* globalCells = nullptr;
 };
 
 /// Why KMeansLloyd stopped.
@@ -286,7 +348,8 @@ KMeansResult KMeansLloyd(KMeansEngine& engine,
 
 /// Mean of each prepared feature's variance (population), the scale of `tolerance`.
 double KMeansMeanVariance(const KMeansFeatures& features,
-  const KMeansParallelFor& parallelFor = {});
+  const KMeansParallelFor& parallelFor = {},
+  KMeansReduction* reduction = nullptr);
 
 /// Colour of cluster `id` as "#rrggbb": Tableau 10 then two more, cycled (the `Clusters` overlay
 /// preset's palette).
