@@ -8,6 +8,7 @@
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTerroirGDALPrivate.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
@@ -98,11 +99,25 @@ void BandTypeOf(vtkDataArray* array, GDALDataType& type, double& nodata)
   }
 }
 
-/// The image's TerroirGeoTransform, or one made from its origin, spacing and extent.
-void GeoTransformOf(vtkImageData* input, double gt[6])
+/**
+ * The image's TerroirGeoTransform, or one made from its origin, spacing and extent. The field
+ * data's geotransform is the whole raster's (readers give every piece the same): for a piece
+ * (an extent smaller than `whole`) its corner moves to the piece's north-west cell, so that the
+ * piece's GeoTIFF lies where its cells are and the pieces mosaic (a VRT) into the whole.
+ */
+void GeoTransformOf(vtkImageData* input, const int whole[6], double gt[6])
 {
   if (vtkTerroirGeoreference::GetGeoTransform(input, gt))
   {
+    int extent[6];
+    input->GetExtent(extent);
+    if (whole && whole[0] <= whole[1] && whole[2] <= whole[3])
+    {
+      gt[0] += (extent[0] - whole[0]) * gt[1];
+      // Rows go out north first: the piece's GDAL row 0 is image row extent[3], which is row
+      // whole[3] - extent[3] of the whole raster's file.
+      gt[3] += (whole[3] - extent[3]) * gt[5];
+    }
     return;
   }
   double origin[3], spacing[3];
@@ -364,7 +379,13 @@ void vtkTerroirGeoTIFFWriter::WriteData()
   const bool floating = type == GDT_Float32 || type == GDT_Float64;
 
   double gt[6];
-  GeoTransformOf(input, gt);
+  int whole[6] = { 0, -1, 0, -1, 0, -1 };
+  vtkInformation* inInfo = this->GetInputInformation(0, 0);
+  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  }
+  GeoTransformOf(input, whole, gt);
   const std::string wkt = vtkTerroirGeoreference::GetCRS(input);
 
   GDALDriverH driver = GDALGetDriverByName("GTiff");

@@ -5,11 +5,14 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
   serial arrays bit for bit (besides the all-zero vtkGhostType ParaView's writer adds) (the same cores on the same cells in the same order: a piece's
   cells see the same neighbours through their ghost layer); `vtkValidPointMask`, which the
   serial run has only when some cell is no-data, must match it too;
+- terrain: slope.tif (TerroirGeoTIFFWriter, a serial format: ParaView updates the whole grid
+  on every rank for it and rank 0 writes) has the bytes of the standalone writer's GeoTIFF;
 - the .pvti holds N pieces that tile the whole extent without overlap, one per rank;
 - each rank's reader read only its piece grown by the ghost layers the chain asks for (slope 1,
   infiltration 1: 2 cells, clamped to the raster), so no rank read the whole DEM when N > 1
   (k-means, in zones, asks for its piece alone in a distributed run: all-reduced sums).
 Fails (exit 1) with one line per problem."""
+import filecmp
 import json
 import os
 import sys
@@ -96,6 +99,20 @@ def main():
             ix, iy, abs(ix - iy) / abs(iy)))
         if not abs(ix - iy) <= 1e-9 * abs(iy):
             problems.append('inertia differs by more than 1e-9 relative')
+
+    if recipe == 'terrain':
+        # The GeoTIFF rank 0 wrote (a serial format: ParaView updated the whole grid on every
+        # rank for it): the serial standalone writer's bytes.
+        serial_tif = os.path.join(out_dir, 'serial-slope.tif')
+        writer = terroir.vtkTerroirGeoTIFFWriter()
+        writer.SetInputData(expected)
+        writer.SetArrayName('Slope')
+        writer.SetFileName(serial_tif)
+        writer.SetOverwrite(True)
+        writer.Write()
+        tif = os.path.join(out_dir, 'slope.tif')
+        if not os.path.exists(tif) or not filecmp.cmp(tif, serial_tif, shallow=False):
+            problems.append('slope.tif is not the serial GeoTIFF, byte for byte')
 
     # The pieces in the .pvti: N of them, tiling the whole extent.
     pieces = [[int(v) for v in p.get('Extent').split()]

@@ -5,8 +5,11 @@ each rank records what its reader read and what its last filter gave back.
         PLUGIN DEM OUT_DIR terrain|zones
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means.
-OUT_DIR receives chain.pvti with its pieces, and rank<R>.json per rank: the piece's extent, the
-reader's GDAL window (GetReadExtent) and the number of points of the piece.
+OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
+rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
+the whole grid on every rank and rank 0 writes), and
+rank<R>.json per rank: the piece's extent, the reader's GDAL window (property ReadExtent) and
+the number of points of the piece.
 CompareDistributed.py checks both against the standalone build's serial run."""
 import json
 import os
@@ -46,6 +49,14 @@ def main():
         'arrays': sorted(local.GetPointData().GetArrayName(i)
                          for i in range(local.GetPointData().GetNumberOfArrays())),
     }
+    if recipe == 'terrain':
+        # A serial-format writer (supports_parallel 0): ParaView updates the whole extent (the
+        # one piece of one) on every rank and rank 0 writes the one GeoTIFF.
+        tif = TerroirGeoTIFFWriter(Input=last, FileName=os.path.join(out_dir, 'slope.tif'),  # noqa: F821
+                                   ArrayName='Slope')
+        tif.UpdatePipeline()
+        reader.UpdatePropertyInformation()
+        record['read_extent_for_geotiff'] = list(reader.GetProperty('ReadExtent'))
     with open(os.path.join(out_dir, 'rank%d.json' % rank), 'w') as f:
         json.dump(record, f)
     print('rank %d of %d: piece %s, read %s' % (rank, ranks, record['piece_extent'],

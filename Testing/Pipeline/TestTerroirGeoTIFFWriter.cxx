@@ -12,12 +12,15 @@
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkTrivialProducer.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <gdal.h>
+#include <gdal_utils.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -423,4 +426,81 @@ TEST(TerroirGeoTIFFWriter, CompressionsLayoutsAndOverviews)
       }
     }
   }
+}
+
+// Pieces (issue 25): each of 4 pieces of the bundled DEM (the pieces a 4-rank run reads) written
+// as its own GeoTIFF lies where its cells are (the whole raster's geotransform moved to the
+// piece's corner), and the pieces mosaicked by a VRT (GDALBuildVRT, as gdalbuildvrt does) give
+// the GeoTIFF of the whole raster: the same size, geotransform and pixels, bit for bit.
+TEST(TerroirGeoTIFFWriter, PiecesMosaicIntoTheWholeRaster)
+{
+  const std::string dir = terroir::testing::IOScratchFolder("geotiff_pieces");
+  vtkNew<vtkTerroirDEMReader> reader;
+  reader->SetFileName(kUTM.c_str());
+  reader->Update();
+  int whole[6];
+  reader->GetOutput()->GetExtent(whole);
+  const std::string serial = dir + "/whole.tif";
+  vtkNew<vtkTerroirGeoTIFFWriter> writer;
+  writer->SetInputConnection(reader->GetOutputPort());
+  writer->SetFileName(serial.c_str());
+  writer->OverwriteOn();
+  writer->Write();
+  ASSERT_STREQ(writer->GetErrorMessage(), "");
+
+  std::vector<std::string> names;
+  for (int piece = 0; piece < 4; ++piece)
+  {
+    vtkNew<vtkTerroirDEMReader> part;
+    part->SetFileName(kUTM.c_str());
+    part->UpdateInformation();
+    part->UpdatePiece(piece, 4, 0);
+    vtkNew<vtkImageData> copy;
+    copy->ShallowCopy(part->GetOutput());
+    vtkNew<vtkTrivialProducer> producer;
+    producer->SetOutput(copy);
+    producer->SetWholeExtent(whole);
+    names.push_back(dir + "/piece" + std::to_string(piece) + ".tif");
+    vtkNew<vtkTerroirGeoTIFFWriter> pieceWriter;
+    pieceWriter->SetInputConnection(producer->GetOutputPort());
+    pieceWriter->SetFileName(names.back().c_str());
+    pieceWriter->OverwriteOn();
+    pieceWriter->Write();
+    ASSERT_STREQ(pieceWriter->GetErrorMessage(), "");
+  }
+  std::vector<const char*> sources;
+  for (const std::string& n : names)
+  {
+    sources.push_back(n.c_str());
+  }
+  const std::string vrt = dir + "/mosaic.vrt";
+  int usageError = 0;
+  GDALDatasetH mosaic = GDALBuildVRT(
+    vrt.c_str(), static_cast<int>(sources.size()), nullptr, sources.data(), nullptr, &usageError);
+  ASSERT_NE(mosaic, nullptr);
+  GDALDatasetH full = GDALOpen(serial.c_str(), GA_ReadOnly);
+  ASSERT_NE(full, nullptr);
+  const int nx = GDALGetRasterXSize(full);
+  const int ny = GDALGetRasterYSize(full);
+  EXPECT_EQ(GDALGetRasterXSize(mosaic), nx);
+  EXPECT_EQ(GDALGetRasterYSize(mosaic), ny);
+  double a[6], b[6];
+  GDALGetGeoTransform(mosaic, a);
+  GDALGetGeoTransform(full, b);
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_EQ(a[k], b[k]) << k;
+  }
+  std::vector<float> x(static_cast<std::size_t>(nx) * ny), y(x.size());
+  ASSERT_EQ(
+    GDALRasterIO(
+      GDALGetRasterBand(mosaic, 1), GF_Read, 0, 0, nx, ny, x.data(), nx, ny, GDT_Float32, 0, 0),
+    CE_None);
+  ASSERT_EQ(
+    GDALRasterIO(
+      GDALGetRasterBand(full, 1), GF_Read, 0, 0, nx, ny, y.data(), nx, ny, GDT_Float32, 0, 0),
+    CE_None);
+  EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(float)), 0);
+  GDALClose(full);
+  GDALClose(mosaic);
 }
