@@ -18,12 +18,14 @@
  *   CPU with a warning under Auto and is an error under GPU.
  * - streaming: `RequestUpdateExtent` asks for the requested extent grown by `GetHaloWidth()`
  *   cells (clamped to the whole extent, as vtkImageGradient), or the whole extent when the
- *   halo is -1. The filter computes on the input's extent and the output is then cropped to
- *   the requested extent (vtkImageData::Crop; nothing is copied when they are the same, as in
- *   a serial run), so that the pieces of a parallel run (pvbatch + MPI) do not overlap and a
- *   cell's value is the serial one: pointwise filters run per piece, stencil filters on their
- *   piece and halo, and whole-extent filters compute everything on each rank and keep their
- *   piece.
+ *   halo is -1. A piece request (pvbatch + MPI: piece, number of pieces, ghost levels, which
+ *   the pipeline turns into an extent with vtkExtentTranslator whatever UPDATE_EXTENT says)
+ *   gets the halo as ghost levels, and a whole-extent filter asks for the one piece of one.
+ *   The filter computes on the input's extent and the output is then cropped to the extent
+ *   asked of it (vtkImageData::Crop; nothing is copied when they are the same, as in a serial
+ *   run), so that the pieces of a parallel run do not overlap and a cell's value is the serial
+ *   one: pointwise filters run per piece, stencil filters on their piece and halo, and
+ *   whole-extent filters compute everything on each rank and keep their piece.
  * - `RequestData`: validates the parameters (`CheckParameters`) and the input, checks that the
  *   memory the filter will allocate (`EstimateMemory`, plus any conversion of the input) is
  *   available (terroir::CheckMemory, Common/Core/MemoryBudget.h), then shallow-copies the input,
