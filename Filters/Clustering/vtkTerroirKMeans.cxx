@@ -3,6 +3,7 @@
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtentTranslator.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
@@ -10,6 +11,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
@@ -455,7 +457,21 @@ int vtkTerroirKMeans::RequestData(vtkInformation* request,
   {
     inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), this->WholeExtent);
   }
-  this->DistributedRun = DistributedReduction(outputVector->GetInformationObject(0)) != nullptr;
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  this->DistributedRun = DistributedReduction(outInfo) != nullptr;
+  if (this->DistributedRun)
+  {
+    // This piece without ghost levels, as the pipeline cut it (vtkExtentTranslator, block mode).
+    using SDDP = vtkStreamingDemandDrivenPipeline;
+    vtkNew<vtkExtentTranslator> translator;
+    translator->PieceToExtentThreadSafe(outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()),
+      outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()),
+      0,
+      this->WholeExtent,
+      this->OwnedExtent,
+      vtkExtentTranslator::BLOCK_MODE,
+      0);
+  }
   // The feature components of this input size the memory estimate.
   this->InputComponents = 0;
   if (vtkImageData* input = vtkImageData::GetData(inputVector[0]))
@@ -583,18 +599,22 @@ bool vtkTerroirKMeans::SelectCells(const terroir::GridView<float>& v, Clustering
   }
   if (c.reduction)
   {
-    // Each point once over the pieces: a piece owns its points but those of its upper
-    // boundary, which it shares with the next piece (the last piece along an axis owns them).
+    // Each point once over the pieces: a piece owns the points of its own extent (without the
+    // ghost layers a filter downstream may have asked for) but those of its upper boundary,
+    // which it shares with the next piece (the last piece along an axis owns them).
     const int* e = c.pieceExtent;
+    const int* p = this->OwnedExtent;
     const std::size_t pnx = static_cast<std::size_t>(e[1] - e[0] + 1);
-    const bool lastI = e[1] == this->WholeExtent[1];
-    const bool lastJ = e[3] == this->WholeExtent[3];
+    auto owns = [](int g, int lo, int hi, int wholeHi)
+    { return g >= lo && (g < hi || (g == hi && hi == wholeHi)); };
     std::vector<std::size_t> owned;
     owned.reserve(c.cells.size());
     for (std::size_t cell : c.cells)
     {
-      const bool mine = (lastI || static_cast<int>(cell % pnx) + e[0] < e[1]) &&
-        (lastJ || static_cast<int>(cell / pnx) + e[2] < e[3]);
+      const int gi = static_cast<int>(cell % pnx) + e[0];
+      const int gj = static_cast<int>(cell / pnx) + e[2];
+      const bool mine =
+        owns(gi, p[0], p[1], this->WholeExtent[1]) && owns(gj, p[2], p[3], this->WholeExtent[3]);
       (mine ? owned : c.shared).push_back(cell);
       valid[cell] = mine ? 1 : 0;
     }
@@ -748,8 +768,10 @@ void vtkTerroirKMeans::SeedCentresDistributed(Clustering& c)
     cl::KMeansDiagonalSeedPositions(candidates.size(), c.k);
   for (std::size_t i = 0; i < positions.size(); ++i)
   {
+    // Only the owner: a point this piece shares with its neighbour, or a ghost point, is
+    // another piece's (c.valid marks the cells this piece owns and that take part).
     const std::int64_t l = local(candidates[positions[i]]);
-    if (l < 0)
+    if (l < 0 || !c.valid[static_cast<std::size_t>(l)])
     {
       continue;
     }

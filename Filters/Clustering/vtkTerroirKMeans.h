@@ -220,6 +220,8 @@ private:
   bool DistributedRun = false;
   /// The input's whole extent (global cell indices of a piece's cells).
   int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  /// Distributed: this piece's extent without ghost levels (the points it may own).
+  int OwnedExtent[6] = { 0, -1, 0, -1, 0, -1 };
 
 #ifndef __VTK_WRAP__
   // RequestTerrainData in steps, over the state of one request (Clustering).

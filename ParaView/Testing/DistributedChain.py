@@ -4,7 +4,8 @@ each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
         PLUGIN DEM OUT_DIR terrain|zones
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
-piece, slope and infiltration with one ghost layer each); zones: the same, then k-means.
+piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
+zonesghost: zones, then slope again (k-means asked for a ghost layer).
 OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
 rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
 the whole grid on every rank and rank 0 writes), and
@@ -27,10 +28,14 @@ def main():
     temperature = TerroirTemperature(Input=slope)  # noqa: F821
     infiltration = TerroirInfiltration(Input=temperature)  # noqa: F821
     last = TerroirSoilHumidity(Input=infiltration)  # noqa: F821
-    if recipe == 'zones':
+    if recipe in ('zones', 'zonesghost'):
         last = TerroirKMeans(Input=last)  # noqa: F821
-    elif recipe != 'terrain':
-        raise SystemExit('recipe must be terrain or zones, not ' + recipe)
+    if recipe == 'zonesghost':
+        # A stencil after k-means asks it for a ghost layer: k-means then receives its piece and
+        # that layer, and must still count each point once.
+        last = TerroirSlope(Input=last)  # noqa: F821
+    elif recipe not in ('terrain', 'zones'):
+        raise SystemExit('recipe must be terrain, zones or zonesghost, not ' + recipe)
     writer = XMLPImageDataWriter(Input=last, FileName=os.path.join(out_dir, 'chain.pvti'))
     writer.UpdatePipeline()
 
