@@ -51,7 +51,8 @@
  * Empty clusters take the serial run's farthest cells (all-reduced maximum, ties to the lowest
  * cell of the whole grid). Sums are taken per process and then added, so their last bits may
  * differ from a serial run's (whose blocks span the whole grid); labels are the serial ones
- * unless a cell is within that rounding of two centres. The distributed path runs on the CPU;
+ * unless a cell is within that rounding of two centres. Collective: every process runs the filter
+ * for the same request, as ParaView does. The distributed path runs on the CPU;
  * k-means++ seeding and fewer valid diagonal cells than clusters are serial only (an error).
  *
  * CPU (vtkSMPTools over blocks of 4096 cells) and GPU
@@ -184,6 +185,7 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// Decides whether this request is a piece of a distributed run, then asks for the input.
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   /// The whole extent in a serial run, the piece alone in a distributed one.
   int GetHaloWidth() override { return this->DistributedRun ? 0 : -1; }
