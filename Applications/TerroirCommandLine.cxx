@@ -73,6 +73,9 @@ const std::vector<CommandEntry>& CommandEntries()
     { "bench", "Time each stage per backend on a synthetic DEM", MakeBenchOptions },
     { "info", "Grid and georeference of a DEM", MakeInfoOptions },
     { "fractal", "Write a seeded synthetic DEM (benchmarks, tests)", MakeFractalOptions },
+    { "generate",
+      "Terrain from nothing: a polygon-map island with biomes and rivers (Weiss 2015)",
+      MakeGenerateOptions },
   };
   return commands;
 }

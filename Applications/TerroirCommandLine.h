@@ -210,7 +210,7 @@ struct CommandLine
 {
   std::string Command; ///< run, slope, temperature, illumination, infiltration, humidity,
                        ///< floodfill, waterflow, flowacc, validate, kmeans, bench, info,
-                       ///< fractal or view
+                       ///< fractal, generate or view
   bool Verbose = false;
   std::string Backend = "auto"; ///< auto, cpu or gpu
   bool Overwrite = false;
@@ -255,6 +255,27 @@ struct CommandLine
   int FractalSize = 1024;
   int FractalSeed = 1;
   double FractalSpacing = 10.0;
+
+  /// `generate`: the generator (island) and its settings; a JSON --params file first, then the
+  /// options given (see GenerateOptions.cxx).
+  struct GenerateSettings
+  {
+    std::string Kind = "island";
+    std::string ParamsFile;
+    long long Seed = 1;
+    int Width = 512;
+    int Height = 512;
+    double Spacing = 30.0;
+    int Regions = 1000;
+    int Relaxations = 2;
+    int Rivers = 0;
+    double MaximumHeight = 1000.0;
+    double MaximumDepth = 200.0;
+    double NoiseScale = 0.25;
+    double Perturbation = 0.02;
+    std::string BiomeOutput; ///< --biome FILE
+    std::string RiverOutput; ///< --rivers FILE
+  } Generate;
 
   // new-filter.sh: options
 };

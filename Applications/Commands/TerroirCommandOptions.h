@@ -54,6 +54,7 @@ std::unique_ptr<CommandOptions> MakeViewOptions();             // ViewOptions.cx
 std::unique_ptr<CommandOptions> MakeBenchOptions();            // BenchOptions.cxx
 std::unique_ptr<CommandOptions> MakeInfoOptions();             // InfoOptions.cxx
 std::unique_ptr<CommandOptions> MakeFractalOptions();          // FractalOptions.cxx
+std::unique_ptr<CommandOptions> MakeGenerateOptions();         // GenerateOptions.cxx
 // new-filter.sh: options factories
 
 // ---- helpers the commands' options share (TerroirCommandOptions.cxx) ------------------------

@@ -34,6 +34,7 @@ const std::vector<Command>& Commands()
     { "bench", [](const CommandLine& c) { return CommandBench(c); } },
     { "info", CommandInfo },
     { "fractal", CommandFractal },
+    { "generate", CommandGenerate },
   };
   return commands;
 }

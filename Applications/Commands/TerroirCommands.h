@@ -43,6 +43,7 @@ int CommandTemperature(const CommandLine& c);      // Temperature.cxx
 int CommandIllumination(const CommandLine& c);     // Illumination.cxx
 int CommandInfo(const CommandLine& c);             // Info.cxx
 int CommandFractal(const CommandLine& c);          // Fractal.cxx
+int CommandGenerate(const CommandLine& c);         // Generate.cxx
 int CommandView(const CommandLine& c);             // View.cxx
 int CommandInfiltration(const CommandLine& c);     // Infiltration.cxx
 int CommandHumidity(const CommandLine& c);         // Humidity.cxx

@@ -20,6 +20,7 @@
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirKMeans.h"
+#include "vtkTerroirPolygonIslandSource.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
@@ -236,6 +237,16 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         vtkNew<vtkTerroirFractalTerrainSource> f;
         f->SetDimensions(640, 480);
         f->SetSeed(7);
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirPolygonIslandSource",
+      []
+      {
+        vtkNew<vtkTerroirPolygonIslandSource> f;
+        f->SetDimensions(320, 240);
+        f->SetSeed(7);
+        f->SetRegions(500);
         f->Update();
         return OutputBytes(f->GetOutput());
       } },

@@ -447,6 +447,40 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 2)
         self.assertEqual(r.stderr, "terroir: error: --monthly: expected 12 values, got 3\n")
 
+    def test_generate_island_from_options_and_a_params_file(self):
+        """`terroir generate island`: the same seed gives the same bytes, a --params file gives
+        what the same options give and an option on the command line wins over it; the .vti
+        keeps every array, the sea is below 0 m and the highest cell at --max-height; a bad
+        key is a usage error naming the file."""
+        a, b, c = (os.path.join(self.work, n) for n in ("a.tif", "b.tif", "c.vti"))
+        r = terroir("generate", "island", a, "--seed", "5", "--width", "96", "--height", "80",
+                    "--regions", "200", "--max-height", "700")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertRegex(r.stdout, r"island 96 x 80, seed 5: land [0-9.]+ %")
+        params = os.path.join(self.work, "island.json")
+        with open(params, "w") as f:
+            json.dump({"seed": 5, "width": 96, "height": 80, "regions": 200, "max_height": 700,
+                       "rivers": 3}, f)
+        r = terroir("generate", "island", b, "--params", params, "--rivers", "0")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        za, zb = read_band(a), read_band(b)
+        np.testing.assert_array_equal(za, zb)
+        self.assertEqual(float(za.max()), 700.0)
+        self.assertLess(float(za[0, 0]), 0.0)  # the map's corner is sea
+        r = terroir("generate", "island", c, "--params", params)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        arrays = read_vti(c)
+        for name in ("Elevation", "Biome", "Moisture", "River", "WaterClass", "RegionId"):
+            self.assertIn(name, arrays)
+        self.assertEqual(int(np.count_nonzero(arrays["WaterClass"] == 2)) > 0, True)
+        with open(params, "w") as f:
+            json.dump({"seed": 5, "hieght": 80}, f)
+        r = terroir("generate", "island", os.path.join(self.work, "d.tif"), "--params", params)
+        self.assertEqual(r.returncode, 2)
+        self.assertEqual(r.stderr.strip(),
+                         "terroir: error: %s: unknown parameter 'hieght'" % params)
+        self.assertFalse(os.path.exists(os.path.join(self.work, "d.tif")))
+
     def test_the_placeholder_climate_is_announced(self):
         """Issue 24 item 7: a run on the default climate (the filters' illustrative year) says
         so once on stderr after it worked, with the values; any climate option silences it;

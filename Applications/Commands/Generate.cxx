@@ -1,0 +1,80 @@
+// `terroir generate island`: Weiss (2015)'s polygon-map island (vtkTerroirPolygonIslandSource).
+#include "TerroirCommands.h"
+
+#include "TerroirApp.h"
+#include "TerroirCommandSupport.h"
+
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+
+#include "vtkTerroirPolygonIslandSource.h"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace terroir
+{
+namespace app
+{
+
+int CommandGenerate(const CommandLine& c)
+{
+  const auto& g = c.Generate;
+  std::vector<std::string> outputs{ c.Output };
+  for (const std::string* extra : { &g.BiomeOutput, &g.RiverOutput })
+  {
+    if (!extra->empty())
+    {
+      outputs.push_back(*extra);
+    }
+  }
+  CheckWritable(outputs, c.Overwrite);
+  vtkNew<vtkTerroirPolygonIslandSource> source;
+  source->SetDimensions(g.Width, g.Height);
+  source->SetSpacing(g.Spacing);
+  source->SetSeed(static_cast<unsigned long long>(g.Seed));
+  source->SetRegions(g.Regions);
+  source->SetRelaxations(g.Relaxations);
+  source->SetRivers(g.Rivers);
+  source->SetMaximumHeight(g.MaximumHeight);
+  source->SetMaximumDepth(g.MaximumDepth);
+  source->SetNoiseScale(g.NoiseScale);
+  source->SetPerturbation(g.Perturbation);
+  UpdateOrThrow(source, "island");
+  vtkImageData* island = source->GetOutput();
+  WriteStageResult(island, "Elevation", c.Output, c.Overwrite);
+  if (!g.BiomeOutput.empty())
+  {
+    WriteStageResult(island, "Biome", g.BiomeOutput, c.Overwrite);
+  }
+  if (!g.RiverOutput.empty())
+  {
+    WriteStageResult(island, "River", g.RiverOutput, c.Overwrite);
+  }
+  // One summary line: how much is land, lake and sea, and how many cells the rivers cover.
+  vtkDataArray* water = island->GetPointData()->GetArray("WaterClass");
+  vtkDataArray* river = island->GetPointData()->GetArray("River");
+  long long counts[3] = { 0, 0, 0 }, rivers = 0;
+  for (vtkIdType k = 0; k < water->GetNumberOfTuples(); ++k)
+  {
+    ++counts[static_cast<int>(water->GetComponent(k, 0)) % 3];
+    rivers += river->GetComponent(k, 0) != 0.0 ? 1 : 0;
+  }
+  const double n = static_cast<double>(water->GetNumberOfTuples());
+  std::printf("island %d x %d, seed %lld: land %.1f %%, lakes %.1f %%, sea %.1f %%, river cells "
+              "%lld\n",
+    g.Width,
+    g.Height,
+    g.Seed,
+    100.0 * counts[0] / n,
+    100.0 * counts[1] / n,
+    100.0 * counts[2] / n,
+    rivers);
+  return 0;
+}
+
+} // namespace app
+} // namespace terroir
