@@ -15,6 +15,7 @@
 #include "vtkTerroirFlowAccumulation.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirKMeans.h"
+#include "vtkTerroirMorphometry.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
@@ -309,6 +310,10 @@ const std::vector<BenchStage>& BenchStages()
     { "flowacc", true, BenchFlowAccumulation },
     { "waterflow", false, BenchWaterFlow },
     { "kmeans", false, BenchKMeans },
+    { "morphometry",
+      true,
+      [](BenchRun& run)
+      { BenchFilter(run, vtkSmartPointer<vtkTerroirMorphometry>::New(), "morphometry"); } },
     // new-filter.sh: stages
   };
   return stages;

@@ -66,6 +66,10 @@ const std::vector<CommandEntry>& CommandEntries()
     { "kmeans",
       "Ecological zones: k-means clustering of terrain resources, after Long (2016), ch. 4",
       MakeKMeansOptions },
+    { "morphometry",
+      "Landscape statistics: hypsometry, slope, drainage density, Horton ratios, Hack's law, "
+      "closed depressions",
+      MakeMorphometryOptions },
     // new-filter.sh: commands
     { "view",
       "Interactive window: relief, overlays, sliders, lakes (default: bundled Sagehen DEM)",
@@ -124,6 +128,7 @@ const std::vector<std::string>& BenchStageNames()
     "flowacc",
     "waterflow",
     "kmeans",
+    "morphometry",
     // new-filter.sh: stages
   };
   return names;

@@ -277,6 +277,12 @@ struct CommandLine
     std::string RiverOutput; ///< --rivers FILE
   } Generate;
 
+  // morphometry (vtkTerroirMorphometry)
+  std::string MorphometryOutput;            ///< optional OUT (Output defaults to run's folder)
+  double MorphometryChannelArea = 1.0e5;    ///< --channel-area, m2
+  double MorphometryDepressionDepth = 1e-3; ///< --depression-depth, m
+  std::string MorphometryJson;              ///< --json FILE
+  std::string MorphometryCsv;               ///< --csv FILE (the per-order Horton table)
   // new-filter.sh: options
 };
 

@@ -55,6 +55,7 @@ std::unique_ptr<CommandOptions> MakeBenchOptions();            // BenchOptions.c
 std::unique_ptr<CommandOptions> MakeInfoOptions();             // InfoOptions.cxx
 std::unique_ptr<CommandOptions> MakeFractalOptions();          // FractalOptions.cxx
 std::unique_ptr<CommandOptions> MakeGenerateOptions();         // GenerateOptions.cxx
+std::unique_ptr<CommandOptions> MakeMorphometryOptions();      // MorphometryOptions.cxx
 // new-filter.sh: options factories
 
 // ---- helpers the commands' options share (TerroirCommandOptions.cxx) ------------------------

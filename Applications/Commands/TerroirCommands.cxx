@@ -29,6 +29,7 @@ const std::vector<Command>& Commands()
     { "flowacc", CommandFlowAccumulation },
     { "validate", CommandValidate },
     { "kmeans", CommandKMeans },
+    { "morphometry", CommandMorphometry },
     // new-filter.sh: commands
     { "view", CommandView },
     { "bench", [](const CommandLine& c) { return CommandBench(c); } },

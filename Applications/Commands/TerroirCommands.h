@@ -52,6 +52,7 @@ int CommandWaterFlow(const CommandLine& c);        // WaterFlow.cxx
 int CommandFlowAccumulation(const CommandLine& c); // FlowAccumulation.cxx
 int CommandValidate(const CommandLine& c);         // Validate.cxx
 int CommandKMeans(const CommandLine& c);           // KMeans.cxx
+int CommandMorphometry(const CommandLine& c);      // Morphometry.cxx
 // new-filter.sh: commands
 
 } // namespace app

@@ -20,6 +20,7 @@
 #include "vtkTerroirGeoTIFFWriter.h"
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirKMeans.h"
+#include "vtkTerroirMorphometry.h"
 #include "vtkTerroirPolygonIslandSource.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
@@ -301,6 +302,15 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         w->OverwriteOn();
         w->Write();
         return FileBytes(Scratch("dem.ter"));
+      } },
+    { "vtkTerroirMorphometry",
+      []
+      {
+        vtkNew<vtkTerroirMorphometry> f;
+        f->SetBackendToCPU();
+        f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
       } },
     // new-filter.sh: cases
   };

@@ -391,6 +391,54 @@ class TerroirCommandLine(unittest.TestCase):
             members = ids == int(row[0])
             self.assertAlmostEqual(float(slope[members].mean()), float(row[4]), delta=0.01)
 
+    def test_morphometry_command(self):
+        # The bundled DEM: the printed table, --json that parses and agrees with the table,
+        # --csv equal to the JSON's per-order table, OUT .tif with the StrahlerOrder band.
+        js, csv = os.path.join(self.work, "m.json"), os.path.join(self.work, "h.csv")
+        tif = os.path.join(self.work, "order.tif")
+        r = terroir("morphometry", DEM, tif, "--json", js, "--csv", csv)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(js) as f:
+            m = json.load(f)
+        self.assertEqual(m["valid_cells"], 786 * 720)
+        self.assertIn("hypsometric integral      %.4f" % m["hypsometric_integral"], r.stdout)
+        self.assertAlmostEqual(m["drainage"]["channel_area_m2"], 1e5)
+        self.assertEqual(sum(m["slope_deg"]["histogram"]), m["valid_cells"])
+        self.assertEqual(len(m["slope_deg"]["histogram"]), 18)
+        orders = m["horton"]["orders"]
+        self.assertEqual([o["order"] for o in orders], list(range(1, len(orders) + 1)))
+        self.assertEqual(m["horton"]["orders_fitted"], [1, len(orders) - 1])
+        self.assertAlmostEqual(sum(o["total_length_m"] for o in orders) / 1e3,
+                               m["drainage"]["channel_length_km"], places=6)
+        with open(csv) as f:
+            rows = [line.strip().split(",") for line in f]
+        self.assertEqual(rows[0], ["order", "streams", "mean_length_m", "total_length_m"])
+        self.assertEqual([int(x[1]) for x in rows[1:]], [o["streams"] for o in orders])
+        order = read_band(tif)
+        self.assertEqual(int((order > 0).sum()), m["drainage"]["channel_cells"])
+        self.assertEqual(int(order.max()), len(orders))
+        # A larger threshold: fewer channel cells, a lower drainage density; --depression-depth
+        # 1 km: no cell is that deep.
+        r = terroir("morphometry", DEM, "--json", os.path.join(self.work, "big.json"),
+                    "--channel-area", "1e6", "--depression-depth", "1000")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.work, "big.json")) as f:
+            big = json.load(f)
+        self.assertLess(big["drainage"]["drainage_density_km_per_km2"],
+                        m["drainage"]["drainage_density_km_per_km2"])
+        self.assertEqual(big["closed_depressions"]["cells"], 0)
+        self.assertEqual(big["closed_depressions"]["depth_threshold_m"], 1000)
+        # Without outputs it only prints; an existing --json is kept without --overwrite.
+        before = os.path.getmtime(js)
+        r = terroir("morphometry", DEM, "--json", js)
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(r.stderr.strip().splitlines()[-1],
+                         "terroir: error: %s: exists; pass --overwrite to replace it" % js)
+        self.assertEqual(os.path.getmtime(js), before)
+        r = terroir("morphometry", DEM)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("Horton R_b / R_l", r.stdout)
+
     def test_existing_outputs_are_kept_without_overwrite(self):
         out = os.path.join(self.work, "slope.tif")
         with open(out, "w") as f:
@@ -559,7 +607,8 @@ class TerroirCommandLine(unittest.TestCase):
         stages = [x["stage"] for x in bench["results"]]
         self.assertEqual(stages, ["slope", "temperature", "horizon", "instant", "instant-raymarch",
                                   "monthly", "infiltration", "humidity", "humidity-all",
-                                  "floodfill", "depressions", "flowacc", "waterflow", "kmeans"])
+                                  "floodfill", "depressions", "flowacc", "waterflow", "kmeans",
+                                  "morphometry"])
         self.assertTrue(all(x["seconds"] > 0 for x in bench["results"]))
         self.assertTrue(all(x["mcells"] == 64 * 64 / 1e6 for x in bench["results"]))
         rows = {x["stage"]: x for x in bench["results"]}
