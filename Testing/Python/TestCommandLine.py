@@ -643,7 +643,7 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 2)
         self.assertEqual(r.stderr, "terroir: error: --stages: 'shadows' is not one of slope, "
                                    "temperature, horizon, instant, monthly, infiltration, humidity, floodfill, "
-                                   "depressions, flowacc, waterflow, kmeans\n")
+                                   "depressions, flowacc, waterflow, kmeans, morphometry\n")
 
     def flat_dem(self, name="flat.tif"):
         """A flat 60 x 50 GeoTIFF at 1900 m near Sagehen Creek (UTM 11N, about 39.5 N)."""

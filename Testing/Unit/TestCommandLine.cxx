@@ -422,14 +422,15 @@ TEST(TerroirCommandLineParse, BenchStages)
       "depressions",
       "flowacc",
       "waterflow",
-      "kmeans" }));
+      "kmeans",
+      "morphometry" }));
   // Run in the fixed order, each once, whatever the order asked.
   outcome = Parse({ "bench", "--stages", "monthly,horizon,instant,horizon" }, line);
   ASSERT_TRUE(outcome.Run) << outcome.Error;
   EXPECT_EQ(line.BenchStages, (std::vector<std::string>{ "horizon", "instant", "monthly" }));
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "slope,shadows" }),
     "--stages: 'shadows' is not one of slope, temperature, horizon, instant, monthly, "
-    "infiltration, humidity, floodfill, depressions, flowacc, waterflow, kmeans");
+    "infiltration, humidity, floodfill, depressions, flowacc, waterflow, kmeans, morphometry");
   EXPECT_EQ(ErrorOf({ "bench", "--stages", "" }), "--stages: no stage given");
 }
 
