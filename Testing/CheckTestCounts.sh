@@ -11,7 +11,7 @@ ctest=$1
 build=$2
 only=${3:-}
 declare -A minimum=(
-  [unit]=280 [pipeline]=187 [gpu]=71 [rendering]=44 [python]=17 [examples]=16 [fuzz]=5
+  [unit]=280 [pipeline]=187 [gpu]=71 [rendering]=44 [python]=18 [examples]=16 [fuzz]=5
   [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=27 [mpi]=14
 )
 status=0

@@ -43,6 +43,7 @@
  * Testing/Unit/TestMorphometry.cxx (tilted plane, pyramid, pit, hand-drawn D8 tree, Hack by
  * construction, no data), Testing/Pipeline/TestTerroirMorphometry.cxx (arrays, field data,
  * errors, the bundled DEM against independently computed statistics),
+ * Testing/Python/TestMorphometry.py (the network re-implemented in Python),
  * Testing/Python/TestMorphometryGrass.py (GRASS r.univar, r.slope.aspect, r.watershed -s).
  *
  * @par References

@@ -55,11 +55,12 @@
  * @par Correctness
  * Testing/Unit/TestMorphometry.cxx: a tilted plane (HI 0.5, constant analytic slope, no
  * depression, parallel order-1 streams of known length, Hack's fit against the (A, L) pairs
- * worked out by hand), a pyramid (HI 1/3 of a square pyramid's volume argument), one pit of
+ * worked out by hand), a stepped square pyramid (HI 7/27 from its ring counts), one pit of
  * known depth and volume, a hand-drawn D8 tree with its orders, N_w, L_w, R_b and R_l worked
  * out on paper, a network built so that L = A^h exactly; no-data cells. The peer check
  * Testing/Python/TestMorphometryGrass.py compares slope, hypsometry, stream cells and
- * drainage density with GRASS (r.slope.aspect, r.univar, r.watershed -s) on the bundled DEM.
+ * drainage density with GRASS (r.slope.aspect, r.univar, r.watershed -s) on the bundled DEM;
+ * Testing/Python/TestMorphometry.py re-implements the network statistics in Python.
  *
  * @par References
  * Strahler, A.N. (1952). Hypsometric (area-altitude) analysis of erosional topography.
