@@ -163,7 +163,7 @@ void ChannelNetworkStrahler1957(const GridView<float>& view,
   std::vector<long long> streams;
   std::vector<double> lengths;
   std::vector<double> hackX, hackY;
-  std::size_t channelCells = 0, done = 0;
+  std::size_t channelCells = 0;
   double channelLength = 0.0;
 
   for (std::size_t start = 0; start < n; ++start)
@@ -176,7 +176,6 @@ void ChannelNetworkStrahler1957(const GridView<float>& view,
     for (;;)
     {
       inDegree[k] = 0xff; // done
-      ++done;
       const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
       const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
       const int d = direction[k];
@@ -250,7 +249,6 @@ void ChannelNetworkStrahler1957(const GridView<float>& view,
       order[k] = 0;
     }
   }
-  (void)done;
 
   report.channelArea = channelArea;
   report.channelCells = channelCells;
