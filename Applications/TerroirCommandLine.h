@@ -274,7 +274,10 @@ struct CommandLine
     double NoiseScale = 0.25;
     double Perturbation = 0.02;
     std::string BiomeOutput; ///< --biome FILE
-    std::string RiverOutput; ///< --rivers FILE
+    std::string RiverOutput; ///< --river-map FILE
+    std::string RiverLines;  ///< --river-lines FILE.geojson
+    std::string CRS;         ///< --crs: a projected CRS GDAL takes (empty: none)
+    std::vector<double> Origin{ 500000.0, 4000000.0 }; ///< --origin X,Y with --crs
   } Generate;
 
   // morphometry (vtkTerroirMorphometry)

@@ -2,7 +2,10 @@
 
 #include "PolygonIsland.h"
 
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
+#include "vtkDataObject.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -11,11 +14,16 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirIOPrivate.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "MemoryBudget.h"
+
+#include <cpl_conv.h>
+#include <ogr_srs_api.h>
 
 #include <algorithm>
 
@@ -25,7 +33,14 @@ vtkStandardNewMacro(vtkTerroirPolygonIslandSource);
 vtkTerroirPolygonIslandSource::vtkTerroirPolygonIslandSource()
 {
   this->SetNumberOfInputPorts(0);
-  this->SetNumberOfOutputPorts(1);
+  this->SetNumberOfOutputPorts(2);
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirPolygonIslandSource::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkPolyData");
+  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -42,6 +57,8 @@ void vtkTerroirPolygonIslandSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumDepth: " << this->MaximumDepth << " m\n";
   os << indent << "NoiseScale: " << this->NoiseScale << "\n";
   os << indent << "Perturbation: " << this->Perturbation << "\n";
+  os << indent << "CRS: " << (this->CRS.empty() ? "(none)" : this->CRS) << "\n";
+  os << indent << "Origin: " << this->Origin[0] << ", " << this->Origin[1] << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -90,6 +107,28 @@ int vtkTerroirPolygonIslandSource::RequestData(vtkInformation*,
   p.maximumDepth = this->MaximumDepth;
   p.noiseScale = this->NoiseScale;
   p.perturbation = this->Perturbation;
+  // The CRS, resolved before any work.
+  std::string wkt;
+  if (!this->CRS.empty())
+  {
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
+    char* text = nullptr;
+    const bool ok = OSRSetFromUserInput(srs, this->CRS.c_str()) == OGRERR_NONE &&
+      OSRIsProjected(srs) && OSRExportToWkt(srs, &text) == OGRERR_NONE;
+    if (ok)
+    {
+      wkt = text;
+    }
+    CPLFree(text);
+    OSRDestroySpatialReference(srs);
+    if (!ok)
+    {
+      this->ErrorMessage = "vtkTerroirPolygonIslandSource: CRS '" + this->CRS +
+        "' is not a projected coordinate reference system GDAL knows";
+      vtkErrorMacro(<< this->ErrorMessage);
+      return 0;
+    }
+  }
   terroir::generation::PolygonIsland island;
   std::string error;
   if (!terroir::generation::GeneratePolygonIsland(p, island, error))
@@ -100,7 +139,17 @@ int vtkTerroirPolygonIslandSource::RequestData(vtkInformation*,
   }
   output->SetExtent(0, nx - 1, 0, ny - 1, 0, 0);
   output->SetSpacing(this->Spacing, this->Spacing, 1.0);
-  output->SetOrigin(0.0, 0.0, 0.0);
+  output->SetOrigin(this->Origin[0], this->Origin[1], 0.0);
+  if (!wkt.empty())
+  {
+    // North-up GeoTransform of the cells' corners; row 0 of the image is the southern one.
+    const double s = this->Spacing;
+    const double gt[6] = {
+      this->Origin[0] - 0.5 * s, s, 0.0, this->Origin[1] + (ny - 0.5) * s, 0.0, -s
+    };
+    vtkTerroirGeoreference::SetGeoTransform(output, gt);
+    vtkTerroirGeoreference::SetCRS(output, wkt);
+  }
   const vtkIdType n = static_cast<vtkIdType>(nx) * ny;
   vtkNew<vtkFloatArray> elevation;
   elevation->SetName(vtkTerroirGeoreference::ElevationName());
@@ -130,5 +179,37 @@ int vtkTerroirPolygonIslandSource::RequestData(vtkInformation*,
   pd->AddArray(bytes("River", island.riverMap));
   pd->AddArray(bytes("WaterClass", island.waterMap));
   pd->AddArray(region);
+
+  // Port 1: the rivers, a line per step from a region's point to the next one down.
+  vtkPolyData* rivers = vtkPolyData::GetData(outputVector, 1);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkFloatArray> flow;
+  flow->SetName("RiverFlow");
+  auto world = [&](int k, double xyz[3])
+  {
+    // Map coordinates to the image's: cell i's centre is at x = (i + 0.5) 2 / nx - 1.
+    xyz[0] = this->Origin[0] + ((island.siteX[k] + 1.0) * nx / 2.0 - 0.5) * this->Spacing;
+    xyz[1] = this->Origin[1] + (island.siteY[k] * nx / 2.0 + 0.5 * ny - 0.5) * this->Spacing;
+    xyz[2] = 0.0;
+  };
+  for (int k = 0; k < p.regions; ++k)
+  {
+    const int next = island.downslope[k];
+    if (island.riverFlow[k] <= 0.0 || next < 0)
+    {
+      continue;
+    }
+    double a[3], b[3];
+    world(k, a);
+    world(next, b);
+    const vtkIdType ids[2] = { points->InsertNextPoint(a), points->InsertNextPoint(b) };
+    lines->InsertNextCell(2, ids);
+    flow->InsertNextValue(static_cast<float>(island.riverFlow[k]));
+  }
+  rivers->SetPoints(points);
+  rivers->SetLines(lines);
+  rivers->GetCellData()->AddArray(flow);
   return 1;
 }

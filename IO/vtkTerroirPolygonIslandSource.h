@@ -10,7 +10,10 @@
  * terroir::generation::Biome code of the cell's region, Weiss's Table I order: 0 Snow ...
  * 13 Beach, 14 Lake, 15 Ocean), `Moisture` (float32, [0, 1]), `River` (uint8, 1 on the rivers
  * the generator drew), `WaterClass` (uint8, 0 land, 1 lake, 2 ocean) and `RegionId` (int32, the
- * cell's Voronoi region).
+ * cell's Voronoi region). Output port 1: the generated rivers as vtkPolyData, one line per
+ * river step from a region's point to the next region's point down the river (world
+ * coordinates of the image: cell (i, j) at (i, j) x Spacing), cell array `RiverFlow` (the water
+ * the river carries there, in river steps, Weiss's "amount of water").
  *
  * Parameters (defaults): Dimensions 512 x 512, Spacing 30 m, Seed 1, Regions 1000 Voronoi
  * points, Relaxations 2 Lloyd steps, Rivers 0 (= Regions / 20 springs), MaximumHeight 1000 m,
@@ -94,6 +97,20 @@ public:
   vtkGetMacro(Perturbation, double);
   ///@}
 
+  ///@{
+  /// A place for the island: a coordinate reference system in metres (any definition GDAL
+  /// takes: "EPSG:32631", WKT; empty, the default: no georeference) and the world coordinates
+  /// of the first cell's centre (default 0, 0). With a CRS the image carries TerroirCRS and
+  /// TerroirGeoTransform, so GeoTIFFs are georeferenced and `terroir validate` can score it.
+  vtkSetStdStringFromCharMacro(CRS);
+  vtkGetCharFromStdStringMacro(CRS);
+  vtkSetVector2Macro(Origin, double);
+  vtkGetVector2Macro(Origin, double);
+  ///@}
+
+  /// Port 0: the image; port 1: the rivers (vtkPolyData).
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+
   /// The last error as one line, or "" after a successful run.
   const char* GetErrorMessage() const { return this->ErrorMessage.c_str(); }
 
@@ -114,6 +131,8 @@ protected:
   double MaximumDepth = 200.0;
   double NoiseScale = 0.25;
   double Perturbation = 0.02;
+  std::string CRS;
+  double Origin[2] = { 0.0, 0.0 };
   std::string ErrorMessage;
 
 private:

@@ -4,12 +4,17 @@
 #include "TerroirApp.h"
 #include "TerroirCommandSupport.h"
 
+#include "vtkCell.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
 
 #include "vtkTerroirPolygonIslandSource.h"
+
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <string>
@@ -24,7 +29,7 @@ int CommandGenerate(const CommandLine& c)
 {
   const auto& g = c.Generate;
   std::vector<std::string> outputs{ c.Output };
-  for (const std::string* extra : { &g.BiomeOutput, &g.RiverOutput })
+  for (const std::string* extra : { &g.BiomeOutput, &g.RiverOutput, &g.RiverLines })
   {
     if (!extra->empty())
     {
@@ -43,6 +48,11 @@ int CommandGenerate(const CommandLine& c)
   source->SetMaximumDepth(g.MaximumDepth);
   source->SetNoiseScale(g.NoiseScale);
   source->SetPerturbation(g.Perturbation);
+  if (!g.CRS.empty())
+  {
+    source->SetCRS(g.CRS.c_str());
+    source->SetOrigin(g.Origin[0], g.Origin[1]);
+  }
   UpdateOrThrow(source, "island");
   vtkImageData* island = source->GetOutput();
   WriteStageResult(island, "Elevation", c.Output, c.Overwrite);
@@ -53,6 +63,35 @@ int CommandGenerate(const CommandLine& c)
   if (!g.RiverOutput.empty())
   {
     WriteStageResult(island, "River", g.RiverOutput, c.Overwrite);
+  }
+  if (!g.RiverLines.empty())
+  {
+    // GeoJSON LineStrings in the image's coordinates (no CRS: metres from the first cell),
+    // each with the water it carries.
+    vtkPolyData* rivers = vtkPolyData::SafeDownCast(source->GetOutputDataObject(1));
+    vtkDataArray* flow = rivers->GetCellData()->GetArray("RiverFlow");
+    nlohmann::json features = nlohmann::json::array();
+    for (vtkIdType k = 0; k < rivers->GetNumberOfCells(); ++k)
+    {
+      vtkCell* line = rivers->GetCell(k);
+      nlohmann::json coordinates = nlohmann::json::array();
+      for (vtkIdType v = 0; v < line->GetNumberOfPoints(); ++v)
+      {
+        double xyz[3];
+        rivers->GetPoint(line->GetPointId(v), xyz);
+        coordinates.push_back({ xyz[0], xyz[1] });
+      }
+      features.push_back({ { "type", "Feature" },
+        { "properties", { { "river_flow", flow->GetComponent(k, 0) } } },
+        { "geometry", { { "type", "LineString" }, { "coordinates", coordinates } } } });
+    }
+    nlohmann::json collection = { { "type", "FeatureCollection" }, { "features", features } };
+    if (!g.CRS.empty())
+    {
+      // GeoJSON 2008's named CRS (GDAL reads it): the lines are in the island's CRS.
+      collection["crs"] = { { "type", "name" }, { "properties", { { "name", g.CRS } } } };
+    }
+    WriteTextFile(g.RiverLines, collection.dump() + "\n", c.Overwrite);
   }
   // One summary line: how much is land, lake and sea, and how many cells the rivers cover.
   vtkDataArray* water = island->GetPointData()->GetArray("WaterClass");

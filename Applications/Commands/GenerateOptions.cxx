@@ -62,6 +62,18 @@ public:
       ->check(EndsWith(RasterOutputs()));
     sub->add_option("--river-map", g.RiverOutput, "Also write the generated rivers (.tif or .vti)")
       ->check(EndsWith(RasterOutputs()));
+    sub
+      ->add_option("--river-lines",
+        g.RiverLines,
+        "Also write the generated rivers as GeoJSON lines (for terroir validate --reference)")
+      ->check(EndsWith({ ".geojson", ".json" }));
+    sub->add_option("--crs",
+      g.CRS,
+      "Place the island in this projected CRS (EPSG:NNNN or WKT), so it is georeferenced");
+    sub
+      ->add_option("--origin", g.Origin, "With --crs: world X,Y of the first cell (500000,4000000)")
+      ->delimiter(',')
+      ->expected(2);
     sub->add_flag("--overwrite", line.Overwrite, "Replace existing output files");
   }
 

@@ -521,6 +521,27 @@ class TerroirCommandLine(unittest.TestCase):
         for name in ("Elevation", "Biome", "Moisture", "River", "WaterClass", "RegionId"):
             self.assertIn(name, arrays)
         self.assertEqual(int(np.count_nonzero(arrays["WaterClass"] == 2)) > 0, True)
+        # Placed in a projected CRS: a georeferenced GeoTIFF, and the rivers as GeoJSON lines in
+        # that CRS, each running downhill between two cells of the generated River map.
+        e, lines = os.path.join(self.work, "e.tif"), os.path.join(self.work, "rivers.geojson")
+        r = terroir("generate", "island", e, "--params", params, "--crs", "EPSG:32631",
+                    "--origin", "600000,4100000", "--river-lines", lines)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        ds = gdal.Open(e)
+        gt = ds.GetGeoTransform()
+        self.assertEqual(gt, (600000 - 15.0, 30.0, 0.0, 4100000 + 79.5 * 30.0, 0.0, -30.0))
+        self.assertIn("32631", ds.GetSpatialRef().GetAuthorityCode(None))
+        z = ds.GetRasterBand(1).ReadAsArray()  # row 0 north
+        with open(lines) as f:
+            collection = json.load(f)
+        self.assertEqual(collection["crs"]["properties"]["name"], "EPSG:32631")
+        self.assertGreater(len(collection["features"]), 0)
+        for feature in collection["features"]:
+            (x0, y0), (x1, y1) = feature["geometry"]["coordinates"]
+            rows = [int((gt[3] - y) // 30.0) for y in (y0, y1)]
+            cols = [int((x - gt[0]) // 30.0) for x in (x0, x1)]
+            self.assertLessEqual(z[rows[1], cols[1]], z[rows[0], cols[0]] + 1e-3)
+            self.assertGreater(feature["properties"]["river_flow"], 0)
         with open(params, "w") as f:
             json.dump({"seed": 5, "hieght": 80}, f)
         r = terroir("generate", "island", os.path.join(self.work, "d.tif"), "--params", params)
