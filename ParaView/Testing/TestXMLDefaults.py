@@ -50,7 +50,8 @@ def proxies(xml_dir):
 
 
 def values(text, kind):
-    convert = {'IntVectorProperty': int, 'DoubleVectorProperty': float}.get(kind, str)
+    convert = {'IntVectorProperty': int, 'IdTypeVectorProperty': int,
+               'DoubleVectorProperty': float}.get(kind, str)
     return [convert(v) for v in text.split()]
 
 
@@ -76,7 +77,7 @@ def check_property(cls, obj, prop):
     if prop.tag == 'StringVectorProperty':
         actual = ['' if a is None else a for a in actual]
         expected = expected or ['']
-    if prop.tag == 'IntVectorProperty':
+    if prop.tag in ('IntVectorProperty', 'IdTypeVectorProperty'):
         actual = [int(a) for a in actual]
     if actual != expected:
         fail('%s: XML default %s, C++ default %s' % (name, expected, actual))
@@ -85,7 +86,7 @@ def check_property(cls, obj, prop):
 
 def check_domains(name, obj, prop, command):
     for domain in prop:
-        if domain.tag == 'IntRangeDomain' and hasattr(obj, 'Get%sMinValue' % command[3:]):
+        if domain.tag in ('IntRangeDomain', 'IdTypeRangeDomain') and hasattr(obj, 'Get%sMinValue' % command[3:]):
             lo = getattr(obj, 'Get%sMinValue' % command[3:])()
             hi = getattr(obj, 'Get%sMaxValue' % command[3:])()
             if domain.get('min') is not None and int(domain.get('min').split()[0]) != lo:
