@@ -83,6 +83,11 @@ public:
   void Check(CommandLine& line, const CLI::App& sub) override
   {
     auto& g = line.Generate;
+    CheckNotOutput({ &g.BiomeOutput, &g.RiverOutput, &g.RiverLines }, line.Output);
+    if (!g.BiomeOutput.empty() && g.BiomeOutput == g.RiverOutput)
+    {
+      throw std::invalid_argument("'" + g.BiomeOutput + "' is both --biome and --river-map");
+    }
     if (g.ParamsFile.empty())
     {
       return;

@@ -239,18 +239,34 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Check(Within(m, -90, 60));
   }
   Check(t.Monthly.empty() || t.ClimateFile.empty());
-  const bool rasterIn = c != "run" && c != "bench" && c != "fractal" && c != "view";
+  const bool rasterIn =
+    c != "run" && c != "bench" && c != "fractal" && c != "view" && c != "generate";
   if (rasterIn && c != "validate")
   {
     Check(!line.Input.empty());
   }
-  if (rasterIn && c != "info" && c != "validate")
+  if (rasterIn && c != "info" && c != "validate" && c != "morphometry")
   {
     Check(EndsWithRasterExtension(line.Output));
   }
-  if (c == "fractal")
+  if (c == "morphometry")
+  {
+    Check(line.Output.empty() || EndsWithRasterExtension(line.Output));
+  }
+  if (c == "fractal" || c == "generate")
   {
     Check(EndsWithRasterExtension(line.Output));
+  }
+  if (c == "generate")
+  {
+    const auto& g = line.Generate;
+    Check(g.Kind == "island");
+    Check(g.Width >= 8 && g.Width <= 65536 && g.Height >= 8 && g.Height <= 65536);
+    Check(g.Regions >= 16 && g.Relaxations >= 0 && g.Relaxations <= 100 && g.Rivers >= 0);
+    Check(Within(g.Spacing, 1e-3, 1e5) && Within(g.MaximumHeight, 1e-3, 1e5));
+    Check(Within(g.MaximumDepth, 0, 1e5) && Within(g.NoiseScale, 0, 100));
+    Check(Within(g.Perturbation, 0, 1) && g.Origin.size() == 2);
+    Check(ExtraOutput(g.BiomeOutput, line.Output) && ExtraOutput(g.RiverOutput, line.Output));
   }
   const auto& s = line.Illumination;
   // Latitude and longitude: NaN (from the georeference) or in range (run and illumination).
