@@ -17,6 +17,12 @@
 #include "vtkTerroirTerrainInput.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "vtkExtentTranslator.h"
+#include "vtkNew.h"
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+#include "vtkMultiProcessController.h"
+#endif
+
 #include "DepressionWaterBodies.h"
 #include "PriorityFlood.h"
 #include "RiverValidation.h"
@@ -33,12 +39,145 @@
 #include <map>
 #include <new>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkTerroirWaterFlow);
 
 namespace hy = terroir::hydrology;
+
+namespace
+{
+/// A point extent of the 2-D grid: i0..i1 x j0..j1, inclusive (empty when i0 > i1 or j0 > j1).
+struct Box
+{
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+  bool Empty() const { return i0 > i1 || j0 > j1; }
+  long long Cells() const
+  {
+    return this->Empty() ? 0 : static_cast<long long>(i1 - i0 + 1) * (j1 - j0 + 1);
+  }
+  Box Intersect(const Box& o) const
+  {
+    return { std::max(i0, o.i0), std::min(i1, o.i1), std::max(j0, o.j0), std::min(j1, o.j1) };
+  }
+  Box Grow(int r) const { return { i0 - r, i1 + r, j0 - r, j1 + r }; }
+  bool Contains(const Box& o) const
+  {
+    return o.Empty() || (o.i0 >= i0 && o.i1 <= i1 && o.j0 >= j0 && o.j1 <= j1);
+  }
+};
+} // namespace
+
+/**
+ * A distributed run's exchange for one piece: which cells of the padded arrays it sends to and
+ * receives from each other process after every iteration, and the all-gather of the
+ * iteration's sums. Every process builds the same lists from the pieces' extents; the pairs are
+ * visited in one global order (the lower rank sends first), so blocking messages cannot
+ * deadlock.
+ */
+struct vtkTerroirWaterFlowHalo
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  vtkMultiProcessController* Controller = nullptr;
+#endif
+  int Rank = 0;
+  int Processes = 1;
+  Box Grid; ///< this process's grid (the input extent)
+  struct Link
+  {
+    int rank = 0;
+    std::vector<std::size_t> send, receive; ///< padded indices
+  };
+  std::vector<Link> Links; ///< by rank
+  std::vector<double> Buffer;
+  long long CellsPerIteration = 0; ///< cells received per iteration (water), all links
+  int Window[4] = { 0, 0, 0, 0 };  ///< WaterFlowSimulation::SetCountWindow's
+
+  /// Refreshes the halo cells of `padded` (water, or discharge before the outputs).
+  void Exchange(std::vector<double>& padded)
+  {
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+    const int tag = 2517;
+    for (const Link& l : this->Links)
+    {
+      const bool sendFirst = this->Rank < l.rank;
+      for (int step = 0; step < 2; ++step)
+      {
+        if ((step == 0) == sendFirst)
+        {
+          this->Buffer.resize(l.send.size());
+          for (std::size_t k = 0; k < l.send.size(); ++k)
+          {
+            this->Buffer[k] = padded[l.send[k]];
+          }
+          if (!this->Controller->Send(
+                this->Buffer.data(), static_cast<vtkIdType>(this->Buffer.size()), l.rank, tag))
+          {
+            throw std::runtime_error(
+              "water flow: a halo send to process " + std::to_string(l.rank) + " failed");
+          }
+        }
+        else
+        {
+          this->Buffer.resize(l.receive.size());
+          if (!this->Controller->Receive(
+                this->Buffer.data(), static_cast<vtkIdType>(this->Buffer.size()), l.rank, tag))
+          {
+            throw std::runtime_error(
+              "water flow: a halo receive from process " + std::to_string(l.rank) + " failed");
+          }
+          for (std::size_t k = 0; k < l.receive.size(); ++k)
+          {
+            padded[l.receive[k]] = this->Buffer[k];
+          }
+        }
+      }
+    }
+#else
+    (void)padded;
+#endif
+  }
+
+  /// The smallest of `value` over the processes.
+  void Min(double* value)
+  {
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+    const double local = *value;
+    if (!this->Controller->AllReduce(&local, value, 1, vtkCommunicator::MIN_OP))
+    {
+      throw std::runtime_error("water flow: the all-reduce over the MPI processes failed");
+    }
+#else
+    (void)value;
+#endif
+  }
+
+  /// The sum over the processes of n values, added in rank order (the same bits everywhere).
+  void Sum(double* values, int n)
+  {
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+    std::vector<double> all(static_cast<std::size_t>(n) * this->Processes);
+    if (!this->Controller->AllGather(values, all.data(), n))
+    {
+      throw std::runtime_error("water flow: the all-gather over the MPI processes failed");
+    }
+    for (int k = 0; k < n; ++k)
+    {
+      double total = 0.0;
+      for (int p = 0; p < this->Processes; ++p)
+      {
+        total += all[static_cast<std::size_t>(p) * n + k];
+      }
+      values[k] = total;
+    }
+#else
+    (void)values;
+    (void)n;
+#endif
+  }
+};
 
 /// The cached simulation and its checkpoints.
 struct vtkTerroirWaterFlow::Cache
@@ -50,6 +189,8 @@ struct vtkTerroirWaterFlow::Cache
   hy::WaterFlowCheckpoints Checkpoints;
   std::vector<std::uint8_t> Lake;                ///< Rivers mode: 1 on the lakes (LakeMask)
   std::vector<hy::WaterFlowWarmStartLevel> Warm; ///< Rivers mode: the warm start's levels
+  std::shared_ptr<vtkTerroirWaterFlowHalo> Halo; ///< distributed run: this piece's exchange
+  double InitialVolume = 0.0;                    ///< distributed run: over every piece
 };
 
 namespace
@@ -95,6 +236,181 @@ vtkSmartPointer<vtkDoubleArray> Scalar(const char* name, double value, const cha
   return a;
 }
 } // namespace
+
+namespace
+{
+/// The global controller when `outInfo` asks for one piece of N and the global controller has
+/// N > 1 processes (a distributed run); null otherwise.
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+vtkMultiProcessController* DistributedController(vtkInformation* outInfo)
+{
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int pieces = outInfo && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  return controller && controller->GetNumberOfProcesses() > 1 &&
+      pieces == controller->GetNumberOfProcesses()
+    ? controller
+    : nullptr;
+}
+#endif
+
+/// Piece `piece` of `pieces` (vtkExtentTranslator, block mode, no ghost levels) less the upper
+/// boundary points that the next piece along each axis also holds: the points it owns.
+Box OwnedBox(int piece, int pieces, const int whole[6])
+{
+  int e[6];
+  vtkNew<vtkExtentTranslator> translator;
+  translator->PieceToExtentThreadSafe(
+    piece, pieces, 0, const_cast<int*>(whole), e, vtkExtentTranslator::BLOCK_MODE, 0);
+  Box b{ e[0], e[1], e[2], e[3] };
+  b.i1 -= b.i1 < whole[1] ? 1 : 0;
+  b.j1 -= b.j1 < whole[3] ? 1 : 0;
+  return b;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+int vtkTerroirWaterFlow::RequestUpdateExtent(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  this->DistributedRun =
+    this->Mode == Pulse && DistributedController(outputVector->GetInformationObject(0));
+#else
+  this->DistributedRun = false;
+#endif
+  return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
+{
+  Cache& cache = *this->State;
+  std::shared_ptr<vtkTerroirWaterFlowHalo> old = cache.Halo;
+  cache.Halo.reset();
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkInformation* outInfo = this->GetOutputInformation(0);
+  vtkMultiProcessController* controller =
+    this->Mode == Pulse ? DistributedController(outInfo) : nullptr;
+  if (!controller || !outInfo->Has(SDDP::WHOLE_EXTENT()))
+  {
+    return true; // a serial run
+  }
+  auto halo = std::make_shared<vtkTerroirWaterFlowHalo>();
+  halo->Controller = controller;
+  halo->Rank = controller->GetLocalProcessId();
+  halo->Processes = controller->GetNumberOfProcesses();
+  int whole[6];
+  outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+  const int pieces = outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES());
+  const int piece = outInfo->Get(SDDP::UPDATE_PIECE_NUMBER());
+  const int ghost = outInfo->Has(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+    : 0;
+  int e[6];
+  input->GetExtent(e);
+  halo->Grid = { e[0], e[1], e[2], e[3] };
+  const Box wholeBox{ whole[0], whole[1], whole[2], whole[3] };
+  // Cells within `reach` of the owned ones are refreshed every iteration: those the output
+  // gives (the ghost levels asked) and the 2 rings that a cell's new depth reads (its
+  // neighbours' flows, which read their neighbours' heights); one more ring is computed for the
+  // heights of no-data cells there.
+  const int reach = ghost + 2;
+  const Box mine = OwnedBox(piece, pieces, whole);
+  int local[6] = { piece, e[0], e[1], e[2], e[3], reach };
+  std::vector<int> all(6 * static_cast<std::size_t>(halo->Processes));
+  if (!controller->AllGather(local, all.data(), 6))
+  {
+    vtkErrorMacro(<< "the all-gather of the pieces' extents over the MPI processes failed");
+    return false;
+  }
+  bool ok = halo->Grid.Contains(mine.Grow(reach + 1).Intersect(wholeBox));
+  for (int p = 0; p < halo->Processes && ok; ++p)
+  {
+    const int* a = all.data() + 6 * p;
+    ok = a[0] >= 0 && a[0] < pieces;
+    for (int q = 0; q < p && ok; ++q)
+    {
+      ok = all[6 * q] != a[0]; // one piece per process
+    }
+  }
+  if (!ok)
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << "distributed water flow: piece " << piece
+                  << " of " << pieces << " came without its halo of " << reach + 1
+                  << " cells, or the processes do not hold one piece each");
+    return false;
+  }
+  const int stride = halo->Grid.i1 - halo->Grid.i0 + 3;
+  const auto padded = [&](int i, int j)
+  {
+    return static_cast<std::size_t>(j - halo->Grid.j0 + 1) * static_cast<std::size_t>(stride) +
+      static_cast<std::size_t>(i - halo->Grid.i0 + 1);
+  };
+  const auto indices = [&](const Box& b, std::vector<std::size_t>& out)
+  {
+    for (int j = b.j0; !b.Empty() && j <= b.j1; ++j)
+    {
+      for (int i = b.i0; i <= b.i1; ++i)
+      {
+        out.push_back(padded(i, j));
+      }
+    }
+  };
+  for (int p = 0; p < halo->Processes; ++p)
+  {
+    if (p == halo->Rank)
+    {
+      continue;
+    }
+    const int* a = all.data() + 6 * p;
+    const Box theirs = OwnedBox(a[0], pieces, whole);
+    const Box theirGrid{ a[1], a[2], a[3], a[4] };
+    vtkTerroirWaterFlowHalo::Link link;
+    link.rank = p;
+    indices(theirs.Intersect(mine.Grow(reach)).Intersect(halo->Grid), link.receive);
+    indices(mine.Intersect(theirs.Grow(a[5])).Intersect(theirGrid), link.send);
+    if (!link.receive.empty() || !link.send.empty())
+    {
+      halo->CellsPerIteration += static_cast<long long>(link.receive.size());
+      halo->Links.push_back(std::move(link));
+    }
+  }
+  // The window of the padded grid whose volumes this piece counts: its own cells, and the
+  // grid's border on the sides its piece touches.
+  const int nx = halo->Grid.i1 - halo->Grid.i0 + 1;
+  const int ny = halo->Grid.j1 - halo->Grid.j0 + 1;
+  halo->Window[0] = mine.i0 == whole[0] ? 0 : mine.i0 - halo->Grid.i0 + 1;
+  halo->Window[1] = mine.i1 == whole[1] ? nx + 2 : mine.i1 - halo->Grid.i0 + 2;
+  halo->Window[2] = mine.j0 == whole[2] ? 0 : mine.j0 - halo->Grid.j0 + 1;
+  halo->Window[3] = mine.j1 == whole[3] ? ny + 2 : mine.j1 - halo->Grid.j0 + 2;
+  if (old && old->Grid.i0 == halo->Grid.i0 && old->Grid.i1 == halo->Grid.i1 &&
+    old->Grid.j0 == halo->Grid.j0 && old->Grid.j1 == halo->Grid.j1)
+  {
+    *old = std::move(*halo); // the cached simulation's hook keeps its object
+    cache.Halo = old;
+  }
+  else
+  {
+    cache.Halo = halo;
+    cache.Sim.reset(); // another piece: start again
+  }
+  vtkDebugMacro(<< "distributed water flow: process " << cache.Halo->Rank << ", grid " << nx
+                << " x " << ny << ", " << cache.Halo->CellsPerIteration
+                << " halo cells per iteration");
+#else
+  (void)input;
+#endif
+  if (old && !cache.Halo)
+  {
+    cache.Sim.reset(); // was distributed, now serial
+  }
+  return true;
+}
 
 //------------------------------------------------------------------------------
 vtkTerroirWaterFlow::vtkTerroirWaterFlow()
@@ -411,7 +727,34 @@ bool vtkTerroirWaterFlow::NewSimulation(vtkImageData* input,
         return false; // the GPU request failed (reported)
       }
     }
-    cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data()));
+    // A piece's closenesses are the whole grid's: d_min over every piece (an exact minimum).
+    double dmin = 0.0;
+    if (cache.Halo)
+    {
+      dmin = hy::WaterFlowSimulation::SmallestSpacing(v);
+      cache.Halo->Min(&dmin);
+    }
+    cache.Sim.reset(new hy::WaterFlowSimulation(v, water.data(), dmin));
+    if (cache.Halo)
+    {
+      // Distributed: count the owned cells, refresh the halo and add the sums of every piece
+      // after each iteration.
+      const int* w = cache.Halo->Window;
+      cache.Sim->SetCountWindow(w[0], w[1], w[2], w[3]);
+      Cache* c = &cache;
+      cache.Sim->SetIterationHook(
+        [c](hy::WaterFlowSimulation& sim, hy::WaterFlowIteration& it)
+        {
+          c->Halo->Exchange(sim.PaddedWater());
+          double sums[3] = { it.moved, it.outflow, it.emptied };
+          c->Halo->Sum(sums, 3);
+          it.moved = sums[0];
+          it.outflow = sums[1];
+          it.emptied = sums[2];
+        });
+      cache.InitialVolume = cache.Sim->StoredVolume();
+      cache.Halo->Sum(&cache.InitialVolume, 1);
+    }
     cache.Sim->SetLongCapacityRule(this->LongCapacityRule != 0);
     cache.Sim->SetCountEmptiedCells(this->CountEmptiedCells != 0);
     if (this->Mode == Rivers)
@@ -526,7 +869,9 @@ bool vtkTerroirWaterFlow::Simulate(vtkImageData* input,
   plan.rule = rule;
   plan.checkpointInterval = this->CheckpointInterval;
   plan.eventInterval = this->IterationEventInterval;
-  cache.Checkpoints.SetBudget(this->CheckpointMemory, sim);
+  // A distributed run keeps no checkpoints: the pieces' budgets would differ, and a piece that
+  // went back to one while another started over would not meet it at the same iteration.
+  cache.Checkpoints.SetBudget(cache.Halo ? 0.0 : this->CheckpointMemory, sim);
   const long long first = sim.Iterations();
   const hy::WaterFlowAdvanceOutcome outcome = hy::WaterFlowAdvanceTo(sim,
     plan,
@@ -623,6 +968,11 @@ void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
   vtkSmartPointer<vtkFloatArray> height = vtkSmartPointer<vtkFloatArray>::Take(
     terroir::NewOutputArray(WaterHeightName(), 1, static_cast<long long>(n), "m"));
   sim.GetWaterHeight(height->GetPointer(0));
+  if (cache.Halo)
+  {
+    // The halo's discharge comes from the processes that own those cells.
+    cache.Halo->Exchange(sim.PaddedDischarge());
+  }
   auto discharge = vtkSmartPointer<vtkDoubleArray>::New();
   discharge->SetName(DischargeName());
   discharge->SetNumberOfTuples(static_cast<vtkIdType>(n));
@@ -686,7 +1036,8 @@ void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
   fd->AddArray(Scalar("WaterFlowSimulatedTime",
     static_cast<double>(sim.Iterations()) * this->IterationDuration,
     "s"));
-  fd->AddArray(Scalar("WaterFlowInitialVolume", sim.InitialVolume(), "m3"));
+  fd->AddArray(
+    Scalar("WaterFlowInitialVolume", cache.Halo ? cache.InitialVolume : sim.InitialVolume(), "m3"));
   if (this->Mode == Rivers)
   {
     // The warm start's coarse levels, coarsest first: iterations and cells of each.
@@ -702,7 +1053,12 @@ void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
     fd->AddArray(Scalar(
       "WaterFlowRainVolume", sim.RainVolume() * static_cast<double>(sim.Iterations()), "m3"));
   }
-  fd->AddArray(Scalar("WaterFlowStoredVolume", sim.StoredVolume(), "m3"));
+  double stored = sim.StoredVolume(); // the owned cells' in a distributed run
+  if (cache.Halo)
+  {
+    cache.Halo->Sum(&stored, 1);
+  }
+  fd->AddArray(Scalar("WaterFlowStoredVolume", stored, "m3"));
   fd->AddArray(Scalar("WaterFlowOutflowVolume", sim.TotalOutflow(), "m3"));
   fd->AddArray(Scalar("WaterFlowMovedVolume", sim.TotalMoved(), "m3"));
   if (run.Timed)
@@ -716,25 +1072,48 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   const terroir::TerrainInput& terrain,
   vtkImageData* output)
 {
-  const int backend = this->SelectBackend(this->HasGPUPath());
-  if (backend < 0)
+  int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0 || !this->SetUpDistributed(input))
   {
     return 0;
   }
   this->LastComputedIterations = 0;
+  Cache& cache = *this->State;
+  if (cache.Halo)
+  {
+    backend = vtkTerroirComputeContext::CPU; // the distributed path runs on the CPU
+  }
+  try
+  {
+    return this->RunTerrainData(input, terrain, output, backend) ? 1 : 0;
+  }
+  catch (const std::runtime_error& e)
+  {
+    cache.Sim.reset();
+    vtkErrorMacro(<< this->SourcePrefix(input) << e.what());
+    return 0;
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::RunTerrainData(vtkImageData* input,
+  const terroir::TerrainInput& terrain,
+  vtkImageData* output,
+  int backend)
+{
   Cache& cache = *this->State;
   // A new input or new parameters start from scratch.
   if ((!cache.Sim || cache.Input != input || cache.InputTime != input->GetMTime() ||
         cache.FilterTime != this->GetMTime()) &&
     !this->NewSimulation(input, terrain, backend))
   {
-    return 0;
+    return false;
   }
   RunInfo run;
   if (!this->Simulate(input, terrain, backend, run))
   {
-    return 0;
+    return false;
   }
   this->AddOutputs(output, terrain.view, run);
-  return 1;
+  return true;
 }

@@ -71,6 +71,16 @@
  * with ping-pong buffers in double precision; the stop test reads back every 16 iterations and
  * replays a block from its snapshot so that both stop after the same iteration).
  *
+ * Distributed runs (pvbatch + MPI): in Pulse mode, when a global vtkMultiProcessController
+ * has N > 1 processes and N pieces are asked for, each process iterates on its piece grown by
+ * 3 cells and, after every iteration, receives the water of the cells within 2 (plus the ghost
+ * levels asked of it) of the cells it owns from the processes that own them, and all-gathers
+ * the iteration's moved, outflow and emptied sums over the cells it owns, added in rank order:
+ * every process records the same iteration and stops at the same one (CPU path; no
+ * checkpoints). The cells' values are the serial run's bits; the volumes (field data) are the
+ * same sums in another order. Rivers mode needs the whole grid (Priority-Flood, warm start) and
+ * runs it on every process, as a serial run does (Documentation/ParaView.md).
+ *
  * Errors (one line, empty output): negative, NaN or infinite water on a cell with data,
  * missing or not 12-component `StandingWater` for the StandingWater sources, parameters out of
  * range.
@@ -281,7 +291,13 @@ protected:
   vtkTerroirWaterFlow();
   ~vtkTerroirWaterFlow() override;
 
-  int GetHaloWidth() override { return -1; }
+  /// Decides whether this request is a piece of a distributed run (Pulse mode, a global
+  /// controller of N > 1 processes and N pieces asked for), then asks for the input.
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// The whole extent in a serial run (and in Rivers mode); in a distributed run the piece
+  /// grown by 3 cells (2 exchanged with the neighbours every iteration, 1 more for the
+  /// heights of no-data cells beside them).
+  int GetHaloWidth() override { return this->DistributedRun ? 3 : -1; }
   bool HasGPUPath() override { return true; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
@@ -317,6 +333,7 @@ protected:
   double CheckpointMemory = 256.0;
   vtkIdType LastComputedIterations = 0;
   vtkIdType IterationEventInterval = 0;
+  bool DistributedRun = false;
 
 private:
   vtkTerroirWaterFlow(const vtkTerroirWaterFlow&) = delete;
@@ -344,6 +361,14 @@ private:
     int backend,
     RunInfo& run);
   void AddOutputs(vtkImageData* output, const terroir::GridView<float>& v, const RunInfo& run);
+  /// RequestTerrainData after the backend and the distributed set-up.
+  bool RunTerrainData(vtkImageData* input,
+    const terroir::TerrainInput& terrain,
+    vtkImageData* output,
+    int backend);
+  /// Distributed run: the halo exchange and the reductions for this piece (Cache::Halo); false
+  /// (reported) when the input does not hold the halo.
+  bool SetUpDistributed(vtkImageData* input);
 #endif
 };
 

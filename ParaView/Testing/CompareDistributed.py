@@ -1,6 +1,6 @@
 """Checks a distributed run of DistributedChain.py (mpirun -np N pvbatch) against the same chain
 run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, package `terroir`):
-    CompareDistributed.py terrain|zones|zonesghost N DEM OUT_DIR
+    CompareDistributed.py terrain|zones|zonesghost|flow|flowghost N DEM OUT_DIR
 - the pieces of OUT_DIR/chain.pvti, reassembled by VTK 9.1's vtkXMLPImageDataReader, give the
   serial arrays bit for bit (besides the all-zero vtkGhostType ParaView's writer adds) (the same cores on the same cells in the same order: a piece's
   cells see the same neighbours through their ghost layer); `vtkValidPointMask`, which the
@@ -10,7 +10,11 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
 - the .pvti holds N pieces that tile the whole extent without overlap, one per rank;
 - each rank's reader read only its piece grown by the ghost layers the chain asks for (slope 1,
   infiltration 1: 2 cells, clamped to the raster), so no rank read the whole DEM when N > 1
-  (k-means, in zones, asks for its piece alone in a distributed run: all-reduced sums).
+  (k-means, in zones, asks for its piece alone in a distributed run: all-reduced sums);
+- flow (water flow, Pulse): every array bit for bit, the same iteration count and stop reason on
+  every rank as serially, the volumes within FLOW_VOLUME_RTOL, and a river of the serial run
+  crossing every column and row that the pieces share; flowghost: the same with a slope after
+  the water flow (which then gives a ghost layer beyond its piece; the reader reads 4 cells).
 Fails (exit 1) with one line per problem."""
 import filecmp
 import json
@@ -25,7 +29,31 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 
 # Ghost cells the reader reads around a piece: slope's layer and infiltration's, one each, and
 # one more when a slope follows k-means.
-GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3}
+# Water flow (flow) reads its piece grown by 3: 2 rings refreshed from the neighbours every
+# iteration and 1 more for the heights of no-data cells beside them.
+GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4}
+# Water flow: the run's volumes are sums over the cells that each process adds for its own
+# cells before the processes' sums are added in rank order, another order than the serial
+# rows (doubles, ~1e-16 relative per addition, over up to 1e4 iterations).
+FLOW_VOLUME_RTOL = 1e-12
+
+
+def piece_boundaries(pieces, whole):
+    """The point columns and rows that two pieces share (image pieces share boundary points)."""
+    columns = sorted({p[1] for p in pieces if p[1] < whole[1]})
+    rows = sorted({p[3] for p in pieces if p[3] < whole[3]})
+    return columns, rows
+
+
+def river_crossings(river, line, axis):
+    """Cells of `line` (a column when axis is 0, a row when 1) where a river cell has river
+    cells on both sides of the line among its 8 neighbours: a river crosses there."""
+    r = river if axis == 0 else river.T
+    n = 0
+    for j in range(1, r.shape[0] - 1):
+        if r[j, line] and r[j - 1:j + 2, line - 1].any() and r[j - 1:j + 2, line + 1].any():
+            n += 1
+    return n
 
 
 def serial(recipe, dem):
@@ -33,6 +61,10 @@ def serial(recipe, dem):
     reader.SetFileName(dem)
     stages = [terroir.vtkTerroirSlope(), terroir.vtkTerroirTemperature(),
               terroir.vtkTerroirInfiltration(), terroir.vtkTerroirSoilHumidity()]
+    if recipe in ('flow', 'flowghost'):
+        stages = [terroir.vtkTerroirWaterFlow()]
+    if recipe == 'flowghost':
+        stages.append(terroir.vtkTerroirSlope())
     if recipe in ('zones', 'zonesghost'):
         stages.append(terroir.vtkTerroirKMeans())
     if recipe == 'zonesghost':
@@ -131,6 +163,47 @@ def main():
     if not (cover == 1).all():
         problems.append('the pieces do not tile the extent (%d cells covered %s times)' % (
             int((cover != 1).sum()), sorted(set(cover.ravel().tolist()) - {1})))
+
+    if recipe in ('flow', 'flowghost') and ranks > 1:
+        # A river must cross every line the pieces share (else the halo is not really tested):
+        # the serial run's River cells on both sides of each shared column and row.
+        dims = expected.GetDimensions()
+        river = b['River'].reshape(dims[1], dims[0]).astype(bool)
+        columns, rows = piece_boundaries(pieces, whole)
+        for axis, lines in ((0, columns), (1, rows)):
+            for line in lines:
+                n = river_crossings(river, line - whole[2 * axis], axis)
+                print('%s %d: %d river cells cross it' % (('column', 'row')[axis], line, n))
+                if n == 0:
+                    problems.append('no river crosses the pieces\' %s %d' % (
+                        ('column', 'row')[axis], line))
+    if recipe in ('flow', 'flowghost'):
+        fy = expected.GetFieldData()
+        want = {name: fy.GetArray(name).GetTuple1(0)
+                for name in ('WaterFlowIterations', 'WaterFlowInitialVolume',
+                             'WaterFlowStoredVolume', 'WaterFlowOutflowVolume',
+                             'WaterFlowMovedVolume')}
+        want['WaterFlowStopReason'] = fy.GetAbstractArray('WaterFlowStopReason').GetValue(0)
+        runs = []
+        for r in range(ranks):
+            path = os.path.join(out_dir, 'rank%d.json' % r)
+            if os.path.exists(path):
+                runs.append(json.load(open(path)).get('water_flow'))
+        if any(run != runs[0] for run in runs):
+            problems.append('the ranks ended different runs: %s' % runs)
+        got_run = runs[0] if runs else None
+        if not got_run:
+            problems.append('no rank recorded its water-flow run')
+        else:
+            for name, value in want.items():
+                have = got_run.get(name)
+                if name in ('WaterFlowIterations', 'WaterFlowStopReason'):
+                    ok = have == value
+                else:
+                    ok = have is not None and abs(have - value) <= FLOW_VOLUME_RTOL * abs(value)
+                print('%s: pieces %r, serial %r' % (name, have, value))
+                if not ok:
+                    problems.append('%s: pieces %r, serial %r' % (name, have, value))
 
     # What each rank read.
     whole_cells = (whole[1] + 1) * (whole[3] + 1)

@@ -2,10 +2,12 @@
 builds the same pipeline, ParaView's parallel image writer writes one piece per rank (.pvti), and
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
-        PLUGIN DEM OUT_DIR terrain|zones
+        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
-zonesghost: zones, then slope again (k-means asked for a ghost layer).
+zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
+flow (Pulse, defaults: a halo exchanged every iteration, the stop rule's sums all-gathered);
+flowghost: flow, then slope (the water flow asked for a ghost layer).
 OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
 rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
 the whole grid on every rank and rank 0 writes), and
@@ -14,7 +16,9 @@ the number of points of the piece.
 CompareDistributed.py checks both against the standalone build's serial run."""
 import json
 import os
+import resource
 import sys
+import time
 
 from paraview import servermanager
 from paraview.simple import LoadPlugin, XMLPImageDataWriter
@@ -24,6 +28,19 @@ def main():
     plugin, dem, out_dir, recipe = sys.argv[1:5]
     LoadPlugin(plugin, remote=False, ns=globals())
     reader = TerroirDEMReader(FileName=dem)  # noqa: F821 (the plugin defines them)
+    if recipe in ('flow', 'flowghost'):
+        # Water flow alone (Pulse, its defaults): each rank iterates on its piece and a halo
+        # of 3 cells, exchanging 2 rings with its neighbours every iteration.
+        last = TerroirWaterFlow(Input=reader)  # noqa: F821
+        if os.environ.get('TERROIR_FLOW_ITERATIONS'):
+            # Benchmarks (Testing/Benchmarks/scaling_mpi.sh): a fixed number of iterations.
+            last.MaximumIterations = int(os.environ['TERROIR_FLOW_ITERATIONS'])
+            last.AutoStopRatio = 0.0
+        if recipe == 'flowghost':
+            # A stencil after it asks the water flow for a ghost layer: its halo grows by one
+            # and the cells it gives back beyond its piece must be right too.
+            last = TerroirSlope(Input=last)  # noqa: F821
+        return write(reader, last, out_dir, recipe)
     slope = TerroirSlope(Input=reader)  # noqa: F821
     temperature = TerroirTemperature(Input=slope)  # noqa: F821
     infiltration = TerroirInfiltration(Input=temperature)  # noqa: F821
@@ -35,9 +52,37 @@ def main():
         # that layer, and must still count each point once.
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
-        raise SystemExit('recipe must be terrain, zones or zonesghost, not ' + recipe)
+        raise SystemExit('recipe must be terrain, zones, zonesghost, flow or flowghost, not ' + recipe)
+    return write(reader, last, out_dir, recipe)
+
+
+def stages(proxy):
+    """The proxies from the reader to `proxy`, upstream first."""
+    chain = [proxy]
+    while hasattr(chain[0], 'Input') and chain[0].Input is not None:
+        chain.insert(0, chain[0].Input)
+    return chain
+
+
+def write(reader, last, out_dir, recipe):
+    # Seconds each stage's RequestData took on this rank (StartEvent to EndEvent), for the
+    # scaling benchmark; a stage that runs twice adds up.
+    seconds, started = {}, {}
+    for proxy in stages(last):
+        algorithm = proxy.GetClientSideObject()
+        name = algorithm.GetClassName()
+
+        def start(obj, event, name=name):
+            started[name] = time.perf_counter()
+
+        def end(obj, event, name=name):
+            seconds[name] = seconds.get(name, 0.0) + time.perf_counter() - started[name]
+        algorithm.AddObserver('StartEvent', start)
+        algorithm.AddObserver('EndEvent', end)
+    t0 = time.perf_counter()
     writer = XMLPImageDataWriter(Input=last, FileName=os.path.join(out_dir, 'chain.pvti'))
     writer.UpdatePipeline()
+    wall = time.perf_counter() - t0
 
     pm = servermanager.vtkProcessModule.GetProcessModule()
     rank, ranks = pm.GetPartitionId(), pm.GetNumberOfLocalPartitions()
@@ -53,7 +98,22 @@ def main():
         'read_extent': read_extent,
         'arrays': sorted(local.GetPointData().GetArrayName(i)
                          for i in range(local.GetPointData().GetNumberOfArrays())),
+        'stage_seconds': seconds,
+        'pipeline_seconds': wall,
+        # The arrays this rank's output holds (KiB, VTK's count) and its peak resident memory.
+        'output_kib': sum(local.GetPointData().GetArray(i).GetActualMemorySize()
+                          for i in range(local.GetPointData().GetNumberOfArrays())),
+        'max_rss_kib': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
     }
+    if recipe in ('flow', 'flowghost'):
+        # The water flow's run as this rank saw it: every rank must stop at the same iteration.
+        fd = local.GetFieldData()
+        record['water_flow'] = {
+            name: fd.GetArray(name).GetTuple1(0)
+            for name in ('WaterFlowIterations', 'WaterFlowInitialVolume', 'WaterFlowStoredVolume',
+                         'WaterFlowOutflowVolume', 'WaterFlowMovedVolume')}
+        record['water_flow']['WaterFlowStopReason'] = \
+            fd.GetAbstractArray('WaterFlowStopReason').GetValue(0)
     if recipe == 'terrain':
         # A serial-format writer (supports_parallel 0): ParaView updates the whole extent (the
         # one piece of one) on every rank and rank 0 writes the one GeoTIFF.

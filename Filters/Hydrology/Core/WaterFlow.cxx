@@ -907,6 +907,22 @@ void WaterFlowSimulation::RowPass::Gather(int r,
     edges ? edge + plane + row0 : nullptr,
     edges ? edge + 2 * plane + row0 : nullptr,
     edges ? edge + 3 * plane + row0 : nullptr);
+  if (sim.Window[0] >= 0)
+  {
+    // A count window (distributed runs): only its cells count (zeros add nothing).
+    if (r < sim.Window[2] || r >= sim.Window[3])
+    {
+      return;
+    }
+    for (int pi = 0; pi < this->Stride; ++pi)
+    {
+      if (pi < sim.Window[0] || pi >= sim.Window[1])
+      {
+        sc.cellOut[pi] = 0.0;
+        sc.outletIn[pi] = 0.0;
+      }
+    }
+  }
   v.moved += RowSum(sc.cellOut.data(), this->Stride) * area[r];
   v.outflow += RowSum(sc.outletIn.data(), this->Stride) * area[r];
   if (sim.CountEmptied)
@@ -984,7 +1000,20 @@ WaterFlowSimulation::WaterFlowSimulation(WaterFlowSimulation&&) noexcept = defau
 WaterFlowSimulation& WaterFlowSimulation::operator=(WaterFlowSimulation&&) noexcept = default;
 
 //------------------------------------------------------------------------------
-WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const double* waterMetres)
+double WaterFlowSimulation::SmallestSpacing(const GridView<float>& terrain)
+{
+  double dmin = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < terrain.ny; ++j)
+  {
+    dmin = std::min(dmin, std::min(terrain.DxAt(j), terrain.DyAt(j)));
+  }
+  return dmin;
+}
+
+//------------------------------------------------------------------------------
+WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain,
+  const double* waterMetres,
+  double smallestSpacing)
   : NX(terrain.nx)
   , NY(terrain.ny)
   , Identity(NextSimulationId())
@@ -1028,6 +1057,15 @@ WaterFlowSimulation::WaterFlowSimulation(const GridView<float>& terrain, const d
     }
     this->Area[r] = dx[r] * dy[r];
     dmin = std::min(dmin, std::min(dx[r], dy[r]));
+  }
+  if (smallestSpacing != 0.0)
+  {
+    if (!(std::isfinite(smallestSpacing) && smallestSpacing > 0.0 && smallestSpacing <= dmin))
+    {
+      throw std::invalid_argument("water flow: the smallest spacing must be positive and at most "
+                                  "the grid's own");
+    }
+    dmin = smallestSpacing;
   }
   this->CloseEW.assign(NY + 2, 0.0);
   this->CloseNS.assign(NY + 2, 0.0);
@@ -1154,8 +1192,26 @@ WaterFlowIteration WaterFlowSimulation::Step()
     it.emptied += this->RowEmptied[j];
   }
   this->Water.swap(this->NextWater);
+  if (this->Hook)
+  {
+    this->Hook(*this, it);
+  }
   this->RecordIteration(it);
   return it;
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::SetCountWindow(int column0, int column1, int row0, int row1)
+{
+  if (column0 < 0 || column1 > NX + 2 || column0 >= column1 || row0 < 0 || row1 > NY + 2 ||
+    row0 >= row1)
+  {
+    throw std::invalid_argument("water flow: the count window is not inside the padded grid");
+  }
+  this->Window[0] = column0;
+  this->Window[1] = column1;
+  this->Window[2] = row0;
+  this->Window[3] = row1;
 }
 
 //------------------------------------------------------------------------------
@@ -1371,11 +1427,16 @@ WaterFlowStopReason WaterFlowSimulation::Run(const WaterFlowStopRule& rule)
 double WaterFlowSimulation::StoredVolume() const
 {
   const int stride = NX + 2;
+  const bool window = this->Window[0] >= 0;
+  const int r0 = window ? std::max(1, this->Window[2]) : 1;
+  const int r1 = window ? std::min(NY + 1, this->Window[3]) : NY + 1;
+  const int c0 = window ? std::max(1, this->Window[0]) : 1;
+  const int c1 = window ? std::min(NX + 1, this->Window[1]) : NX + 1;
   double total = 0.0;
-  for (int r = 1; r <= NY; ++r)
+  for (int r = r0; r < r1; ++r)
   {
     double row = 0.0;
-    for (int pi = 1; pi <= NX; ++pi)
+    for (int pi = c0; pi < c1; ++pi)
     {
       row += this->Water[static_cast<std::size_t>(r) * stride + pi];
     }

@@ -304,10 +304,18 @@ public:
   /**
    * @param terrain elevations (metres), optional validity mask, spacing (rowDx/rowDy honoured)
    * @param waterMetres nx*ny initial depths, metres (ignored on no-data cells)
+   * @param smallestSpacing d_min of the closenesses, metres; 0 (default): the grid's own
+   *        (SmallestSpacing). A piece of a larger grid passes the whole grid's, so that its
+   *        closenesses are the whole grid's.
    * @throws std::invalid_argument on a negative or non-finite depth on a valid cell, a
    *         non-finite or non-positive spacing, or an empty grid
    */
-  WaterFlowSimulation(const GridView<float>& terrain, const double* waterMetres);
+  WaterFlowSimulation(const GridView<float>& terrain,
+    const double* waterMetres,
+    double smallestSpacing = 0.0);
+
+  /// The smallest east-west or north-south spacing of the grid's rows, metres (d_min).
+  static double SmallestSpacing(const GridView<float>& terrain);
   ~WaterFlowSimulation();
   WaterFlowSimulation(WaterFlowSimulation&&) noexcept;
   WaterFlowSimulation& operator=(WaterFlowSimulation&&) noexcept;
@@ -375,6 +383,29 @@ public:
     return std::max(16, rows / (4 * std::max(1, threads)));
   }
 
+  /**
+   * Distributed runs: the cells whose volumes count, a window of the padded grid (columns
+   * [column0, column1), rows [row0, row1), padded indices: 0 is the border). Step's sums
+   * (moved, outflow, emptied) and StoredVolume() then add only the cells in the window: a
+   * piece computed with a halo counts the cells it owns (and the grid's own border on the
+   * sides where its piece touches it), so that the pieces' sums add up to the whole grid's.
+   * The default (ClearCountWindow) counts every cell, with the same arithmetic as before.
+   * @throws std::invalid_argument when the window is not inside the padded grid
+   */
+  void SetCountWindow(int column0, int column1, int row0, int row1);
+  void ClearCountWindow() { this->Window[0] = this->Window[2] = -1; }
+  bool HasCountWindow() const { return this->Window[0] >= 0; }
+
+  /**
+   * Called by Step after every iteration, once the new state is in place and before the
+   * iteration is recorded (histories, totals, stop rules): a distributed run refreshes the
+   * halo cells of PaddedWater() from the neighbouring pieces there and replaces the
+   * iteration's window sums (SetCountWindow) by their sums over every piece, so that every
+   * piece records the same iteration and stops at the same one. Empty by default.
+   */
+  using IterationHook = std::function<void(WaterFlowSimulation& sim, WaterFlowIteration& it)>;
+  void SetIterationHook(IterationHook hook) { this->Hook = std::move(hook); }
+
   /// One iteration on the CPU.
   WaterFlowIteration Step();
 
@@ -391,7 +422,8 @@ public:
   double TotalOutflow() const { return this->OutflowTotal; } ///< m^3
   double TotalEmptied() const { return this->EmptiedTotal; } ///< cells emptied, all iterations
   double InitialVolume() const { return this->Initial; }     ///< m^3
-  /// Water stored on the terrain now, m^3 (double sum in row order).
+  /// Water stored on the terrain now, m^3 (double sum in row order; the window's cells only
+  /// when SetCountWindow set one).
   double StoredVolume() const;
 
   /// Water heights above the terrain (metres, nx*ny, the WaterHeight output; NaN on no data).
@@ -496,6 +528,8 @@ private:
   std::vector<double> Emptied;
   std::vector<double> RowEmptied;
   std::vector<double> Edges;
+  int Window[4] = { -1, 0, -1, 0 }; ///< SetCountWindow: columns, rows (padded); -1: none
+  IterationHook Hook;
 };
 
 } // namespace hydrology
