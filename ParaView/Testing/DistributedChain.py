@@ -56,6 +56,12 @@ def main():
     return write(reader, last, out_dir, recipe)
 
 
+def smp_threads():
+    """The threads vtkSMPTools would use on this rank (VTK_SMP_MAX_THREADS caps them)."""
+    from vtkmodules.vtkCommonCore import vtkSMPTools
+    return vtkSMPTools.GetEstimatedNumberOfThreads()
+
+
 def stages(proxy):
     """The proxies from the reader to `proxy`, upstream first."""
     chain = [proxy]
@@ -104,6 +110,7 @@ def write(reader, last, out_dir, recipe):
         'output_kib': sum(local.GetPointData().GetArray(i).GetActualMemorySize()
                           for i in range(local.GetPointData().GetNumberOfArrays())),
         'max_rss_kib': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
+        'smp_threads': smp_threads(),
     }
     if recipe in ('flow', 'flowghost'):
         # The water flow's run as this rank saw it: every rank must stop at the same iteration.

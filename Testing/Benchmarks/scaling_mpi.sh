@@ -32,6 +32,13 @@ done
 mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export TERROIR_FLOW_ITERATIONS=$iterations
+# One core's worth per rank: one vtkSMPTools thread (VTK_SMP_MAX_THREADS), and a rank waiting in
+# MPI gives its core back (OpenMPI busy-polls otherwise, which on an oversubscribed machine takes
+# the core from the rank it waits for). TERROIR_SCALING_THREADS overrides the thread count.
+export VTK_SMP_MAX_THREADS=${TERROIR_SCALING_THREADS:-1} OMPI_MCA_mpi_yield_when_idle=1
+# ParaView's own Python modules first (RunInParaView.py; as the ParaView tests set them).
+site=$pvbuild/paraview-prefix/usr/lib/python3/dist-packages
+export TERROIR_PARAVIEW_SITE=$site PYTHONPATH=$site
 
 dem_of() { # dem_of NAME -> path (made once)
   case $1 in
@@ -49,7 +56,9 @@ run() { # run KIND DEM NP RECIPE
   rm -rf "$dir"
   mkdir -p "$dir"
   local t0=$(date +%s.%N)
-  mpirun --oversubscribe -np "$np" "$pvbatch" --symmetric "$here/ParaView/Testing/RunInParaView.py" \
+  mpirun --oversubscribe -np "$np" -x TERROIR_PARAVIEW_SITE -x PYTHONPATH -x TERROIR_FLOW_ITERATIONS \
+    -x VTK_SMP_MAX_THREADS -x OMPI_MCA_mpi_yield_when_idle \
+    "$pvbatch" --symmetric "$here/ParaView/Testing/RunInParaView.py" \
     "$here/ParaView/Testing/DistributedChain.py" "$plugin" "$(dem_of "$dem")" "$dir" "$recipe" \
     >"$dir/log.txt" 2>&1 || { echo "$kind $dem np$np $recipe failed:"; tail -5 "$dir/log.txt"; return 1; }
   local t1=$(date +%s.%N)
