@@ -140,6 +140,23 @@ struct vtkTerroirWaterFlowHalo
 #endif
   }
 
+  /// True when `ok` is true on every process (every process must call it: a process that
+  /// failed alone would leave the others waiting in the next exchange).
+  bool AllOk(bool ok)
+  {
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+    const int local = ok ? 1 : 0;
+    int all = 0;
+    if (!this->Controller->AllReduce(&local, &all, 1, vtkCommunicator::MIN_OP))
+    {
+      throw std::runtime_error("water flow: the all-reduce over the MPI processes failed");
+    }
+    return all == 1;
+#else
+    return ok;
+#endif
+  }
+
   /// The smallest of `value` over the processes.
   void Min(double* value)
   {
@@ -298,6 +315,10 @@ bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
     this->Mode == Pulse ? DistributedController(outInfo) : nullptr;
   if (!controller || !outInfo->Has(SDDP::WHOLE_EXTENT()))
   {
+    if (old)
+    {
+      cache.Sim.reset(); // was distributed (its count window and hook), now serial
+    }
     return true; // a serial run
   }
   auto halo = std::make_shared<vtkTerroirWaterFlowHalo>();
@@ -329,6 +350,7 @@ bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
     return false;
   }
   bool ok = halo->Grid.Contains(mine.Grow(reach + 1).Intersect(wholeBox));
+  ok = halo->AllOk(ok); // every process fails together
   for (int p = 0; p < halo->Processes && ok; ++p)
   {
     const int* a = all.data() + 6 * p;
@@ -404,11 +426,8 @@ bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
                 << " halo cells per iteration");
 #else
   (void)input;
+  (void)old;
 #endif
-  if (old && !cache.Halo)
-  {
-    cache.Sim.reset(); // was distributed, now serial
-  }
   return true;
 }
 
@@ -691,7 +710,17 @@ bool vtkTerroirWaterFlow::NewSimulation(vtkImageData* input,
   Cache& cache = *this->State;
   // Initial water, metres, every check before the simulation exists.
   std::vector<double> water, rain;
-  if (!this->PrepareWater(input, v, water, rain))
+  const bool prepared = this->PrepareWater(input, v, water, rain);
+  if (cache.Halo && !cache.Halo->AllOk(prepared))
+  {
+    if (prepared)
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input)
+                    << "distributed water flow: another process failed to prepare its piece");
+    }
+    return false;
+  }
+  if (!prepared)
   {
     return false;
   }
@@ -1073,18 +1102,22 @@ int vtkTerroirWaterFlow::RequestTerrainData(vtkImageData* input,
   vtkImageData* output)
 {
   int backend = this->SelectBackend(this->HasGPUPath());
-  if (backend < 0 || !this->SetUpDistributed(input))
+  if (backend < 0)
   {
     return 0;
   }
   this->LastComputedIterations = 0;
   Cache& cache = *this->State;
-  if (cache.Halo)
-  {
-    backend = vtkTerroirComputeContext::CPU; // the distributed path runs on the CPU
-  }
   try
   {
+    if (!this->SetUpDistributed(input))
+    {
+      return 0;
+    }
+    if (cache.Halo)
+    {
+      backend = vtkTerroirComputeContext::CPU; // the distributed path runs on the CPU
+    }
     return this->RunTerrainData(input, terrain, output, backend) ? 1 : 0;
   }
   catch (const std::runtime_error& e)
