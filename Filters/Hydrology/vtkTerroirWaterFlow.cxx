@@ -22,6 +22,10 @@
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
 #include "vtkMultiProcessController.h"
 #endif
+#if VTK_MODULE_ENABLE_VTK_ParallelMPI
+#include "vtkMPICommunicator.h"
+#include "vtkMPIController.h"
+#endif
 
 #include "DepressionWaterBodies.h"
 #include "PriorityFlood.h"
@@ -73,9 +77,10 @@ struct Box
 /**
  * A distributed run's exchange for one piece: which cells of the padded arrays it sends to and
  * receives from each other process after every iteration, and the all-gather of the
- * iteration's sums. Every process builds the same lists from the pieces' extents; the pairs are
- * visited in one global order (the lower rank sends first), so blocking messages cannot
- * deadlock.
+ * iteration's sums. Every process builds the same lists from the pieces' extents. Over MPI the
+ * messages are non-blocking, all posted before any is waited for; through another controller
+ * the pairs are visited in one global order (the lower rank sends first), so blocking messages
+ * cannot deadlock.
  */
 struct vtkTerroirWaterFlowHalo
 {
@@ -92,14 +97,68 @@ struct vtkTerroirWaterFlowHalo
   };
   std::vector<Link> Links; ///< by rank
   std::vector<double> Buffer;
+  std::vector<std::vector<double>> Outgoing, Incoming; ///< per link, MPI's non-blocking path
   long long CellsPerIteration = 0; ///< cells received per iteration (water), all links
   int Window[4] = { 0, 0, 0, 0 };  ///< WaterFlowSimulation::SetCountWindow's
 
-  /// Refreshes the halo cells of `padded` (water, or discharge before the outputs).
+  /// Refreshes the halo cells of `padded` (water, or discharge before the outputs): with an MPI
+  /// controller, every receive and send posted at once (MPI's non-blocking calls) and then
+  /// waited for; with another controller, blocking pairs in one global order.
   void Exchange(std::vector<double>& padded)
   {
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
     const int tag = 2517;
+#if VTK_MODULE_ENABLE_VTK_ParallelMPI
+    if (vtkMPIController* mpi = vtkMPIController::SafeDownCast(this->Controller))
+    {
+      const std::size_t n = this->Links.size();
+      this->Outgoing.resize(n);
+      this->Incoming.resize(n);
+      std::vector<vtkMPICommunicator::Request> requests(2 * n);
+      bool ok = true;
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        const Link& l = this->Links[k];
+        this->Incoming[k].resize(l.receive.size());
+        ok = mpi->NoBlockReceive(this->Incoming[k].data(),
+               static_cast<int>(l.receive.size()),
+               l.rank,
+               tag,
+               requests[2 * k]) != 0 &&
+          ok;
+      }
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        const Link& l = this->Links[k];
+        std::vector<double>& out = this->Outgoing[k];
+        out.resize(l.send.size());
+        for (std::size_t c = 0; c < l.send.size(); ++c)
+        {
+          out[c] = padded[l.send[c]];
+        }
+        ok = mpi->NoBlockSend(
+               out.data(), static_cast<int>(out.size()), l.rank, tag, requests[2 * k + 1]) != 0 &&
+          ok;
+      }
+      if (n > 0 && !mpi->WaitAll(static_cast<int>(2 * n), requests.data()))
+      {
+        ok = false;
+      }
+      if (!ok)
+      {
+        throw std::runtime_error("water flow: the halo exchange over MPI failed");
+      }
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        const Link& l = this->Links[k];
+        for (std::size_t c = 0; c < l.receive.size(); ++c)
+        {
+          padded[l.receive[c]] = this->Incoming[k][c];
+        }
+      }
+      return;
+    }
+#endif
     for (const Link& l : this->Links)
     {
       const bool sendFirst = this->Rank < l.rank;
