@@ -43,18 +43,45 @@ def bowl_dem():
     bowl spills over its western rim."""
     from osgeo import gdal, osr
     path = os.path.join(TEMP, "viewer_bowl.tif")
-    nx, ny = 121, 101
-    i = np.arange(nx)[None, :]
-    j = np.arange(ny)[:, None]
-    z = 2000.0 + 0.1 * i - 40.0 * np.exp(-((i - 60.0) ** 2 + (j - 50.0) ** 2) / (2 * 20.0 ** 2))
+    z = bowl_heights()
+    ny, nx = z.shape
     ds = gdal.GetDriverByName("GTiff").Create(path, nx, ny, 1, gdal.GDT_Float32)
     ds.SetGeoTransform((500000, 10, 0, 4380000, 0, -10))
     srs = osr.SpatialReference()
     srs.ImportFromEPSG(32611)
     ds.SetProjection(srs.ExportToWkt())
-    ds.GetRasterBand(1).WriteArray(z.astype(np.float32))
+    ds.GetRasterBand(1).WriteArray(z)
     ds = None
     return path
+
+
+def bowl_heights():
+    """BowlDEM's heights (float32, as the GeoTIFF holds them), row j = 0 at the north edge."""
+    nx, ny = 121, 101
+    i = np.arange(nx)[None, :]
+    j = np.arange(ny)[:, None]
+    return (2000.0 + 0.1 * i - 40.0 * np.exp(-((i - 60.0) ** 2 + (j - 50.0) ** 2)
+                                             / (2 * 20.0 ** 2))).astype(np.float32)
+
+
+def sea_water(z, level):
+    """Sum of level - z over the cells a breadth-first search from the edge cells at or below
+    `level` reaches through such cells (8 neighbours): the sea's water, found independently."""
+    ny, nx = z.shape
+    wet = np.zeros(z.shape, dtype=bool)
+    queue = [(a, b) for a in range(ny) for b in range(nx)
+             if (a in (0, ny - 1) or b in (0, nx - 1)) and z[a, b] <= level]
+    for a, b in queue:
+        wet[a, b] = True
+    while queue:
+        a, b = queue.pop()
+        for da in (-1, 0, 1):
+            for db in (-1, 0, 1):
+                p, q = a + da, b + db
+                if 0 <= p < ny and 0 <= q < nx and not wet[p, q] and z[p, q] <= level:
+                    wet[p, q] = True
+                    queue.append((p, q))
+    return float(np.sum((level - z.astype(np.float64))[wet]))
 
 
 def need_display(test):
@@ -448,25 +475,7 @@ class TerroirViewer(unittest.TestCase):
         self.assertEqual(proc.returncode, 0, proc.stderr)
         s = states(proc.stdout)
         self.assertEqual(len(s), 3, proc.stdout)
-        nx, ny, level = 121, 101, 2003.0
-        i = np.arange(nx)[None, :]
-        j = np.arange(ny)[:, None]
-        z = (2000.0 + 0.1 * i - 40.0 * np.exp(-((i - 60.0) ** 2 + (j - 50.0) ** 2)
-                                              / (2 * 20.0 ** 2))).astype(np.float32)
-        wet = np.zeros(z.shape, dtype=bool)
-        queue = [(a, b) for a in range(ny) for b in range(nx)
-                 if (a in (0, ny - 1) or b in (0, nx - 1)) and z[a, b] <= level]
-        for a, b in queue:
-            wet[a, b] = True
-        while queue:
-            a, b = queue.pop()
-            for da in (-1, 0, 1):
-                for db in (-1, 0, 1):
-                    p, q = a + da, b + db
-                    if 0 <= p < ny and 0 <= q < nx and not wet[p, q] and z[p, q] <= level:
-                        wet[p, q] = True
-                        queue.append((p, q))
-        expected = float(np.sum((level - z.astype(np.float64))[wet]))
+        expected = sea_water(bowl_heights(), 2003.0)
         self.assertGreater(expected, 1000.0)
         self.assertAlmostEqual(s[0]["water-sum"] / expected, 1.0, places=5)
         self.assertEqual((s[0]["undo"], s[1]["tool"], s[1]["undo"]), (1, "sea", 1))
@@ -645,31 +654,14 @@ class TerroirViewer(unittest.TestCase):
         self.assertEqual(len(s), 6, proc.stdout)
         self.assertEqual([d["slope-threshold"] for d in s[:3]], [0, 90, 0])
         s = s[1:]
-        nx, ny = 121, 101
-        i = np.arange(nx)[None, :]
-        j = np.arange(ny)[:, None]
-        z = (2000.0 + 0.1 * i - 40.0 * np.exp(-((i - 60.0) ** 2 + (j - 50.0) ** 2)
-                                              / (2 * 20.0 ** 2))).astype(np.float32)
+        z = bowl_heights()
         top = float(z.max())
         self.assertAlmostEqual(s[2]["sea-level"], top, places=3)
         full = float(np.sum(top - z.astype(np.float64)))
         self.assertAlmostEqual(s[2]["water-sum"] / full, 1.0, places=5)
         level = s[3]["sea-level"]
         self.assertTrue(2000.0 < level < top - 1.0, level)  # above the lowest edge cell
-        wet = np.zeros(z.shape, dtype=bool)
-        queue = [(a, b) for a in range(ny) for b in range(nx)
-                 if (a in (0, ny - 1) or b in (0, nx - 1)) and z[a, b] <= level]
-        for a, b in queue:
-            wet[a, b] = True
-        while queue:
-            a, b = queue.pop()
-            for da in (-1, 0, 1):
-                for db in (-1, 0, 1):
-                    p, q = a + da, b + db
-                    if 0 <= p < ny and 0 <= q < nx and not wet[p, q] and z[p, q] <= level:
-                        wet[p, q] = True
-                        queue.append((p, q))
-        expected = float(np.sum((level - z.astype(np.float64))[wet]))
+        expected = sea_water(z, level)
         self.assertGreater(expected, 0.0)
         self.assertAlmostEqual(s[3]["water-sum"] / expected, 1.0, places=4)
         self.assertEqual((s[2]["undo"], s[3]["undo"]), (1, 1))

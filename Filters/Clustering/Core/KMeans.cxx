@@ -1392,6 +1392,20 @@ void CheckLloydArguments(const KMeansFeatures& features,
   }
 }
 
+/// The clusters without a member, in increasing order.
+std::vector<std::size_t> EmptyClusters(const std::vector<std::int64_t>& counts, std::size_t K)
+{
+  std::vector<std::size_t> empty;
+  for (std::size_t kk = 0; kk < K; ++kk)
+  {
+    if (counts[kk] == 0)
+    {
+      empty.push_back(kk);
+    }
+  }
+  return empty;
+}
+
 /**
  * Step 3 of KMeansLloyd, empty clusters (scikit-learn's _relocate_empty_clusters_dense): the
  * cells farthest from their centre, largest kept d2 first (ties to the lowest cell), move to
@@ -1406,14 +1420,7 @@ int RelocateEmptyClusters(KMeansEngine& engine,
   std::vector<std::int64_t>& counts)
 {
   const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
-  std::vector<std::size_t> empty;
-  for (std::size_t kk = 0; kk < K; ++kk)
-  {
-    if (counts[kk] == 0)
-    {
-      empty.push_back(kk);
-    }
-  }
+  const std::vector<std::size_t> empty = EmptyClusters(counts, K);
   if (empty.empty())
   {
     return 0;
@@ -1480,14 +1487,7 @@ int RelocateEmptyClustersDistributed(KMeansEngine& engine,
   std::vector<std::int64_t>& counts)
 {
   const std::size_t nf = static_cast<std::size_t>(std::max(features.features, 0));
-  std::vector<std::size_t> empty;
-  for (std::size_t kk = 0; kk < K; ++kk)
-  {
-    if (counts[kk] == 0)
-    {
-      empty.push_back(kk);
-    }
-  }
+  const std::vector<std::size_t> empty = EmptyClusters(counts, K);
   if (empty.empty())
   {
     return 0;
