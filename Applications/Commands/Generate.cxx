@@ -12,6 +12,7 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 
+#include "TerroirSafeOutput.h"
 #include "vtkTerroirPolygonIslandSource.h"
 
 #include <nlohmann/json.hpp>
@@ -55,43 +56,58 @@ int CommandGenerate(const CommandLine& c)
   }
   UpdateOrThrow(source, "island");
   vtkImageData* island = source->GetOutput();
-  WriteStageResult(island, "Elevation", c.Output, c.Overwrite);
-  if (!g.BiomeOutput.empty())
+  // Every file goes into place at the end, or none.
+  HoldCommits();
+  try
   {
-    WriteStageResult(island, "Biome", g.BiomeOutput, c.Overwrite);
-  }
-  if (!g.RiverOutput.empty())
-  {
-    WriteStageResult(island, "River", g.RiverOutput, c.Overwrite);
-  }
-  if (!g.RiverLines.empty())
-  {
-    // GeoJSON LineStrings in the image's coordinates (no CRS: metres from the first cell),
-    // each with the water it carries.
-    vtkPolyData* rivers = vtkPolyData::SafeDownCast(source->GetOutputDataObject(1));
-    vtkDataArray* flow = rivers->GetCellData()->GetArray("RiverFlow");
-    nlohmann::json features = nlohmann::json::array();
-    for (vtkIdType k = 0; k < rivers->GetNumberOfCells(); ++k)
+    WriteStageResult(island, "Elevation", c.Output, c.Overwrite);
+    if (!g.BiomeOutput.empty())
     {
-      vtkCell* line = rivers->GetCell(k);
-      nlohmann::json coordinates = nlohmann::json::array();
-      for (vtkIdType v = 0; v < line->GetNumberOfPoints(); ++v)
+      WriteStageResult(island, "Biome", g.BiomeOutput, c.Overwrite);
+    }
+    if (!g.RiverOutput.empty())
+    {
+      WriteStageResult(island, "River", g.RiverOutput, c.Overwrite);
+    }
+    if (!g.RiverLines.empty())
+    {
+      // GeoJSON LineStrings in the image's coordinates (no CRS: metres from the first cell),
+      // each with the water it carries.
+      vtkPolyData* rivers = vtkPolyData::SafeDownCast(source->GetOutputDataObject(1));
+      vtkDataArray* flow = rivers->GetCellData()->GetArray("RiverFlow");
+      nlohmann::json features = nlohmann::json::array();
+      for (vtkIdType k = 0; k < rivers->GetNumberOfCells(); ++k)
       {
-        double xyz[3];
-        rivers->GetPoint(line->GetPointId(v), xyz);
-        coordinates.push_back({ xyz[0], xyz[1] });
+        vtkCell* line = rivers->GetCell(k);
+        nlohmann::json coordinates = nlohmann::json::array();
+        for (vtkIdType v = 0; v < line->GetNumberOfPoints(); ++v)
+        {
+          double xyz[3];
+          rivers->GetPoint(line->GetPointId(v), xyz);
+          coordinates.push_back({ xyz[0], xyz[1] });
+        }
+        features.push_back({ { "type", "Feature" },
+          { "properties", { { "river_flow", flow->GetComponent(k, 0) } } },
+          { "geometry", { { "type", "LineString" }, { "coordinates", coordinates } } } });
       }
-      features.push_back({ { "type", "Feature" },
-        { "properties", { { "river_flow", flow->GetComponent(k, 0) } } },
-        { "geometry", { { "type", "LineString" }, { "coordinates", coordinates } } } });
+      nlohmann::json collection = { { "type", "FeatureCollection" }, { "features", features } };
+      if (!g.CRS.empty())
+      {
+        // GeoJSON 2008's named CRS (GDAL reads it): the lines are in the island's CRS.
+        collection["crs"] = { { "type", "name" }, { "properties", { { "name", g.CRS } } } };
+      }
+      WriteTextFile(g.RiverLines, collection.dump() + "\n", c.Overwrite);
     }
-    nlohmann::json collection = { { "type", "FeatureCollection" }, { "features", features } };
-    if (!g.CRS.empty())
-    {
-      // GeoJSON 2008's named CRS (GDAL reads it): the lines are in the island's CRS.
-      collection["crs"] = { { "type", "name" }, { "properties", { { "name", g.CRS } } } };
-    }
-    WriteTextFile(g.RiverLines, collection.dump() + "\n", c.Overwrite);
+  }
+  catch (...)
+  {
+    DiscardHeldCommits();
+    throw;
+  }
+  std::string error;
+  if (!ReleaseHeldCommits(error))
+  {
+    throw Failure(error);
   }
   // One summary line: how much is land, lake and sea, and how many cells the rivers cover.
   vtkDataArray* water = island->GetPointData()->GetArray("WaterClass");

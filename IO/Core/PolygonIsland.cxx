@@ -223,7 +223,8 @@ bool GeneratePolygonIsland(const PolygonIslandParameters& p, PolygonIsland& o, s
     error = "the raster must be 8 to 65536 cells on each side";
     return false;
   }
-  if (p.regions < 16 || p.regions > p.width * p.height / 4)
+  if (p.regions < 16 ||
+    static_cast<long long>(p.regions) > static_cast<long long>(p.width) * p.height / 4)
   {
     error = "regions must be at least 16 and at most a quarter of the cells";
     return false;
