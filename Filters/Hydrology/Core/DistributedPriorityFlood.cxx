@@ -1,0 +1,865 @@
+#include "DistributedPriorityFlood.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <unordered_map>
+#include <utility>
+
+namespace terroir
+{
+namespace hydrology
+{
+
+const char* const kPriorityFloodBarnes2016Citation =
+  "Barnes, R. (2016). Parallel priority-flood depression filling for trillion cell digital "
+  "elevation models on desktops or clusters. Computers & Geosciences 96:56-68. "
+  "doi:10.1016/j.cageo.2016.07.001";
+
+namespace
+{
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+/// Appends plain values to a message.
+class Writer
+{
+public:
+  template<typename T>
+  void Put(const T& value)
+  {
+    static_assert(std::is_trivially_copyable<T>::value, "plain values only");
+    const char* p = reinterpret_cast<const char*>(&value);
+    this->Bytes.insert(this->Bytes.end(), p, p + sizeof(T));
+  }
+  template<typename T>
+  void PutVector(const std::vector<T>& values)
+  {
+    this->Put<std::uint64_t>(values.size());
+    const char* p = reinterpret_cast<const char*>(values.data());
+    this->Bytes.insert(this->Bytes.end(), p, p + values.size() * sizeof(T));
+  }
+  void PutString(const std::string& s) { this->PutVector(std::vector<char>(s.begin(), s.end())); }
+  std::vector<char> Bytes;
+};
+
+/// Reads a message back, checking every size against what is left.
+class Reader
+{
+public:
+  explicit Reader(const std::vector<char>& bytes)
+    : Bytes(bytes)
+  {
+  }
+  template<typename T>
+  T Get()
+  {
+    if (this->Bytes.size() - this->Position < sizeof(T))
+    {
+      throw std::runtime_error("FillDepressionsDistributed: a message ends too early");
+    }
+    T value;
+    std::memcpy(&value, this->Bytes.data() + this->Position, sizeof(T));
+    this->Position += sizeof(T);
+    return value;
+  }
+  template<typename T>
+  std::vector<T> GetVector()
+  {
+    const auto n = this->Get<std::uint64_t>();
+    if (n > (this->Bytes.size() - this->Position) / sizeof(T))
+    {
+      throw std::runtime_error("FillDepressionsDistributed: a message announces more values "
+                               "than it holds");
+    }
+    std::vector<T> values(static_cast<std::size_t>(n));
+    std::memcpy(values.data(), this->Bytes.data() + this->Position, n * sizeof(T));
+    this->Position += static_cast<std::size_t>(n * sizeof(T));
+    return values;
+  }
+  std::string GetString()
+  {
+    const std::vector<char> s = this->GetVector<char>();
+    return std::string(s.begin(), s.end());
+  }
+
+private:
+  const std::vector<char>& Bytes;
+  std::size_t Position = 0;
+};
+
+struct PerimeterCell
+{
+  std::int64_t cell; ///< whole-grid row-major index
+  std::int32_t label;
+  float z;
+};
+
+struct SpillEdge
+{
+  std::int32_t a;
+  std::int32_t b;
+  float level;
+};
+
+struct BandCell
+{
+  std::int64_t cell; ///< whole-grid row-major index
+  float filled;
+  std::int32_t flat;
+};
+
+struct FlatSummary
+{
+  WaterBodyStats stats;
+  std::int64_t first = 0; ///< whole-grid row-major index of its first cell
+  std::uint8_t anyFilled = 0;
+};
+
+struct OpenCell
+{
+  float height;
+  std::int32_t cell;
+};
+
+/// Lowest height first, then lowest index (the serial code's order).
+struct HigherFirst
+{
+  bool operator()(const OpenCell& a, const OpenCell& b) const
+  {
+    return a.height > b.height || (a.height == b.height && a.cell > b.cell);
+  }
+};
+
+/// The tile's geometry in one place: whole-grid and owned-box indices.
+struct Tile
+{
+  const DistributedFillInput& in;
+  int ox;
+  int oy;
+
+  explicit Tile(const DistributedFillInput& input)
+    : in(input)
+    , ox(std::max(0, input.owned.i1 - input.owned.i0 + 1))
+    , oy(std::max(0, input.owned.j1 - input.owned.j0 + 1))
+  {
+  }
+  std::size_t Owned(int gi, int gj) const
+  {
+    return static_cast<std::size_t>(gj - in.owned.j0) * static_cast<std::size_t>(ox) +
+      static_cast<std::size_t>(gi - in.owned.i0);
+  }
+  std::size_t ViewIndex(int gi, int gj) const { return in.view.Index(gi - in.gi0, gj - in.gj0); }
+  bool InWhole(int gi, int gj) const
+  {
+    return gi >= 0 && gj >= 0 && gi < in.wholeNx && gj < in.wholeNy;
+  }
+  bool Data(int gi, int gj) const { return HasData(in.view, this->ViewIndex(gi, gj)); }
+  std::int64_t Global(int gi, int gj) const
+  {
+    return static_cast<std::int64_t>(gj) * in.wholeNx + gi;
+  }
+};
+
+TileBox Grow(const TileBox& b, int r, int nx, int ny)
+{
+  return TileBox{ std::max(0, b.i0 - r),
+    std::min(nx - 1, b.i1 + r),
+    std::max(0, b.j0 - r),
+    std::min(ny - 1, b.j1 + r) };
+}
+
+/// An empty string when the tile holds what it needs, else why not.
+std::string CheckTile(const DistributedFillInput& in)
+{
+  const GridView<float>& v = in.view;
+  if (in.wholeNx < 1 || in.wholeNy < 1 ||
+    static_cast<double>(in.wholeNx) * in.wholeNy > std::numeric_limits<std::int32_t>::max())
+  {
+    return "the whole grid must have 1 to 2^31 - 1 cells";
+  }
+  if (in.reach < 0)
+  {
+    return "the reach must be >= 0";
+  }
+  if (in.owned.Cells() == 0)
+  {
+    return std::string();
+  }
+  if (in.owned.i0 < 0 || in.owned.j0 < 0 || in.owned.i1 >= in.wholeNx || in.owned.j1 >= in.wholeNy)
+  {
+    return "the owned cells reach outside the grid";
+  }
+  if (!v.data || v.nx < 1 || v.ny < 1 ||
+    v.Size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
+  {
+    return "the tile's grid is empty or has more than 2^31 - 1 cells";
+  }
+  const TileBox need = Grow(in.owned, std::max(1, in.reach), in.wholeNx, in.wholeNy);
+  if (need.i0 < in.gi0 || need.j0 < in.gj0 || need.i1 > in.gi0 + v.nx - 1 ||
+    need.j1 > in.gj0 + v.ny - 1)
+  {
+    return "the tile's grid (columns " + std::to_string(in.gi0) + ".." +
+      std::to_string(in.gi0 + v.nx - 1) + ", rows " + std::to_string(in.gj0) + ".." +
+      std::to_string(in.gj0 + v.ny - 1) + ") lacks the ring of " +
+      std::to_string(std::max(1, in.reach)) + " around its owned cells";
+  }
+  return std::string();
+}
+
+/// Rank 0: an empty string when the boxes partition the grid, else why not.
+std::string CheckPartition(const std::vector<TileBox>& boxes, int nx, int ny)
+{
+  long long total = 0;
+  for (std::size_t a = 0; a < boxes.size(); ++a)
+  {
+    total += boxes[a].Cells();
+    for (std::size_t b = 0; b < a && boxes[a].Cells() > 0; ++b)
+    {
+      const TileBox& p = boxes[a];
+      const TileBox& q = boxes[b];
+      if (q.Cells() > 0 && p.i0 <= q.i1 && q.i0 <= p.i1 && p.j0 <= q.j1 && q.j0 <= p.j1)
+      {
+        return "the tiles of ranks " + std::to_string(b) + " and " + std::to_string(a) + " overlap";
+      }
+    }
+  }
+  if (total != static_cast<long long>(nx) * ny)
+  {
+    return "the tiles cover " + std::to_string(total) + " cells of a grid of " +
+      std::to_string(static_cast<long long>(nx) * ny);
+  }
+  return std::string();
+}
+
+/// Union-find with path halving; the smaller index becomes the root.
+struct Groups
+{
+  std::vector<std::int64_t> parent;
+  explicit Groups(std::size_t n)
+    : parent(n)
+  {
+    std::iota(parent.begin(), parent.end(), std::int64_t(0));
+  }
+  std::int64_t Find(std::int64_t x)
+  {
+    while (parent[x] != x)
+    {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  void Join(std::int64_t a, std::int64_t b)
+  {
+    a = this->Find(a);
+    b = this->Find(b);
+    if (a != b)
+    {
+      parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+};
+
+/// Rank 0 fails every rank alike: the reply to each is the status 1 and the reason.
+std::vector<std::vector<char>> FailAll(int ranks, const std::string& why)
+{
+  Writer w;
+  w.Put<std::uint8_t>(1);
+  w.PutString(why);
+  return std::vector<std::vector<char>>(static_cast<std::size_t>(ranks), w.Bytes);
+}
+
+/// Reads the status at the head of a reply; throws on failure.
+void CheckStatus(Reader& r)
+{
+  if (r.Get<std::uint8_t>() != 0)
+  {
+    throw std::invalid_argument("FillDepressionsDistributed: " + r.GetString());
+  }
+}
+} // namespace
+
+DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
+  const DepressionWaterBodyOptions& options,
+  TileExchange& exchange)
+{
+  const int ranks = exchange.Size();
+  const bool root = exchange.Rank() == 0;
+  const Tile tile(in);
+  const TileBox& owned = in.owned;
+  const std::size_t ownedCells = static_cast<std::size_t>(owned.Cells());
+  const int nx = in.wholeNx;
+  const int ny = in.wholeNy;
+
+  // ---- 1. Priority-Flood of the tile, seeded with its outlets and perimeter.
+  const std::string problem = CheckTile(in);
+  std::vector<float> water(ownedCells, kNaN);
+  std::vector<std::int32_t> label(ownedCells, -1);
+  std::vector<PerimeterCell> perimeter;
+  std::vector<SpillEdge> edges;
+  std::int32_t labels = 1; // label 0: the ocean (the grid's outlets)
+  if (problem.empty() && ownedCells > 0)
+  {
+    std::priority_queue<OpenCell, std::vector<OpenCell>, HigherFirst> open;
+    std::deque<std::int32_t> pit;
+    std::vector<std::uint8_t> closed(ownedCells, 0);
+    for (int gj = owned.j0; gj <= owned.j1; ++gj)
+    {
+      for (int gi = owned.i0; gi <= owned.i1; ++gi)
+      {
+        const std::size_t o = tile.Owned(gi, gj);
+        if (!tile.Data(gi, gj))
+        {
+          closed[o] = 1;
+          continue;
+        }
+        water[o] = in.view.data[tile.ViewIndex(gi, gj)];
+        bool outlet = gi == 0 || gj == 0 || gi == nx - 1 || gj == ny - 1;
+        bool edge = false;
+        for (int e = 0; e < 8; ++e)
+        {
+          const int ii = gi + detail::kNeighbourDi[e];
+          const int jj = gj + detail::kNeighbourDj[e];
+          if (tile.InWhole(ii, jj))
+          {
+            outlet = outlet || !tile.Data(ii, jj);
+            edge = edge || !owned.Contains(ii, jj);
+          }
+        }
+        if (!outlet && !edge)
+        {
+          continue;
+        }
+        closed[o] = 1;
+        label[o] = outlet ? 0 : labels++;
+        open.push(OpenCell{ water[o], static_cast<std::int32_t>(o) });
+        if (edge)
+        {
+          perimeter.push_back(PerimeterCell{ tile.Global(gi, gj), label[o], water[o] });
+        }
+      }
+    }
+    std::unordered_map<std::uint64_t, float> spill;
+    while (!open.empty() || !pit.empty())
+    {
+      std::int32_t c;
+      if (!pit.empty())
+      {
+        c = pit.front();
+        pit.pop_front();
+      }
+      else
+      {
+        c = open.top().cell;
+        open.pop();
+      }
+      const float h = water[c];
+      const std::int32_t lc = label[c];
+      const int gi = owned.i0 + c % tile.ox;
+      const int gj = owned.j0 + c / tile.ox;
+      for (int e = 0; e < 8; ++e)
+      {
+        const int ii = gi + detail::kNeighbourDi[e];
+        const int jj = gj + detail::kNeighbourDj[e];
+        if (!owned.Contains(ii, jj))
+        {
+          continue;
+        }
+        const std::size_t k = tile.Owned(ii, jj);
+        if (closed[k])
+        {
+          const std::int32_t lk = label[k];
+          if (lk >= 0 && lk != lc)
+          {
+            // Where two watersheds meet: the lowest level at which water passes.
+            const std::uint64_t key = (static_cast<std::uint64_t>(std::min(lc, lk)) << 32) |
+              static_cast<std::uint32_t>(std::max(lc, lk));
+            const float level = std::max(h, water[k]);
+            auto it = spill.emplace(key, level).first;
+            it->second = std::min(it->second, level);
+          }
+          continue;
+        }
+        closed[k] = 1;
+        label[k] = lc;
+        if (water[k] <= h)
+        {
+          water[k] = h;
+          pit.push_back(static_cast<std::int32_t>(k));
+        }
+        else
+        {
+          open.push(OpenCell{ water[k], static_cast<std::int32_t>(k) });
+        }
+      }
+    }
+    edges.reserve(spill.size());
+    for (const auto& s : spill)
+    {
+      edges.push_back(SpillEdge{ static_cast<std::int32_t>(s.first >> 32),
+        static_cast<std::int32_t>(s.first & 0xffffffffu),
+        s.second });
+    }
+    std::sort(edges.begin(),
+      edges.end(),
+      [](const SpillEdge& a, const SpillEdge& b)
+      { return a.a < b.a || (a.a == b.a && a.b < b.b); });
+  }
+  {
+    Writer w;
+    w.Put<std::uint8_t>(problem.empty() ? 0 : 1);
+    w.PutString(problem);
+    w.Put(owned);
+    w.Put<std::int32_t>(nx);
+    w.Put<std::int32_t>(ny);
+    w.Put<std::int32_t>(in.reach);
+    w.Put<std::int32_t>(labels);
+    w.PutVector(perimeter);
+    w.PutVector(edges);
+    std::vector<std::vector<char>> replies;
+    std::vector<TileBox> boxes;
+    std::vector<std::int32_t> reaches;
+    const std::vector<std::vector<char>> all = exchange.Gather(w.Bytes);
+    if (root)
+    {
+      // ---- 2. Rank 0: the spill graph of every tile, flooded from the ocean.
+      std::string why;
+      std::vector<std::int32_t> labelCount;
+      std::vector<std::vector<PerimeterCell>> perimeters;
+      std::vector<std::vector<SpillEdge>> spills;
+      for (int t = 0; t < ranks && why.empty(); ++t)
+      {
+        Reader r(all.at(static_cast<std::size_t>(t)));
+        const bool failed = r.Get<std::uint8_t>() != 0;
+        const std::string message = r.GetString();
+        if (failed)
+        {
+          why = "rank " + std::to_string(t) + ": " + message;
+          break;
+        }
+        boxes.push_back(r.Get<TileBox>());
+        const auto wnx = r.Get<std::int32_t>();
+        const auto wny = r.Get<std::int32_t>();
+        reaches.push_back(r.Get<std::int32_t>());
+        labelCount.push_back(r.Get<std::int32_t>());
+        perimeters.push_back(r.GetVector<PerimeterCell>());
+        spills.push_back(r.GetVector<SpillEdge>());
+        if (wnx != nx || wny != ny)
+        {
+          why = "rank " + std::to_string(t) + " sees a grid of " + std::to_string(wnx) + " x " +
+            std::to_string(wny) + ", rank 0 one of " + std::to_string(nx) + " x " +
+            std::to_string(ny);
+        }
+      }
+      if (why.empty())
+      {
+        why = CheckPartition(boxes, nx, ny);
+      }
+      if (!why.empty())
+      {
+        replies = FailAll(ranks, why);
+      }
+      else
+      {
+        // Nodes: 0 the ocean, then each tile's labels 1.. in rank order.
+        std::vector<std::int64_t> base(static_cast<std::size_t>(ranks) + 1, 1);
+        for (int t = 0; t < ranks; ++t)
+        {
+          base[t + 1] = base[t] + std::max(0, labelCount[t] - 1);
+        }
+        const auto node = [&](int t, std::int32_t l)
+        { return l == 0 ? std::int64_t(0) : base[t] + l - 1; };
+        std::vector<std::vector<std::pair<std::int64_t, float>>> links(
+          static_cast<std::size_t>(base[ranks]));
+        const auto link = [&](std::int64_t a, std::int64_t b, float level)
+        {
+          if (a != b)
+          {
+            links[a].emplace_back(b, level);
+            links[b].emplace_back(a, level);
+          }
+        };
+        struct Owner
+        {
+          int tile;
+          std::int32_t label;
+          float z;
+        };
+        std::unordered_map<std::int64_t, Owner> where;
+        for (int t = 0; t < ranks; ++t)
+        {
+          for (const SpillEdge& s : spills[t])
+          {
+            if (s.a < 0 || s.b < 0 || s.a >= labelCount[t] || s.b >= labelCount[t])
+            {
+              throw std::runtime_error("FillDepressionsDistributed: a spill edge names an "
+                                       "unknown label");
+            }
+            link(node(t, s.a), node(t, s.b), s.level);
+          }
+          for (const PerimeterCell& p : perimeters[t])
+          {
+            if (p.label < 0 || p.label >= labelCount[t])
+            {
+              throw std::runtime_error("FillDepressionsDistributed: a perimeter cell names an "
+                                       "unknown label");
+            }
+            where.emplace(p.cell, Owner{ t, p.label, p.z });
+          }
+        }
+        // Neighbouring perimeter cells of two tiles: water passes at the higher of the two.
+        for (int t = 0; t < ranks; ++t)
+        {
+          for (const PerimeterCell& p : perimeters[t])
+          {
+            const int gi = static_cast<int>(p.cell % nx);
+            const int gj = static_cast<int>(p.cell / nx);
+            for (int e = 0; e < 8; ++e)
+            {
+              const int ii = gi + detail::kNeighbourDi[e];
+              const int jj = gj + detail::kNeighbourDj[e];
+              if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || boxes[t].Contains(ii, jj))
+              {
+                continue;
+              }
+              const std::int64_t q = static_cast<std::int64_t>(jj) * nx + ii;
+              const auto it = where.find(q);
+              if (it != where.end() && q > p.cell)
+              {
+                link(node(t, p.label),
+                  node(it->second.tile, it->second.label),
+                  std::max(p.z, it->second.z));
+              }
+            }
+          }
+        }
+        // Minimax Dijkstra from the ocean: the level each seed's water must reach to leave.
+        std::vector<float> level(links.size(), kInf);
+        level[0] = -kInf;
+        using Item = std::pair<float, std::int64_t>;
+        std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+        queue.emplace(level[0], 0);
+        while (!queue.empty())
+        {
+          const Item top = queue.top();
+          queue.pop();
+          if (top.first > level[top.second])
+          {
+            continue;
+          }
+          for (const auto& next : links[top.second])
+          {
+            const float l = std::max(top.first, next.second);
+            if (l < level[next.first])
+            {
+              level[next.first] = l;
+              queue.emplace(l, next.first);
+            }
+          }
+        }
+        const std::int32_t reach = *std::max_element(reaches.begin(), reaches.end());
+        for (int t = 0; t < ranks; ++t)
+        {
+          std::vector<float> spillLevel(static_cast<std::size_t>(labelCount[t]));
+          for (std::int32_t l = 0; l < labelCount[t]; ++l)
+          {
+            // Every seed reaches the ocean (its region touches an outlet); -inf keeps W as is.
+            const float s = level[node(t, l)];
+            spillLevel[l] = s == kInf ? -kInf : s;
+          }
+          Writer reply;
+          reply.Put<std::uint8_t>(0);
+          reply.Put<std::int32_t>(reach);
+          reply.PutVector(spillLevel);
+          replies.push_back(std::move(reply.Bytes));
+        }
+      }
+    }
+    const std::vector<char> mine = exchange.Scatter(replies);
+    Reader r(mine);
+    CheckStatus(r);
+    const auto reachAll = r.Get<std::int32_t>();
+    const std::vector<float> spillLevel = r.GetVector<float>();
+    if (spillLevel.size() != static_cast<std::size_t>(labels) || reachAll < in.reach)
+    {
+      throw std::runtime_error("FillDepressionsDistributed: rank 0's spill levels do not match "
+                               "this tile");
+    }
+
+    // ---- 3. The filled surface of the tile; its flats.
+    for (std::size_t o = 0; o < ownedCells; ++o)
+    {
+      if (label[o] >= 0)
+      {
+        water[o] = std::max(water[o], spillLevel[label[o]]);
+      }
+    }
+    std::vector<std::int32_t> flat(ownedCells, -1);
+    std::vector<FlatSummary> flats;
+    std::vector<std::int32_t> queue;
+    for (int gj = owned.j0; gj <= owned.j1; ++gj)
+    {
+      for (int gi = owned.i0; gi <= owned.i1; ++gi)
+      {
+        const std::size_t first = tile.Owned(gi, gj);
+        if (label[first] < 0 || flat[first] >= 0)
+        {
+          continue;
+        }
+        const auto id = static_cast<std::int32_t>(flats.size());
+        FlatSummary f;
+        f.stats.level = water[first];
+        f.first = tile.Global(gi, gj);
+        flat[first] = id;
+        queue.assign(1, static_cast<std::int32_t>(first));
+        for (std::size_t head = 0; head < queue.size(); ++head)
+        {
+          const std::int32_t c = queue[head];
+          const int ci = owned.i0 + c % tile.ox;
+          const int cj = owned.j0 + c / tile.ox;
+          const int vj = cj - in.gj0;
+          const double d = static_cast<double>(water[c]) -
+            static_cast<double>(in.view.data[tile.ViewIndex(ci, cj)]);
+          f.anyFilled = f.anyFilled || d > 0.0 ? 1 : 0;
+          f.stats.AddCell(in.view.DxAt(vj) * in.view.DyAt(vj), d);
+          for (int e = 0; e < 8; ++e)
+          {
+            const int ii = ci + detail::kNeighbourDi[e];
+            const int jj = cj + detail::kNeighbourDj[e];
+            if (!owned.Contains(ii, jj))
+            {
+              continue;
+            }
+            const std::size_t k = tile.Owned(ii, jj);
+            if (label[k] >= 0 && flat[k] < 0 && water[k] == f.stats.level)
+            {
+              flat[k] = id;
+              queue.push_back(static_cast<std::int32_t>(k));
+            }
+          }
+        }
+        flats.push_back(f);
+      }
+    }
+    // The band along the tile's inner edges that other tiles' rings reach.
+    std::vector<BandCell> band;
+    for (int gj = owned.j0; gj <= owned.j1 && ownedCells > 0; ++gj)
+    {
+      for (int gi = owned.i0; gi <= owned.i1; ++gi)
+      {
+        const std::size_t o = tile.Owned(gi, gj);
+        const bool near = (owned.i0 > 0 && gi - owned.i0 < reachAll) ||
+          (owned.i1 < nx - 1 && owned.i1 - gi < reachAll) ||
+          (owned.j0 > 0 && gj - owned.j0 < reachAll) ||
+          (owned.j1 < ny - 1 && owned.j1 - gj < reachAll);
+        if (near && label[o] >= 0)
+        {
+          band.push_back(BandCell{ tile.Global(gi, gj), water[o], flat[o] });
+        }
+      }
+    }
+    Writer w2;
+    w2.PutVector(flats);
+    w2.PutVector(band);
+    const std::vector<std::vector<char>> all2 = exchange.Gather(w2.Bytes);
+    std::vector<std::vector<char>> replies2;
+    if (root)
+    {
+      // ---- 4. Rank 0: flats joined across tiles, water bodies kept and numbered.
+      std::vector<std::vector<FlatSummary>> tileFlats;
+      std::vector<std::vector<BandCell>> bands;
+      std::vector<std::int64_t> base(static_cast<std::size_t>(ranks) + 1, 0);
+      for (int t = 0; t < ranks; ++t)
+      {
+        Reader r2(all2.at(static_cast<std::size_t>(t)));
+        tileFlats.push_back(r2.GetVector<FlatSummary>());
+        bands.push_back(r2.GetVector<BandCell>());
+        base[t + 1] = base[t] + static_cast<std::int64_t>(tileFlats[t].size());
+      }
+      struct BandOwner
+      {
+        int tile;
+        float filled;
+        std::int32_t flat;
+      };
+      std::unordered_map<std::int64_t, BandOwner> where;
+      for (int t = 0; t < ranks; ++t)
+      {
+        for (const BandCell& b : bands[t])
+        {
+          if (b.flat < 0 || static_cast<std::size_t>(b.flat) >= tileFlats[t].size())
+          {
+            throw std::runtime_error("FillDepressionsDistributed: a band cell names an unknown "
+                                     "flat");
+          }
+          where.emplace(b.cell, BandOwner{ t, b.filled, b.flat });
+        }
+      }
+      Groups groups(static_cast<std::size_t>(base[ranks]));
+      for (int t = 0; t < ranks; ++t)
+      {
+        for (const BandCell& b : bands[t])
+        {
+          const int gi = static_cast<int>(b.cell % nx);
+          const int gj = static_cast<int>(b.cell / nx);
+          for (int e = 0; e < 8; ++e)
+          {
+            const int ii = gi + detail::kNeighbourDi[e];
+            const int jj = gj + detail::kNeighbourDj[e];
+            if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || boxes[t].Contains(ii, jj))
+            {
+              continue;
+            }
+            const auto it = where.find(static_cast<std::int64_t>(jj) * nx + ii);
+            if (it != where.end() && it->second.filled == b.filled)
+            {
+              groups.Join(base[t] + b.flat, base[it->second.tile] + it->second.flat);
+            }
+          }
+        }
+      }
+      // Each group's statistics added in rank order, then flat order.
+      std::vector<FlatSummary> merged(static_cast<std::size_t>(base[ranks]));
+      for (int t = 0; t < ranks; ++t)
+      {
+        for (std::size_t f = 0; f < tileFlats[t].size(); ++f)
+        {
+          const FlatSummary& a = tileFlats[t][f];
+          const std::int64_t g = groups.Find(base[t] + static_cast<std::int64_t>(f));
+          FlatSummary& m = merged[g];
+          if (m.stats.cells == 0)
+          {
+            m = a;
+            continue;
+          }
+          m.stats.cells += a.stats.cells;
+          m.stats.area += a.stats.area;
+          m.stats.volume += a.stats.volume;
+          m.stats.maxDepth = std::max(m.stats.maxDepth, a.stats.maxDepth);
+          m.anyFilled = m.anyFilled | a.anyFilled;
+          m.first = std::min(m.first, a.first);
+        }
+      }
+      std::vector<std::int64_t> kept;
+      for (std::int64_t g = 0; g < base[ranks]; ++g)
+      {
+        const FlatSummary& m = merged[g];
+        const bool keep = m.stats.cells > 0 && groups.Find(g) == g &&
+          (m.anyFilled || (options.includeFlatSurfaces && m.stats.cells >= 2)) &&
+          m.stats.area >= options.minimumArea;
+        if (keep)
+        {
+          kept.push_back(g);
+        }
+      }
+      std::sort(kept.begin(),
+        kept.end(),
+        [&](std::int64_t a, std::int64_t b) { return merged[a].first < merged[b].first; });
+      std::vector<std::int32_t> bodyOf(static_cast<std::size_t>(base[ranks]), 0);
+      std::vector<WaterBodyStats> bodies;
+      for (std::size_t b = 0; b < kept.size(); ++b)
+      {
+        bodyOf[kept[b]] = static_cast<std::int32_t>(b + 1);
+        bodies.push_back(merged[kept[b]].stats);
+      }
+      for (int t = 0; t < ranks; ++t)
+      {
+        std::vector<std::int32_t> flatBody(tileFlats[t].size());
+        for (std::size_t f = 0; f < flatBody.size(); ++f)
+        {
+          flatBody[f] = bodyOf[groups.Find(base[t] + static_cast<std::int64_t>(f))];
+        }
+        // The ring this tile's caller wants, row by row (no data: NaN and 0).
+        std::vector<float> ringFilled;
+        std::vector<std::int32_t> ringBody;
+        const TileBox ring = Grow(boxes[t], reaches[t], nx, ny);
+        for (int jj = ring.j0; jj <= ring.j1 && boxes[t].Cells() > 0; ++jj)
+        {
+          for (int ii = ring.i0; ii <= ring.i1; ++ii)
+          {
+            if (boxes[t].Contains(ii, jj))
+            {
+              continue;
+            }
+            const auto it = where.find(static_cast<std::int64_t>(jj) * nx + ii);
+            ringFilled.push_back(it == where.end() ? kNaN : it->second.filled);
+            ringBody.push_back(
+              it == where.end() ? 0 : bodyOf[groups.Find(base[it->second.tile] + it->second.flat)]);
+          }
+        }
+        Writer reply;
+        reply.PutVector(flatBody);
+        reply.PutVector(ringFilled);
+        reply.PutVector(ringBody);
+        reply.PutVector(bodies);
+        replies2.push_back(std::move(reply.Bytes));
+      }
+    }
+    const std::vector<char> mine2 = exchange.Scatter(replies2);
+
+    // ---- 5. This tile's results, and its ring's.
+    Reader r2(mine2);
+    const std::vector<std::int32_t> flatBody = r2.GetVector<std::int32_t>();
+    const std::vector<float> ringFilled = r2.GetVector<float>();
+    const std::vector<std::int32_t> ringBody = r2.GetVector<std::int32_t>();
+    DistributedFillResult result;
+    result.bodies = r2.GetVector<WaterBodyStats>();
+    const std::size_t n = in.view.Size();
+    result.filled.assign(n, kNaN);
+    result.bodyId.assign(n, 0);
+    result.depth.assign(n, kNaN);
+    if (flatBody.size() != flats.size())
+    {
+      throw std::runtime_error("FillDepressionsDistributed: rank 0's water bodies do not match "
+                               "this tile");
+    }
+    const auto set = [&](int gi, int gj, float w, std::int32_t body)
+    {
+      const std::size_t k = tile.ViewIndex(gi, gj);
+      if (std::isnan(w))
+      {
+        return;
+      }
+      result.filled[k] = w;
+      result.bodyId[k] = body;
+      result.depth[k] = body > 0
+        ? static_cast<float>(static_cast<double>(w) - static_cast<double>(in.view.data[k]))
+        : 0.0f;
+    };
+    std::size_t next = 0;
+    const TileBox ring = Grow(owned, in.reach, nx, ny);
+    for (int gj = ring.j0; gj <= ring.j1 && ownedCells > 0; ++gj)
+    {
+      for (int gi = ring.i0; gi <= ring.i1; ++gi)
+      {
+        if (owned.Contains(gi, gj))
+        {
+          const std::size_t o = tile.Owned(gi, gj);
+          set(gi, gj, water[o], flat[o] >= 0 ? flatBody[flat[o]] : 0);
+        }
+        else if (next < ringFilled.size() && next < ringBody.size())
+        {
+          set(gi, gj, ringFilled[next], ringBody[next]);
+          ++next;
+        }
+        else
+        {
+          throw std::runtime_error("FillDepressionsDistributed: rank 0's ring does not match "
+                                   "this tile");
+        }
+      }
+    }
+    return result;
+  }
+}
+
+} // namespace hydrology
+} // namespace terroir

@@ -1,0 +1,455 @@
+// Unit tests of terroir::hydrology::FillDepressionsDistributed (Barnes 2016's parallel
+// Priority-Flood and the water bodies merged across tiles). Threads stand in for MPI
+// processes; each thread sees only a copy of its own tile and the ring around it. The answer
+// is the serial PriorityFloodBarnes2014 + DepressionWaterBodies on the whole grid (both tested
+// against a brute force and by hand in TestFloodFill.cxx).
+#include "DepressionWaterBodies.h"
+#include "DistributedPriorityFlood.h"
+#include "PriorityFlood.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <condition_variable>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace
+{
+namespace hy = terroir::hydrology;
+using terroir::GridView;
+
+/// The collective calls of `ranks` threads: each call waits until every thread has come.
+class ThreadMailbox
+{
+public:
+  explicit ThreadMailbox(int ranks)
+    : Ranks(ranks)
+    , Slots(static_cast<std::size_t>(ranks))
+  {
+  }
+  void Barrier()
+  {
+    std::unique_lock<std::mutex> lock(this->Mutex);
+    const long long generation = this->Generation;
+    if (++this->Waiting == this->Ranks)
+    {
+      this->Waiting = 0;
+      ++this->Generation;
+      this->Wake.notify_all();
+      return;
+    }
+    this->Wake.wait(lock, [&] { return this->Generation != generation; });
+  }
+  int Ranks;
+  std::vector<std::vector<char>> Slots;
+  std::vector<std::vector<char>> Parts;
+
+private:
+  std::mutex Mutex;
+  std::condition_variable Wake;
+  int Waiting = 0;
+  long long Generation = 0;
+};
+
+/// One thread's TileExchange over a shared ThreadMailbox.
+class ThreadExchange : public hy::TileExchange
+{
+public:
+  ThreadExchange(ThreadMailbox& box, int rank)
+    : Box(box)
+    , MyRank(rank)
+  {
+  }
+  int Rank() const override { return this->MyRank; }
+  int Size() const override { return this->Box.Ranks; }
+  std::vector<std::vector<char>> Gather(const std::vector<char>& mine) override
+  {
+    this->Box.Slots[this->MyRank] = mine;
+    this->Box.Barrier();
+    std::vector<std::vector<char>> all;
+    if (this->MyRank == 0)
+    {
+      all = this->Box.Slots;
+    }
+    this->Box.Barrier();
+    return all;
+  }
+  std::vector<char> Scatter(const std::vector<std::vector<char>>& parts) override
+  {
+    if (this->MyRank == 0)
+    {
+      this->Box.Parts = parts;
+    }
+    this->Box.Barrier();
+    std::vector<char> mine = this->Box.Parts.at(static_cast<std::size_t>(this->MyRank));
+    this->Box.Barrier();
+    return mine;
+  }
+
+private:
+  ThreadMailbox& Box;
+  int MyRank;
+};
+
+/// A whole grid with a mask and a different east-west spacing on every row.
+struct Terrain
+{
+  int nx = 0;
+  int ny = 0;
+  std::vector<float> z;
+  std::vector<std::uint8_t> valid;
+  std::vector<double> rowDx;
+  GridView<float> View() const
+  {
+    GridView<float> v;
+    v.data = z.data();
+    v.nx = nx;
+    v.ny = ny;
+    v.dy = 2.0;
+    v.rowDx = rowDx.data();
+    v.valid = valid.data();
+    return v;
+  }
+};
+
+/// A copy of the cells of `box` (whole-grid indices), as a process would hold them.
+struct TileCopy
+{
+  Terrain t;
+  int gi0 = 0;
+  int gj0 = 0;
+};
+
+TileCopy CopyOf(const Terrain& w, const hy::TileBox& box)
+{
+  TileCopy c;
+  c.gi0 = box.i0;
+  c.gj0 = box.j0;
+  c.t.nx = box.i1 - box.i0 + 1;
+  c.t.ny = box.j1 - box.j0 + 1;
+  for (int j = box.j0; j <= box.j1; ++j)
+  {
+    c.t.rowDx.push_back(w.rowDx[j]);
+    for (int i = box.i0; i <= box.i1; ++i)
+    {
+      c.t.z.push_back(w.z[static_cast<std::size_t>(j) * w.nx + i]);
+      c.t.valid.push_back(w.valid[static_cast<std::size_t>(j) * w.nx + i]);
+    }
+  }
+  return c;
+}
+
+struct Outcome
+{
+  std::vector<TileCopy> copies;
+  std::vector<hy::DistributedFillResult> results;
+  std::vector<std::string> errors; ///< per rank: the exception's message, or empty
+};
+
+/// Runs every tile on its own thread; tile r sees its box grown by `halo` (clipped).
+Outcome RunTiles(const Terrain& w,
+  const std::vector<hy::TileBox>& owned,
+  int reach,
+  int halo,
+  const hy::DepressionWaterBodyOptions& options)
+{
+  const int ranks = static_cast<int>(owned.size());
+  Outcome out;
+  out.results.resize(owned.size());
+  out.errors.resize(owned.size());
+  for (const hy::TileBox& b : owned)
+  {
+    hy::TileBox g{ std::max(0, b.i0 - halo),
+      std::min(w.nx - 1, b.i1 + halo),
+      std::max(0, b.j0 - halo),
+      std::min(w.ny - 1, b.j1 + halo) };
+    if (b.Cells() == 0)
+    {
+      g = hy::TileBox{ 0, 0, 0, 0 };
+    }
+    out.copies.push_back(CopyOf(w, g));
+  }
+  ThreadMailbox box(ranks);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r)
+  {
+    threads.emplace_back(
+      [&, r]
+      {
+        ThreadExchange exchange(box, r);
+        hy::DistributedFillInput in;
+        in.view = out.copies[r].t.View();
+        in.gi0 = out.copies[r].gi0;
+        in.gj0 = out.copies[r].gj0;
+        in.owned = owned[r];
+        in.wholeNx = w.nx;
+        in.wholeNy = w.ny;
+        in.reach = reach;
+        try
+        {
+          out.results[r] = hy::FillDepressionsDistributed(in, options, exchange);
+        }
+        catch (const std::exception& e)
+        {
+          out.errors[r] = e.what();
+        }
+      });
+  }
+  for (std::thread& t : threads)
+  {
+    t.join();
+  }
+  return out;
+}
+
+bool SameFloat(float a, float b)
+{
+  return (std::isnan(a) && std::isnan(b)) || a == b;
+}
+
+/// Every tile's owned cells and ring equal the serial answer; the body tables agree. Returns
+/// the number of water bodies that lie in more than one tile.
+int ExpectSerial(const Terrain& w,
+  const std::vector<hy::TileBox>& owned,
+  int reach,
+  const hy::DepressionWaterBodyOptions& options,
+  const std::string& what)
+{
+  const GridView<float> v = w.View();
+  std::vector<float> filled(v.Size());
+  hy::PriorityFloodBarnes2014(v, filled.data());
+  std::vector<std::int32_t> id(v.Size());
+  std::vector<float> depth(v.Size());
+  const std::vector<hy::WaterBodyStats> bodies =
+    hy::DepressionWaterBodies(v, filled.data(), options, id.data(), depth.data());
+
+  const Outcome out = RunTiles(w, owned, reach, reach + 1, options);
+  std::vector<std::vector<int>> tilesOf(bodies.size() + 1);
+  for (std::size_t r = 0; r < owned.size(); ++r)
+  {
+    if (!out.errors[r].empty())
+    {
+      ADD_FAILURE() << what << " rank " << r << ": " << out.errors[r];
+      return 0;
+    }
+    const hy::DistributedFillResult& got = out.results[r];
+    const TileCopy& c = out.copies[r];
+    if (got.bodies.size() != bodies.size())
+    {
+      ADD_FAILURE() << what << " rank " << r << ": " << got.bodies.size() << " bodies, serial "
+                    << bodies.size();
+      return 0;
+    }
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+    {
+      EXPECT_EQ(got.bodies[b].level, bodies[b].level) << what << " body " << b + 1;
+      EXPECT_EQ(got.bodies[b].cells, bodies[b].cells) << what << " body " << b + 1;
+      EXPECT_EQ(got.bodies[b].maxDepth, bodies[b].maxDepth) << what << " body " << b + 1;
+      // Added tile by tile rather than breadth first: the order of the additions differs.
+      EXPECT_NEAR(got.bodies[b].area, bodies[b].area, 1e-12 * bodies[b].area);
+      EXPECT_NEAR(got.bodies[b].volume, bodies[b].volume, 1e-12 * bodies[b].volume + 1e-300);
+    }
+    if (owned[r].Cells() == 0)
+    {
+      continue;
+    }
+    const int i0 = std::max(0, owned[r].i0 - reach);
+    const int i1 = std::min(w.nx - 1, owned[r].i1 + reach);
+    const int j0 = std::max(0, owned[r].j0 - reach);
+    const int j1 = std::min(w.ny - 1, owned[r].j1 + reach);
+    for (int j = j0; j <= j1; ++j)
+    {
+      for (int i = i0; i <= i1; ++i)
+      {
+        const std::size_t k = static_cast<std::size_t>(j) * w.nx + i;
+        const std::size_t t = static_cast<std::size_t>(j - c.gj0) * c.t.nx + (i - c.gi0);
+        EXPECT_TRUE(SameFloat(got.filled[t], filled[k]))
+          << what << " rank " << r << " cell (" << i << ", " << j << "): " << got.filled[t]
+          << " vs serial " << filled[k];
+        EXPECT_EQ(got.bodyId[t], id[k])
+          << what << " rank " << r << " cell (" << i << ", " << j << ")";
+        EXPECT_TRUE(SameFloat(got.depth[t], depth[k]))
+          << what << " rank " << r << " cell (" << i << ", " << j << ")";
+        if (owned[r].Contains(i, j) && id[k] > 0 &&
+          (tilesOf[id[k]].empty() || tilesOf[id[k]].back() != static_cast<int>(r)))
+        {
+          tilesOf[id[k]].push_back(static_cast<int>(r));
+        }
+      }
+    }
+  }
+  int spread = 0;
+  for (const std::vector<int>& t : tilesOf)
+  {
+    spread += t.size() > 1 ? 1 : 0;
+  }
+  return spread;
+}
+
+/// `cuts` + 1 uneven pieces of [0, n): random cut points (some pieces may be one cell).
+std::vector<int> Cuts(std::mt19937_64& rng, int n, int pieces)
+{
+  std::vector<int> at{ 0 };
+  for (int p = 1; p < pieces; ++p)
+  {
+    at.push_back(1 + static_cast<int>(rng() % static_cast<std::uint64_t>(std::max(1, n - 1))));
+  }
+  at.push_back(n);
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  return at;
+}
+
+std::vector<hy::TileBox> Blocks(const std::vector<int>& ci, const std::vector<int>& cj)
+{
+  std::vector<hy::TileBox> boxes;
+  for (std::size_t b = 0; b + 1 < cj.size(); ++b)
+  {
+    for (std::size_t a = 0; a + 1 < ci.size(); ++a)
+    {
+      boxes.push_back(hy::TileBox{ ci[a], ci[a + 1] - 1, cj[b], cj[b + 1] - 1 });
+    }
+  }
+  return boxes;
+}
+
+Terrain RandomTerrain(std::mt19937_64& rng, int nx, int ny, bool quantised, int noDataPerMille)
+{
+  Terrain t;
+  t.nx = nx;
+  t.ny = ny;
+  for (int j = 0; j < ny; ++j)
+  {
+    t.rowDx.push_back(1.0 + 0.01 * j);
+    for (int i = 0; i < nx; ++i)
+    {
+      const double u = static_cast<double>(rng() >> 11) / 9007199254740992.0;
+      float z =
+        quantised ? static_cast<float>(std::floor(u * 8.0)) : static_cast<float>(100.0 + 25.0 * u);
+      std::uint8_t ok = 1;
+      if (static_cast<int>(rng() % 1000) < noDataPerMille)
+      {
+        if (rng() % 2 == 0)
+        {
+          z = std::numeric_limits<float>::quiet_NaN();
+        }
+        else
+        {
+          ok = 0;
+        }
+      }
+      t.z.push_back(z);
+      t.valid.push_back(ok);
+    }
+  }
+  return t;
+}
+} // namespace
+
+// 60 random terrains (whole metres: many flats and ties; continuous; some with no data), split
+// 1 to 16 ways in uneven blocks, rings of 1 to 3 cells: the filled surface, the ids and depths
+// equal the serial code's, on the owned cells and on the ring each tile asked for.
+TEST(DistributedPriorityFlood, EqualsSerialOnRandomTerrains)
+{
+  std::mt19937_64 rng(20160701);
+  int spread = 0;
+  for (int t = 0; t < 60; ++t)
+  {
+    const int nx = 3 + static_cast<int>(rng() % 40);
+    const int ny = 3 + static_cast<int>(rng() % 40);
+    const Terrain w = RandomTerrain(rng, nx, ny, t % 2 == 0, t % 3 == 0 ? 60 : 0);
+    const std::vector<hy::TileBox> boxes = Blocks(Cuts(rng, nx, 1 + static_cast<int>(rng() % 4)),
+      Cuts(rng, ny, 1 + static_cast<int>(rng() % 4)));
+    hy::DepressionWaterBodyOptions options;
+    options.includeFlatSurfaces = t % 4 < 2;
+    options.minimumArea = t % 5 == 0 ? 0.0 : 6.0; // 0: every flat with a filled cell counts
+    spread += ExpectSerial(w, boxes, 1 + t % 3, options, "terrain " + std::to_string(t));
+  }
+  EXPECT_GT(spread, 20); // water bodies that more than one tile holds part of
+}
+
+// A ring-shaped ridge whose lowest gap is at one place: the lake inside is one body that lies in
+// all four tiles (split through its centre) and in no other, at the gap's height; a valley
+// leaving through the gap crosses a tile edge too.
+TEST(DistributedPriorityFlood, LakeAcrossFourTiles)
+{
+  Terrain w;
+  w.nx = 41;
+  w.ny = 41;
+  for (int j = 0; j < w.ny; ++j)
+  {
+    w.rowDx.push_back(10.0);
+    for (int i = 0; i < w.nx; ++i)
+    {
+      const double r = std::hypot(i - 20.0, j - 20.0);
+      double z = 50.0 - 3.0 * std::abs(r - 12.0); // ridge at radius 12, 50 m high
+      if (j == 20 && i > 20)
+      {
+        z = std::min(z, 30.0); // the gap to the east: 30 m
+      }
+      w.z.push_back(static_cast<float>(z));
+      w.valid.push_back(1);
+    }
+  }
+  const std::vector<hy::TileBox> boxes = Blocks({ 0, 20, 41 }, { 0, 21, 41 });
+  hy::DepressionWaterBodyOptions options;
+  options.minimumArea = 0.0;
+  options.includeFlatSurfaces = false; // the cone's equal heights would count as flats
+  EXPECT_EQ(ExpectSerial(w, boxes, 1, options, "ring lake"), 1);
+
+  const Outcome out = RunTiles(w, boxes, 1, 2, options);
+  ASSERT_EQ(out.results[0].bodies.size(), 1u);
+  EXPECT_EQ(out.results[0].bodies[0].level, 30.0); // the gap
+  for (std::size_t r = 0; r < boxes.size(); ++r)
+  {
+    int wet = 0;
+    for (int j = boxes[r].j0; j <= boxes[r].j1; ++j)
+    {
+      for (int i = boxes[r].i0; i <= boxes[r].i1; ++i)
+      {
+        const TileCopy& c = out.copies[r];
+        const std::size_t t = static_cast<std::size_t>(j - c.gj0) * c.t.nx + (i - c.gi0);
+        wet += out.results[r].bodyId[t] == 1 ? 1 : 0;
+        if (std::hypot(i - 20.0, j - 20.0) < 5.0)
+        {
+          EXPECT_EQ(out.results[r].filled[t], 30.0f) << "cell (" << i << ", " << j << ")";
+        }
+      }
+    }
+    EXPECT_GT(wet, 15) << "tile " << r << " holds part of the lake";
+  }
+}
+
+// The tiles must partition the grid, and each must come with its ring; otherwise every rank
+// fails with the same reason (none waits for the others for ever).
+TEST(DistributedPriorityFlood, RefusesBadTiles)
+{
+  std::mt19937_64 rng(7);
+  const Terrain w = RandomTerrain(rng, 10, 8, false, 0);
+  hy::DepressionWaterBodyOptions options;
+  const Outcome overlap = RunTiles(w, { { 0, 5, 0, 7 }, { 5, 9, 0, 7 } }, 1, 2, options);
+  for (const std::string& e : overlap.errors)
+  {
+    EXPECT_NE(e.find("overlap"), std::string::npos) << e;
+  }
+  const Outcome gap = RunTiles(w, { { 0, 3, 0, 7 }, { 5, 9, 0, 7 } }, 1, 2, options);
+  for (const std::string& e : gap.errors)
+  {
+    EXPECT_NE(e.find("cover 72 cells of a grid of 80"), std::string::npos) << e;
+  }
+  const Outcome ring = RunTiles(w, { { 0, 4, 0, 7 }, { 5, 9, 0, 7 } }, 2, 1, options);
+  for (const std::string& e : ring.errors)
+  {
+    EXPECT_NE(e.find("lacks the ring of 2"), std::string::npos) << e;
+  }
+}
