@@ -15,6 +15,11 @@
 
 #include "MemoryBudget.h"
 
+#include "vtkTerroirFiltersBaseModule.h" // For VTK_MODULE_ENABLE_VTK_ParallelCore
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+#include "vtkMultiProcessController.h"
+#endif
+
 #include <algorithm>
 #include <cstdlib>
 #include <mutex>
@@ -48,6 +53,43 @@ std::string vtkTerroirImageAlgorithm::SourcePrefix(vtkDataObject* input)
 {
   const std::string file = input ? vtkTerroirGeoreference::GetSourceFile(input) : std::string();
   return file.empty() ? std::string() : file + ": ";
+}
+
+//------------------------------------------------------------------------------
+vtkMultiProcessController* vtkTerroirImageAlgorithm::GetDistributedController(
+  vtkInformation* outInfo)
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const int pieces = outInfo && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  return controller && controller->GetNumberOfProcesses() > 1 &&
+      pieces == controller->GetNumberOfProcesses()
+    ? controller
+    : nullptr;
+#else
+  (void)outInfo;
+  return nullptr;
+#endif
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirImageAlgorithm::GetOwnedExtent(int piece,
+  int pieces,
+  const int whole[6],
+  int owned[6])
+{
+  int w[6];
+  std::copy(whole, whole + 6, w);
+  vtkNew<vtkExtentTranslator> translator;
+  translator->PieceToExtentThreadSafe(
+    piece, pieces, 0, w, owned, vtkExtentTranslator::BLOCK_MODE, 0);
+  for (int a = 0; a < 3; ++a)
+  {
+    owned[2 * a + 1] -= owned[2 * a + 1] < whole[2 * a + 1] ? 1 : 0;
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -49,6 +49,7 @@ namespace terroir
 {
 struct TerrainInput;
 }
+class vtkMultiProcessController;
 
 class VTKTERROIRFILTERSBASE_EXPORT vtkTerroirImageAlgorithm : public vtkImageAlgorithm
 {
@@ -74,6 +75,21 @@ public:
   vtkGetMacro(LastBackend, int);
   /// One line saying why the last backend was chosen (empty before the first run).
   const char* GetLastBackendReason() { return this->LastBackendReason.c_str(); }
+
+  /**
+   * The global controller when `outInfo` asks for one piece of N and the global controller has
+   * N > 1 processes (a distributed run: pvbatch or pvserver under mpirun); null otherwise, and
+   * always null in a build without VTK::ParallelCore.
+   */
+  static vtkMultiProcessController* GetDistributedController(vtkInformation* outInfo);
+
+  /**
+   * The points piece `piece` of `pieces` owns in a distributed run: its extent
+   * (vtkExtentTranslator, block mode, no ghost levels) less the upper boundary points that the
+   * next piece along each axis also holds, so that the pieces' owned extents partition
+   * `whole`.
+   */
+  static void GetOwnedExtent(int piece, int pieces, const int whole[6], int owned[6]);
 
 protected:
   /**

@@ -95,13 +95,8 @@ private:
 std::unique_ptr<cl::KMeansReduction> DistributedReduction(vtkInformation* outInfo)
 {
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  const int pieces =
-    outInfo && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
-    : 1;
-  if (controller && controller->GetNumberOfProcesses() > 1 &&
-    pieces == controller->GetNumberOfProcesses())
+  if (vtkMultiProcessController* controller =
+        vtkTerroirImageAlgorithm::GetDistributedController(outInfo))
   {
     return std::unique_ptr<cl::KMeansReduction>(new ControllerReduction(controller));
   }

@@ -6,14 +6,17 @@
 #include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTerroirTerrainInput.h"
 
 #include "DepressionWaterBodies.h"
+#include "DistributedPriorityFlood.h"
 #include "FloodFill.h"
 #include "PriorityFlood.h"
 
@@ -24,6 +27,12 @@
 #include <cstdint>
 #include <new>
 #include <sstream>
+#include <stdexcept>
+
+#include "vtkTerroirFiltersHydrologyModule.h" // For VTK_MODULE_ENABLE_VTK_ParallelCore
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+#include "vtkMultiProcessController.h"
+#endif
 
 vtkStandardNewMacro(vtkTerroirFloodFill);
 
@@ -123,6 +132,92 @@ std::string vtkTerroirFloodFill::DescribeSeed(std::size_t s) const
     (seed.IsCell
         ? " at cell (" + std::to_string(seed.I) + ", " + std::to_string(seed.J) + ")"
         : " at (" + terroir::NumberText(seed.X) + ", " + terroir::NumberText(seed.Y) + ")");
+}
+
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+namespace
+{
+/// The core's gather and scatter through a vtkMultiProcessController (rank 0 the root).
+class ControllerTileExchange : public terroir::hydrology::TileExchange
+{
+public:
+  explicit ControllerTileExchange(vtkMultiProcessController* controller)
+    : Controller(controller)
+  {
+  }
+  int Rank() const override { return this->Controller->GetLocalProcessId(); }
+  int Size() const override { return this->Controller->GetNumberOfProcesses(); }
+  std::vector<std::vector<char>> Gather(const std::vector<char>& mine) override
+  {
+    const std::size_t ranks = static_cast<std::size_t>(this->Size());
+    const long length = static_cast<long>(mine.size());
+    std::vector<long> lengths(ranks, 0);
+    Check(this->Controller->Gather(&length, lengths.data(), 1, 0));
+    std::vector<vtkIdType> counts(lengths.begin(), lengths.end());
+    std::vector<vtkIdType> offsets(ranks, 0);
+    for (std::size_t r = 1; r < ranks; ++r)
+    {
+      offsets[r] = offsets[r - 1] + counts[r - 1];
+    }
+    std::vector<char> all(
+      this->Rank() == 0 ? static_cast<std::size_t>(offsets.back() + counts.back()) : 0);
+    Check(this->Controller->GatherV(
+      mine.data(), all.data(), static_cast<vtkIdType>(length), counts.data(), offsets.data(), 0));
+    std::vector<std::vector<char>> parts;
+    for (std::size_t r = 0; r < ranks && this->Rank() == 0; ++r)
+    {
+      parts.emplace_back(all.begin() + offsets[r], all.begin() + offsets[r] + counts[r]);
+    }
+    return parts;
+  }
+  std::vector<char> Scatter(const std::vector<std::vector<char>>& parts) override
+  {
+    // Point to point from rank 0 (a length, then the bytes): rank 0's replies differ in size.
+    const int ranks = this->Size();
+    if (this->Rank() == 0)
+    {
+      for (int r = 1; r < ranks; ++r)
+      {
+        const std::vector<char>& part = parts.at(static_cast<std::size_t>(r));
+        const long length = static_cast<long>(part.size());
+        Check(this->Controller->Send(&length, 1, r, kTag));
+        Check(this->Controller->Send(part.data(), static_cast<vtkIdType>(length), r, kTag));
+      }
+      return parts.at(0);
+    }
+    long length = 0;
+    Check(this->Controller->Receive(&length, 1, 0, kTag));
+    if (length < 0)
+    {
+      throw std::runtime_error("a negative message length from rank 0");
+    }
+    std::vector<char> mine(static_cast<std::size_t>(length));
+    Check(this->Controller->Receive(mine.data(), static_cast<vtkIdType>(length), 0, kTag));
+    return mine;
+  }
+
+private:
+  static void Check(int ok)
+  {
+    if (!ok)
+    {
+      throw std::runtime_error("an MPI gather or scatter failed");
+    }
+  }
+  static constexpr int kTag = 25016; ///< this exchange's messages (issue 25, Barnes 2016)
+  vtkMultiProcessController* Controller;
+};
+} // namespace
+#endif
+
+//------------------------------------------------------------------------------
+int vtkTerroirFloodFill::RequestUpdateExtent(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  this->DistributedRun = this->Mode == FillDepressions &&
+    GetDistributedController(outputVector->GetInformationObject(0)) != nullptr;
+  return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------
@@ -265,6 +360,13 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
     bodies = hy::FloodFillSeeds(
       v, seeds, idp, dp, [this](double f) { this->UpdateProgress(0.05 + 0.9 * f); });
   }
+  else if (this->DistributedRun)
+  {
+    if (!this->FillDepressionsInPieces(input, v, idp, dp, bodies))
+    {
+      return 0;
+    }
+  }
   else
   {
     vtkDebugMacro(<< "FillDepressions: improved Priority-Flood, "
@@ -303,4 +405,75 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
   mode->InsertNextValue(this->GetModeAsString());
   fd->AddArray(mode);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirFloodFill::FillDepressionsInPieces(vtkImageData* input,
+  const terroir::GridView<float>& view,
+  std::int32_t* ids,
+  float* depth,
+  std::vector<terroir::hydrology::WaterBodyStats>& bodies)
+{
+  namespace hy = terroir::hydrology;
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkInformation* outInfo = this->GetOutputInformation(0);
+  vtkMultiProcessController* controller = GetDistributedController(outInfo);
+  if (!controller || !outInfo->Has(SDDP::WHOLE_EXTENT()))
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << "a distributed run without its controller");
+    return false;
+  }
+  vtkDebugMacro(<< "FillDepressions in pieces: " << hy::kPriorityFloodBarnes2016Citation);
+  int whole[6], owned[6], e[6];
+  outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+  GetOwnedExtent(outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()),
+    outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()),
+    whole,
+    owned);
+  input->GetExtent(e);
+  hy::DistributedFillInput in;
+  in.view = view;
+  in.gi0 = e[0] - whole[0];
+  in.gj0 = e[2] - whole[2];
+  in.owned = hy::TileBox{
+    owned[0] - whole[0], owned[1] - whole[0], owned[2] - whole[2], owned[3] - whole[2]
+  };
+  in.wholeNx = whole[1] - whole[0] + 1;
+  in.wholeNy = whole[3] - whole[2] + 1;
+  // The output's ghost levels lie within this ring of the owned points (the piece's upper
+  // boundary points are one step out).
+  in.reach = 1 +
+    (outInfo->Has(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+        ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
+        : 0);
+  hy::DepressionWaterBodyOptions options;
+  options.minimumArea = this->MinimumArea;
+  options.includeFlatSurfaces = this->IncludeFlatSurfaces;
+  ControllerTileExchange exchange(controller);
+  try
+  {
+    hy::DistributedFillResult result = hy::FillDepressionsDistributed(in, options, exchange);
+    std::copy(result.bodyId.begin(), result.bodyId.end(), ids);
+    std::copy(result.depth.begin(), result.depth.end(), depth);
+    bodies = std::move(result.bodies);
+  }
+  catch (const std::bad_alloc&)
+  {
+    throw;
+  }
+  catch (const std::exception& x)
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
+    return false;
+  }
+  return true;
+#else
+  (void)view;
+  (void)ids;
+  (void)depth;
+  (void)bodies;
+  vtkErrorMacro(<< this->SourcePrefix(input) << "built without VTK::ParallelCore");
+  return false;
+#endif
 }

@@ -34,8 +34,14 @@
  * Depths on a hydro-flattened lake are 0: the DEM records the water surface, not the bed.
  *
  * Whole extent (global filter). CPU only, sequential (results cannot depend on the thread
- * count). Errors (one line, empty output): Seeds mode without seeds, a seed outside the
- * terrain or on a no-data cell, a non-finite seed level or coordinate, MinimumArea < 0.
+ * count). Distributed runs (pvbatch or pvserver under mpirun, one piece per process):
+ * FillDepressions works on each piece and a one-cell ring with the parallel Priority-Flood of
+ * Barnes (2016) (terroir::hydrology::FillDepressionsDistributed: only tile perimeters and
+ * per-label summaries travel, to rank 0 and back); the filled surface, ids and depths equal
+ * the serial run's bit for bit, the bodies' areas and volumes to ~1e-15 (order of the sums).
+ * Seeds mode still computes the whole grid on every process and keeps its piece. Errors (one line,
+ * empty output): Seeds mode without seeds, a seed outside the terrain or on a no-data cell, a
+ * non-finite seed level or coordinate, MinimumArea < 0.
  *
  * @par Correctness
  * Testing/Unit/TestFloodFill.cxx (hand-worked grids; Priority-Flood against a brute-force
@@ -48,6 +54,9 @@
  * Barnes, R., Lehman, C., Mulla, D. (2014). Priority-Flood: An optimal depression-filling and
  * watershed-labeling algorithm for digital elevation models. Computers & Geosciences
  * 62:117-127. doi:10.1016/j.cageo.2013.04.024
+ * Barnes, R. (2016). Parallel priority-flood depression filling for trillion cell digital
+ * elevation models on desktops or clusters. Computers & Geosciences 96:56-68.
+ * doi:10.1016/j.cageo.2016.07.001
  *
  * @sa vtkTerroirImageAlgorithm
  */
@@ -57,7 +66,18 @@
 #include "vtkTerroirFiltersHydrologyModule.h" // For export macro
 #include "vtkTerroirImageAlgorithm.h"
 
-#include <vector> // For std::vector
+#include <cstdint> // For std::int32_t
+#include <vector>  // For std::vector
+
+namespace terroir
+{
+template<typename T>
+struct GridView;
+namespace hydrology
+{
+struct WaterBodyStats;
+}
+}
 
 class VTKTERROIRFILTERSHYDROLOGY_EXPORT vtkTerroirFloodFill : public vtkTerroirImageAlgorithm
 {
@@ -143,7 +163,9 @@ protected:
   vtkTerroirFloodFill();
   ~vtkTerroirFloodFill() override;
 
-  int GetHaloWidth() override { return -1; }
+  /// FillDepressions in a distributed run: the piece and one ring (Barnes 2016); else whole.
+  int GetHaloWidth() override { return this->DistributedRun ? 1 : -1; }
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   bool HasGPUPath() override { return false; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
@@ -156,6 +178,7 @@ protected:
   int Mode = Seeds;
   double MinimumArea = 10000.0;
   bool IncludeFlatSurfaces = true;
+  bool DistributedRun = false; ///< this request is one piece of a distributed FillDepressions
 
 private:
   vtkTerroirFloodFill(const vtkTerroirFloodFill&) = delete;
@@ -171,6 +194,14 @@ private:
   };
   std::vector<Seed> SeedList;
   void AddSeed(const Seed& seed);
+#ifndef __VTK_WRAP__
+  /// FillDepressions on this process's piece (Barnes 2016 through the global controller).
+  bool FillDepressionsInPieces(vtkImageData* input,
+    const terroir::GridView<float>& view,
+    std::int32_t* ids,
+    float* depth,
+    std::vector<terroir::hydrology::WaterBodyStats>& bodies);
+#endif
   std::string DescribeSeed(std::size_t s) const;
 };
 

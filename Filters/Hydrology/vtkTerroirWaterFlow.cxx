@@ -315,35 +315,12 @@ vtkSmartPointer<vtkDoubleArray> Scalar(const char* name, double value, const cha
 
 namespace
 {
-/// The global controller when `outInfo` asks for one piece of N and the global controller has
-/// N > 1 processes (a distributed run); null otherwise.
-#if VTK_MODULE_ENABLE_VTK_ParallelCore
-vtkMultiProcessController* DistributedController(vtkInformation* outInfo)
-{
-  using SDDP = vtkStreamingDemandDrivenPipeline;
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  const int pieces = outInfo && outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES())
-    ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES())
-    : 1;
-  return controller && controller->GetNumberOfProcesses() > 1 &&
-      pieces == controller->GetNumberOfProcesses()
-    ? controller
-    : nullptr;
-}
-#endif
-
-/// Piece `piece` of `pieces` (vtkExtentTranslator, block mode, no ghost levels) less the upper
-/// boundary points that the next piece along each axis also holds: the points it owns.
+/// Piece `piece` of `pieces`: the points it owns (vtkTerroirImageAlgorithm::GetOwnedExtent).
 Box OwnedBox(int piece, int pieces, const int whole[6])
 {
   int e[6];
-  vtkNew<vtkExtentTranslator> translator;
-  translator->PieceToExtentThreadSafe(
-    piece, pieces, 0, const_cast<int*>(whole), e, vtkExtentTranslator::BLOCK_MODE, 0);
-  Box b{ e[0], e[1], e[2], e[3] };
-  b.i1 -= b.i1 < whole[1] ? 1 : 0;
-  b.j1 -= b.j1 < whole[3] ? 1 : 0;
-  return b;
+  vtkTerroirImageAlgorithm::GetOwnedExtent(piece, pieces, whole, e);
+  return Box{ e[0], e[1], e[2], e[3] };
 }
 } // namespace
 
@@ -354,7 +331,7 @@ int vtkTerroirWaterFlow::RequestUpdateExtent(vtkInformation* request,
 {
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
   this->DistributedRun =
-    this->Mode == Pulse && DistributedController(outputVector->GetInformationObject(0));
+    this->Mode == Pulse && GetDistributedController(outputVector->GetInformationObject(0));
 #else
   this->DistributedRun = false;
 #endif
@@ -371,7 +348,7 @@ bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
   using SDDP = vtkStreamingDemandDrivenPipeline;
   vtkInformation* outInfo = this->GetOutputInformation(0);
   vtkMultiProcessController* controller =
-    this->Mode == Pulse ? DistributedController(outInfo) : nullptr;
+    this->Mode == Pulse ? GetDistributedController(outInfo) : nullptr;
   if (!controller || !outInfo->Has(SDDP::WHOLE_EXTENT()))
   {
     if (old)

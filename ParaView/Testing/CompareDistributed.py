@@ -1,6 +1,6 @@
 """Checks a distributed run of DistributedChain.py (mpirun -np N pvbatch) against the same chain
 run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, package `terroir`):
-    CompareDistributed.py terrain|zones|zonesghost|flow|flowghost N DEM OUT_DIR
+    CompareDistributed.py terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost N DEM OUT_DIR
 - the pieces of OUT_DIR/chain.pvti, reassembled by VTK 9.1's vtkXMLPImageDataReader, give the
   serial arrays bit for bit (besides the all-zero vtkGhostType ParaView's writer adds) (the same cores on the same cells in the same order: a piece's
   cells see the same neighbours through their ghost layer); `vtkValidPointMask`, which the
@@ -14,7 +14,11 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
 - flow (water flow, Pulse): every array bit for bit, the same iteration count and stop reason on
   every rank as serially, the volumes within FLOW_VOLUME_RTOL, and a river of the serial run
   crossing every column and row that the pieces share; flowghost: the same with a slope after
-  the water flow (which then gives a ghost layer beyond its piece; the reader reads 4 cells).
+  the water flow (which then gives a ghost layer beyond its piece; the reader reads 4 cells);
+- lakes (flood fill, FillDepressions in pieces, Barnes 2016): WaterBody and WaterDepth bit for
+  bit, every rank's table of water bodies equal to the serial one (levels, cell counts, depths
+  exact; areas and volumes within LAKE_RTOL), and on 4 ranks a lake of the serial run lying in
+  more than one piece; lakesghost: the same with a slope after it (reader: 2 cells).
 Fails (exit 1) with one line per problem."""
 import filecmp
 import json
@@ -31,11 +35,18 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 # one more when a slope follows k-means.
 # Water flow (flow) reads its piece grown by 3: 2 rings refreshed from the neighbours every
 # iteration and 1 more for the heights of no-data cells beside them.
-GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4}
+# The flood fill reads its piece and one ring (its perimeter's neighbours), one more for a slope.
+GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'lakes': 1,
+         'lakesghost': 2}
 # Water flow: the run's volumes are sums over the cells that each process adds for its own
 # cells before the processes' sums are added in rank order, another order than the serial
 # rows (doubles, ~1e-16 relative per addition, over up to 1e4 iterations).
 FLOW_VOLUME_RTOL = 1e-12
+# Flood fill: a lake's area and volume are added piece by piece, then the pieces' sums in rank
+# order, instead of breadth first over the lake (doubles: ~1e-16 relative per addition).
+LAKE_RTOL = 1e-12
+LAKE_FIELDS = ('WaterBodyLevel', 'WaterBodyArea', 'WaterBodyVolume', 'WaterBodyCells',
+               'WaterBodyMaxDepth')
 
 
 def piece_boundaries(pieces, whole):
@@ -63,6 +74,11 @@ def serial(recipe, dem):
               terroir.vtkTerroirInfiltration(), terroir.vtkTerroirSoilHumidity()]
     if recipe in ('flow', 'flowghost'):
         stages = [terroir.vtkTerroirWaterFlow()]
+    if recipe in ('lakes', 'lakesghost'):
+        stages = [terroir.vtkTerroirFloodFill()]
+        stages[0].SetModeToFillDepressions()
+    if recipe == 'lakesghost':
+        stages.append(terroir.vtkTerroirSlope())
     if recipe == 'flowghost':
         stages.append(terroir.vtkTerroirSlope())
     if recipe in ('zones', 'zonesghost'):
@@ -204,6 +220,41 @@ def main():
                 print('%s: pieces %r, serial %r' % (name, have, value))
                 if not ok:
                     problems.append('%s: pieces %r, serial %r' % (name, have, value))
+
+    if recipe in ('lakes', 'lakesghost'):
+        fy = expected.GetFieldData()
+        want = {name: [fy.GetArray(name).GetTuple1(i)
+                       for i in range(fy.GetArray(name).GetNumberOfTuples())]
+                for name in LAKE_FIELDS}
+        for r in range(ranks):
+            path = os.path.join(out_dir, 'rank%d.json' % r)
+            have = json.load(open(path)).get('water_bodies', {}) if os.path.exists(path) else {}
+            for name in LAKE_FIELDS:
+                x, y = np.array(have.get(name, [])), np.array(want[name])
+                exact = name not in ('WaterBodyArea', 'WaterBodyVolume')
+                ok = x.shape == y.shape and (np.array_equal(x, y) if exact else
+                                             np.allclose(x, y, rtol=LAKE_RTOL, atol=0.0))
+                if not ok:
+                    problems.append('rank %d: %s differs from the serial table' % (r, name))
+        print('%d water bodies, as serially on every rank' % len(want['WaterBodyLevel']))
+        if ranks == 4:
+            # A lake must lie in more than one piece (else the joining is not really tested):
+            # Independence Lake on the bundled DEM crosses the row the pieces share (a connected
+            # lake whose rows span a shared row lies on both sides of it).
+            dims = expected.GetDimensions()
+            body = b['WaterBody'].reshape(dims[1], dims[0])
+            spanning = 0
+            for lake in range(1, len(want['WaterBodyLevel']) + 1):
+                js, is_ = np.nonzero(body == lake)
+                rows = {p[3] for p in pieces if p[3] < whole[3]}
+                cols = {p[1] for p in pieces if p[1] < whole[1]}
+                crosses = any(js.min() + whole[2] < r_ < js.max() + whole[2] for r_ in rows) or \
+                    any(is_.min() + whole[0] < c < is_.max() + whole[0] for c in cols)
+                if crosses:
+                    spanning += 1
+                    print('lake %d (%d cells) crosses a piece boundary' % (lake, js.size))
+            if spanning == 0:
+                problems.append('no lake crosses a piece boundary')
 
     # What each rank read.
     whole_cells = (whole[1] + 1) * (whole[3] + 1)

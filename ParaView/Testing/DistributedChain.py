@@ -2,12 +2,14 @@
 builds the same pipeline, ParaView's parallel image writer writes one piece per rank (.pvti), and
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
-        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost
+        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
 zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
 flow (Pulse, defaults: a halo exchanged every iteration, the stop rule's sums all-gathered);
-flowghost: flow, then slope (the water flow asked for a ghost layer).
+flowghost: flow, then slope (the water flow asked for a ghost layer); lakes: DEM -> flood fill
+(FillDepressions: Barnes 2016's parallel Priority-Flood, the water bodies joined across the
+pieces); lakesghost: lakes, then slope (the flood fill asked for a ghost layer).
 OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
 rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
 the whole grid on every rank and rank 0 writes), and
@@ -41,6 +43,13 @@ def main():
             # and the cells it gives back beyond its piece must be right too.
             last = TerroirSlope(Input=last)  # noqa: F821
         return write(reader, last, out_dir, recipe)
+    if recipe in ('lakes', 'lakesghost'):
+        # Depressions filled on each piece and a ring of one cell; rank 0 floods the graph of
+        # the pieces' spill levels and joins the lakes that cross piece boundaries.
+        last = TerroirFloodFill(Input=reader, Mode='FillDepressions')  # noqa: F821
+        if recipe == 'lakesghost':
+            last = TerroirSlope(Input=last)  # noqa: F821
+        return write(reader, last, out_dir, recipe)
     slope = TerroirSlope(Input=reader)  # noqa: F821
     temperature = TerroirTemperature(Input=slope)  # noqa: F821
     infiltration = TerroirInfiltration(Input=temperature)  # noqa: F821
@@ -52,7 +61,8 @@ def main():
         # that layer, and must still count each point once.
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
-        raise SystemExit('recipe must be terrain, zones, zonesghost, flow or flowghost, not ' + recipe)
+        raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, lakes or '
+                         'lakesghost, not ' + recipe)
     return write(reader, last, out_dir, recipe)
 
 
@@ -121,6 +131,14 @@ def write(reader, last, out_dir, recipe):
                          'WaterFlowOutflowVolume', 'WaterFlowMovedVolume')}
         record['water_flow']['WaterFlowStopReason'] = \
             fd.GetAbstractArray('WaterFlowStopReason').GetValue(0)
+    if recipe in ('lakes', 'lakesghost'):
+        # The water bodies' table (field data): every rank holds the whole grid's.
+        fd = local.GetFieldData()
+        record['water_bodies'] = {
+            name: [fd.GetArray(name).GetTuple1(i)
+                   for i in range(fd.GetArray(name).GetNumberOfTuples())]
+            for name in ('WaterBodyLevel', 'WaterBodyArea', 'WaterBodyVolume', 'WaterBodyCells',
+                         'WaterBodyMaxDepth') if fd.GetArray(name)}
     if recipe == 'terrain':
         # A serial-format writer (supports_parallel 0): ParaView updates the whole extent (the
         # one piece of one) on every rank and rank 0 writes the one GeoTIFF.

@@ -123,6 +123,14 @@ struct FlatSummary
   std::uint8_t anyFilled = 0;
 };
 
+/// DepressionWaterBodies' rule: a filled cell, or a flat of two or more cells when flats count;
+/// and at least the minimum area.
+bool IsWater(const FlatSummary& f, const DepressionWaterBodyOptions& options)
+{
+  return (f.anyFilled || (options.includeFlatSurfaces && f.stats.cells >= 2)) &&
+    f.stats.area >= options.minimumArea;
+}
+
 struct OpenCell
 {
   float height;
@@ -666,8 +674,30 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
         }
       }
     }
+    // Rank 0 needs the flats that may continue in another tile (those with a band cell) and the
+    // water bodies lying wholly in this one (for their numbers and the table); the other flats
+    // are dry whatever the other tiles hold. On a DEM without flats nearly every cell is a flat
+    // of its own: sending them all would cost the whole tile.
+    std::vector<std::int32_t> sent(flats.size(), -1);
+    for (BandCell& b : band)
+    {
+      sent[b.flat] = 0;
+    }
+    std::vector<FlatSummary> flatsSent;
+    for (std::size_t f = 0; f < flats.size(); ++f)
+    {
+      if (sent[f] == 0 || IsWater(flats[f], options))
+      {
+        sent[f] = static_cast<std::int32_t>(flatsSent.size());
+        flatsSent.push_back(flats[f]);
+      }
+    }
+    for (BandCell& b : band)
+    {
+      b.flat = sent[b.flat];
+    }
     Writer w2;
-    w2.PutVector(flats);
+    w2.PutVector(flatsSent);
     w2.PutVector(band);
     const std::vector<std::vector<char>> all2 = exchange.Gather(w2.Bytes);
     std::vector<std::vector<char>> replies2;
@@ -752,10 +782,7 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
       for (std::int64_t g = 0; g < base[ranks]; ++g)
       {
         const FlatSummary& m = merged[g];
-        const bool keep = m.stats.cells > 0 && groups.Find(g) == g &&
-          (m.anyFilled || (options.includeFlatSurfaces && m.stats.cells >= 2)) &&
-          m.stats.area >= options.minimumArea;
-        if (keep)
+        if (m.stats.cells > 0 && groups.Find(g) == g && IsWater(m, options))
         {
           kept.push_back(g);
         }
@@ -816,7 +843,7 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
     result.filled.assign(n, kNaN);
     result.bodyId.assign(n, 0);
     result.depth.assign(n, kNaN);
-    if (flatBody.size() != flats.size())
+    if (flatBody.size() != flatsSent.size())
     {
       throw std::runtime_error("FillDepressionsDistributed: rank 0's water bodies do not match "
                                "this tile");
@@ -843,7 +870,7 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
         if (owned.Contains(gi, gj))
         {
           const std::size_t o = tile.Owned(gi, gj);
-          set(gi, gj, water[o], flat[o] >= 0 ? flatBody[flat[o]] : 0);
+          set(gi, gj, water[o], flat[o] >= 0 && sent[flat[o]] >= 0 ? flatBody[sent[flat[o]]] : 0);
         }
         else if (next < ringFilled.size() && next < ringBody.size())
         {

@@ -33,10 +33,13 @@
  * volumes are added (tile by tile instead of breadth first): those two agree to about 1e-15
  * relative; levels, cell counts, depths, ids and the filled surface are bit-identical.
  *
- * Traffic: per tile, its perimeter (16 B per cell), its spill edges (12 B each, at most a few
- * per perimeter cell), its flats' statistics (48 B each) and a band of `reach` cells along its
- * border; rank 0 holds every tile's perimeter at once (its memory grows with the number of
- * tiles times the perimeter, not with the grid).
+ * Traffic: per tile, its perimeter (16 B per cell), its spill edges (12 B each, a few per
+ * perimeter cell), a band of `reach` cells along its inner edges (16 B each) and the
+ * statistics (56 B each) of the flats in that band and of the water bodies wholly inside it
+ * (a dry flat inside a tile is dry whatever the others hold: not sent). Measured: about 100 B
+ * per perimeter cell (TestDistributedPriorityFlood.SendsPerimetersNotTiles). Rank 0 holds
+ * every tile's perimeter at once (its memory grows with the number of tiles times the
+ * perimeter, not with the grid).
  *
  * @par Correctness
  * Testing/Unit/TestDistributedPriorityFlood.cxx: tiles run on threads; on random terrains
