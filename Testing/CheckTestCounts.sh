@@ -11,7 +11,7 @@ ctest=$1
 build=$2
 only=${3:-}
 declare -A minimum=(
-  [unit]=295 [pipeline]=189 [gpu]=71 [rendering]=44 [python]=18 [examples]=16 [fuzz]=5
+  [unit]=295 [pipeline]=190 [gpu]=71 [rendering]=44 [python]=18 [examples]=16 [fuzz]=5
   [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=43 [mpi]=30
 )
 status=0

@@ -8,6 +8,8 @@
 #include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
 #include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -21,6 +23,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 namespace
 {
@@ -122,6 +125,61 @@ TEST(TerroirImageAlgorithm, WholeExtentHaloAsksForEverything)
   const std::array<int, 6> whole = { 0, 11, 0, 8, 0, 0 };
   EXPECT_EQ(terroir_test::RequestedInputExtent(f, in, { 3, 4, 3, 4, 0, 0 }), whole);
   EXPECT_EQ(f->Seen, 12 * 9);
+}
+
+// A piece asked of a whole-extent filter (issue 25) comes back as exactly that extent: every
+// array equals the same cells of the whole image (vtkImageData::Crop of a copy of the input,
+// the filter adding nothing here), bit for bit and in the same order, with the units label and
+// the active-scalars role kept.
+TEST(TerroirImageAlgorithm, PieceOfAWholeExtentFilterIsItsCells)
+{
+  auto in = terroir_test::MakeTerrain(12, 9, 1.0, 1.0, [](int i, int j) { return 3 * i + j; });
+  vtkNew<vtkDoubleArray> wind;
+  wind->SetName("Wind");
+  wind->SetNumberOfComponents(3);
+  wind->SetNumberOfTuples(in->GetNumberOfPoints());
+  for (vtkIdType k = 0; k < in->GetNumberOfPoints(); ++k)
+  {
+    wind->SetTuple3(k, 0.5 * k, -1.0 * k, 1e6 + k);
+  }
+  wind->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m/s");
+  in->GetPointData()->AddArray(wind);
+  in->GetPointData()->SetActiveScalars("Elevation");
+  auto f = vtkSmartPointer<GlobalTestFilter>::New();
+  f->SetBackendToCPU();
+  f->SetInputData(in);
+  const int piece[6] = { 3, 8, 2, 6, 0, 0 };
+  ASSERT_EQ(f->UpdateExtent(piece), 1);
+  vtkImageData* got = f->GetOutput();
+  vtkNew<vtkImageData> expected;
+  expected->DeepCopy(in);
+  expected->Crop(piece);
+  int ext[6];
+  got->GetExtent(ext);
+  for (int a = 0; a < 6; ++a)
+  {
+    EXPECT_EQ(ext[a], piece[a]) << a;
+  }
+  ASSERT_EQ(got->GetPointData()->GetNumberOfArrays(),
+    expected->GetPointData()->GetNumberOfArrays());
+  for (int a = 0; a < expected->GetPointData()->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* x = got->GetPointData()->GetArray(a);
+    vtkDataArray* y = expected->GetPointData()->GetArray(a);
+    ASSERT_STREQ(x->GetName(), y->GetName());
+    ASSERT_EQ(x->GetDataType(), y->GetDataType()) << y->GetName();
+    ASSERT_EQ(x->GetNumberOfTuples(), 6 * 5) << y->GetName();
+    ASSERT_EQ(x->GetNumberOfComponents(), y->GetNumberOfComponents()) << y->GetName();
+    EXPECT_EQ(std::memcmp(x->GetVoidPointer(0), y->GetVoidPointer(0),
+                static_cast<std::size_t>(x->GetNumberOfValues() * x->GetDataTypeSize())),
+      0)
+      << y->GetName();
+  }
+  vtkDataArray* units = got->GetPointData()->GetArray("Wind");
+  ASSERT_TRUE(units->HasInformation());
+  EXPECT_STREQ(units->GetInformation()->Get(vtkDataArray::UNITS_LABEL()), "m/s");
+  ASSERT_NE(got->GetPointData()->GetScalars(), nullptr);
+  EXPECT_STREQ(got->GetPointData()->GetScalars()->GetName(), "Elevation");
 }
 
 TEST(TerroirImageAlgorithm, ProgressIsReported)
