@@ -12,7 +12,7 @@ build=$2
 only=${3:-}
 declare -A minimum=(
   [unit]=295 [pipeline]=190 [gpu]=71 [rendering]=44 [python]=18 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=43 [mpi]=30
+  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=44 [mpi]=31
 )
 status=0
 labels=("${!minimum[@]}")

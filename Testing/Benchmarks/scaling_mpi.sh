@@ -5,9 +5,12 @@
 #   strong: the bundled Sagehen DEM (786 x 720) and a SIZE^2 fractal DEM (default 2048);
 #   weak:   fractal DEMs of about CELLS_PER_RANK cells per rank (default 1024^2: 1024^2, 1448^2,
 #           2048^2 at 1, 2, 4 ranks);
-# for two recipes: `zones` (reader, slope, temperature, infiltration, soil humidity, k-means)
-# and `flow` (reader, water flow: Pulse, FLOW_ITERATIONS iterations, default 100, the auto-stop
-# off so that every size runs the same count). Each rank records the seconds each stage's
+# for three recipes: `zones` (reader, slope, temperature, infiltration, soil humidity, k-means),
+# `flow` (reader, water flow: Pulse, FLOW_ITERATIONS iterations, default 100, the auto-stop
+# off so that every size runs the same count) and `lakes` (reader, flood fill FillDepressions:
+# Barnes 2016's parallel Priority-Flood). TERROIR_SCALING_RECIPES picks recipes (default all
+# three), TERROIR_SCALING_WEAK the weak runs' side per rank (default 1024; the smoke test in
+# the ParaView tree runs tiny sizes: ParaView.ScalingBenchmarkSmoke). Each rank records the seconds each stage's
 # RequestData took (StartEvent to EndEvent), its output arrays and its peak resident memory;
 # the table gives, per run, the slowest rank's seconds per stage, the pipeline's wall time,
 # speed-up and efficiency against 1 rank, and seconds per million cells of the slowest rank.
@@ -67,13 +70,15 @@ run() { # run KIND DEM NP RECIPE
 
 rm -f "$out/runs.txt"
 echo "scaling benchmark: $(nproc) cores, ranks oversubscribed where more than cores; out $out"
-for recipe in zones flow; do
+weak=${TERROIR_SCALING_WEAK:-1024}
+weak2=$(/usr/bin/python3 -c "print(round($weak * 2 ** 0.5))")
+for recipe in ${TERROIR_SCALING_RECIPES:-zones flow lakes}; do
   for dem in sagehen "fractal$size"; do
     for np in 1 2 4; do run strong "$dem" "$np" "$recipe"; done
   done
-  # Weak: about 1024^2 cells per rank.
-  run weak fractal1024 1 "$recipe"
-  run weak fractal1448 2 "$recipe"
-  run weak fractal2048 4 "$recipe"
+  # Weak: about weak^2 cells per rank.
+  run weak "fractal$weak" 1 "$recipe"
+  run weak "fractal$weak2" 2 "$recipe"
+  run weak "fractal$((2 * weak))" 4 "$recipe"
 done
 /usr/bin/python3 "$here/Testing/Benchmarks/scaling_summary.py" "$out"

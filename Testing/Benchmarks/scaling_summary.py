@@ -13,7 +13,7 @@ import sys
 SHORT = {'vtkTerroirDEMReader': 'read', 'vtkTerroirSlope': 'slope',
          'vtkTerroirTemperature': 'temp', 'vtkTerroirInfiltration': 'infil',
          'vtkTerroirSoilHumidity': 'humid', 'vtkTerroirKMeans': 'kmeans',
-         'vtkTerroirWaterFlow': 'flow'}
+         'vtkTerroirWaterFlow': 'flow', 'vtkTerroirFloodFill': 'lakes'}
 
 
 def load(out):
