@@ -22,6 +22,7 @@
 #include "vtkTerroirKMeans.h"
 #include "vtkTerroirMorphometry.h"
 #include "vtkTerroirPolygonIslandSource.h"
+#include "vtkTerroirRiverLandSource.h"
 #include "vtkTerroirSlope.h"
 #include "vtkTerroirSoilHumidity.h"
 #include "vtkTerroirSolarIllumination.h"
@@ -248,6 +249,16 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         f->SetDimensions(320, 240);
         f->SetSeed(7);
         f->SetRegions(500);
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirRiverLandSource",
+      []
+      {
+        vtkNew<vtkTerroirRiverLandSource> f;
+        f->SetDimensions(320, 240);
+        f->SetSeed(7);
+        f->SetNoiseAmplitude(20.0); // Threads 0: vtkSMPTools' thread count
         f->Update();
         return OutputBytes(f->GetOutput());
       } },
