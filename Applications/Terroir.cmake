@@ -13,7 +13,8 @@ add_library(TerroirCommandLine STATIC TerroirCommandLine.cxx TerroirCommandLine.
   TerroirViewerScript.cxx TerroirViewerScript.h ${_terroir_option_files})
 target_include_directories(TerroirCommandLine PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}"
   PRIVATE "${CLI11_INCLUDE_DIR}" "${CMAKE_CURRENT_SOURCE_DIR}/Commands")
-target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore)
+# `generate riverland` checks its --params with RiverLand's core (TerroirIOCore, no VTK).
+target_link_libraries(TerroirCommandLine PRIVATE TerroirTerrainCore TerroirIOCore)
 target_compile_features(TerroirCommandLine PUBLIC cxx_std_17)
 target_compile_options(TerroirCommandLine PRIVATE -Wall -Wextra)
 

@@ -78,7 +78,8 @@ const std::vector<CommandEntry>& CommandEntries()
     { "info", "Grid and georeference of a DEM", MakeInfoOptions },
     { "fractal", "Write a seeded synthetic DEM (benchmarks, tests)", MakeFractalOptions },
     { "generate",
-      "Terrain from nothing: a polygon-map island with biomes and rivers (Weiss 2015)",
+      "Terrain from nothing: a polygon-map island with biomes and rivers (Weiss 2015) or "
+      "river-first terrain (RiverLand, Jensen 2011)",
       MakeGenerateOptions },
   };
   return commands;

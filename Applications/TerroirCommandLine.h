@@ -256,8 +256,8 @@ struct CommandLine
   int FractalSeed = 1;
   double FractalSpacing = 10.0;
 
-  /// `generate`: the generator (island) and its settings; a JSON --params file first, then the
-  /// options given (see GenerateOptions.cxx).
+  /// `generate`: the generator (island, riverland) and its settings; a JSON --params file first,
+  /// then the options given (see GenerateOptions.cxx).
   struct GenerateSettings
   {
     std::string Kind = "island";
@@ -278,6 +278,8 @@ struct CommandLine
     std::string RiverLines;  ///< --river-lines FILE.geojson
     std::string CRS;         ///< --crs: a projected CRS GDAL takes (empty: none)
     std::vector<double> Origin{ 500000.0, 4000000.0 }; ///< --origin X,Y with --crs
+    int RiverLandThreads = 1;                          ///< riverland: --threads
+    std::string RiverLandParams; ///< riverland: the checked --params JSON (GenerateRiverLand.cxx)
   } Generate;
 
   // morphometry (vtkTerroirMorphometry)

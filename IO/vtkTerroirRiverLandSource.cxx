@@ -164,6 +164,7 @@ int vtkTerroirRiverLandSource::RequestData(vtkInformation*,
   this->MedialBefore = land.medialBefore;
   this->MedialAfter = land.medialAfter;
   this->PruneSeconds = land.pruneSeconds;
+  this->SlopesApplied = land.slopesApplied;
   const double s = p.spacing;
   output->SetExtent(0, nx - 1, 0, ny - 1, 0, 0);
   output->SetSpacing(s, s, 1.0);

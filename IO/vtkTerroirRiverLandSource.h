@@ -123,6 +123,8 @@ public:
   int GetMedialCellsBefore() const { return this->MedialBefore; }
   int GetMedialCellsAfter() const { return this->MedialAfter; }
   double GetPruneSeconds() const { return this->PruneSeconds; }
+  /// User slopes of the last run that found a plain land cell (at or within 8 cells of x, y).
+  int GetSlopesApplied() const { return this->SlopesApplied; }
 
 protected:
   vtkTerroirRiverLandSource();
@@ -147,6 +149,7 @@ protected:
   std::string ErrorMessage;
   int MedialBefore = 0, MedialAfter = 0;
   double PruneSeconds = 0.0;
+  int SlopesApplied = 0;
 
 private:
   vtkTerroirRiverLandSource(const vtkTerroirRiverLandSource&) = delete;

@@ -26,8 +26,14 @@ namespace terroir
 namespace app
 {
 
+int CommandGenerateRiverLand(const CommandLine& c); // GenerateRiverLand.cxx
+
 int CommandGenerate(const CommandLine& c)
 {
+  if (c.Generate.Kind == "riverland")
+  {
+    return CommandGenerateRiverLand(c);
+  }
   const auto& g = c.Generate;
   std::vector<std::string> outputs{ c.Output };
   for (const std::string* extra : { &g.BiomeOutput, &g.RiverOutput, &g.RiverLines })

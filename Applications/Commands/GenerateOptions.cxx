@@ -12,6 +12,7 @@ namespace terroir
 {
 namespace app
 {
+void CheckRiverLandOptions(CommandLine& line, const CLI::App& sub); // GenerateRiverLandOptions.cxx
 namespace
 {
 class GenerateOptions : public CommandOptions
@@ -20,9 +21,9 @@ public:
   void Add(CLI::App* sub, CommandLine& line) override
   {
     auto& g = line.Generate;
-    sub->add_option("KIND", g.Kind, "What to generate: island (Weiss 2015's polygon map)")
+    sub->add_option("KIND", g.Kind, "What to generate: island (Weiss 2015), riverland (Jensen)")
       ->required()
-      ->check(CLI::IsMember({ "island" }));
+      ->check(CLI::IsMember({ "island", "riverland" }));
     sub->add_option("OUT", line.Output, "Output .tif (Elevation) or .vti (every array)")
       ->required()
       ->check(EndsWith(RasterOutputs()));
@@ -43,7 +44,10 @@ public:
     sub->add_option("--relaxations", g.Relaxations, "Lloyd relaxation steps")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
-    sub->add_option("--rivers", g.Rivers, "River springs (0: regions / 20)")
+    sub
+      ->add_option("--rivers",
+        g.Rivers,
+        "River springs (0: regions / 20); riverland: river mouths (0: 12 or --params)")
       ->check(CLI::Range(0, 100000000))
       ->capture_default_str();
     sub->add_option("--max-height", g.MaximumHeight, "Height of the highest cell, m")
@@ -74,6 +78,9 @@ public:
       ->add_option("--origin", g.Origin, "With --crs: world X,Y of the first cell (500000,4000000)")
       ->delimiter(',')
       ->expected(2);
+    sub->add_option("--threads", g.RiverLandThreads, "riverland: threads (same output on any)")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
     sub->add_flag("--overwrite", line.Overwrite, "Replace existing output files");
   }
 
@@ -87,6 +94,11 @@ public:
     if (!g.BiomeOutput.empty() && g.BiomeOutput == g.RiverOutput)
     {
       throw std::invalid_argument("'" + g.BiomeOutput + "' is both --biome and --river-map");
+    }
+    if (g.Kind == "riverland")
+    {
+      CheckRiverLandOptions(line, sub); // its own keys (GenerateRiverLandOptions.cxx)
+      return;
     }
     if (g.ParamsFile.empty())
     {
