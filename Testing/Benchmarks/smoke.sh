@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The benchmarks at a tiny size, so that they cannot rot unseen (CTest label `benchmarks`; the
 # timings mean nothing at this size): `terroir bench` on every stage and backend, and every
-# script of this folder (gdaldem, scikit-learn, the k-means core, GRASS, the outputs of
+# script of this folder (gdaldem, scikit-learn, the k-means core, RiverLand, GRASS, the outputs of
 # terroir run, the big-DEM memory run, and with an X display the scripted viewer session), each
 # must run and write its results.
 #   Testing/Benchmarks/smoke.sh BUILD_DIR SCRATCH_DIR
@@ -29,6 +29,9 @@ grep -q "ratio" "$scratch/slope.log" || { cat "$scratch/slope.log"; exit 1; }
 test -s "$scratch/kmeans.json"
 bash "$here/Testing/Benchmarks/kmeans_core.sh" "$build" 1 >"$scratch/kmeans_core.log"
 grep -q "same" "$scratch/kmeans_core.log" || { cat "$scratch/kmeans_core.log"; exit 1; }
+bash "$here/Testing/Benchmarks/riverland_bench.sh" "$build" 1 64 >"$scratch/riverland.log"
+grep -q "yes" "$scratch/riverland.log" && ! grep -q "NO" "$scratch/riverland.log" ||
+  { cat "$scratch/riverland.log"; exit 1; }
 bash "$here/Testing/Benchmarks/illumination_vs_grass.sh" "$build" "64" 80 >"$scratch/grass.log"
 grep -q "ratio" "$scratch/grass.log" || { cat "$scratch/grass.log"; exit 1; }
 bash "$here/Testing/Benchmarks/run_outputs.sh" "$build" 64 >"$scratch/run_outputs.log"
