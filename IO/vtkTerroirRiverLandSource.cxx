@@ -124,8 +124,8 @@ int vtkTerroirRiverLandSource::RequestData(vtkInformation*,
     return 0;
   }
   const int nx = p.width, ny = p.height;
-  // The generator's rasters (about 60 bytes a cell) and the output arrays (22).
-  const std::string memory = terroir::CheckMemory(82.0 * nx * ny, "the RiverLand terrain");
+  // The generator's rasters (about 90 bytes a cell) and the output arrays (19).
+  const std::string memory = terroir::CheckMemory(110.0 * nx * ny, "the RiverLand terrain");
   if (!memory.empty())
   {
     this->ErrorMessage = "vtkTerroirRiverLandSource: " + memory;

@@ -229,6 +229,17 @@ TEST(RiverLand, PruningRemovesSpuriousCellsNearTheBendAndKeepsTheRidge)
   EXPECT_EQ(after.medial[m.At(5, 15)], 1); // real: D = 15
   EXPECT_EQ(after.target[m.At(15, 5)], m.At(10, 10));
   EXPECT_EQ(after.target[m.At(17, 1)], m.At(10, 10)); // a land cell below the pruned ones
+  // Jensen's rule is "less than the threshold": 2D + 1 = 21 at D = 10 is kept by 21 and
+  // pruned by 22.
+  for (double threshold : { 21.0, 22.0 })
+  {
+    RiverLandParameters q = m.Params(true);
+    q.pruneThreshold = threshold;
+    RiverLand r;
+    ASSERT_TRUE(ShapeRiverLand(q, m.cls, m.height, m.down, m.depth, r, error));
+    EXPECT_EQ(r.medial[m.At(10, 10)], threshold == 21.0 ? 1 : 2) << threshold;
+    EXPECT_EQ(r.medialAfter, threshold == 21.0 ? 11 : 10) << threshold;
+  }
   // Threshold 0 prunes nothing.
   RiverLandParameters p = m.Params(true);
   p.pruneThreshold = 0.0;
