@@ -4,7 +4,7 @@
 # 8192^2 (Testing/Benchmarks/RiverLandTiming.cxx, linked against the built core library; best of
 # REPS runs, 1 and 2 threads, an island and a dense river network).
 #   Testing/Benchmarks/riverland_bench.sh [BUILD_DIR] [REPS] [SIZES...]
-# Defaults: build, 3 repetitions, 350 700 2048 8192 (8192^2 needs about 8 GB of memory).
+# Defaults: build, 3 repetitions, 350 700 2048 8192 (8192^2 peaks at about 6 GB of memory and takes about 4 minutes).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 build=${1:-$here/build}
