@@ -914,7 +914,7 @@ bool ShapeRiverLand(const RiverLandParameters& p,
       target[c] = c;
     else if (medial[c] == 2)
       target[c] = medial[next[c]] == 1 ? next[c] : target[next[c]];
-    else
+    else if (up[c] >= 0)
       target[c] = medial[up[c]] == 1 ? up[c] : target[up[c]];
   }
 
