@@ -126,6 +126,31 @@ class GenerateRiverLand(unittest.TestCase):
         self.assertEqual(r.returncode, 2)
         self.assertFalse(os.path.exists(out))
 
+    def test_placed_in_a_crs(self):
+        """With --crs the GeoTIFF is georeferenced (north up, the first cell's centre at
+        --origin) and the river lines carry the CRS, every vertex on a river cell of the
+        georeferenced river map."""
+        from osgeo import gdal
+        gdal.UseExceptions()
+        out, lines, rivers = self.path("geo.tif"), self.path("geo.geojson"), self.path("r.tif")
+        r = terroir("generate", "riverland", out, "--width", "96", "--height", "80", "--rivers",
+                    "4", "--crs", "EPSG:32631", "--origin", "600000,4100000", "--river-lines",
+                    lines, "--river-map", rivers)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        ds = gdal.Open(out)
+        gt = ds.GetGeoTransform()
+        self.assertEqual(gt, (600000 - 15.0, 30.0, 0.0, 4100000 + 79.5 * 30.0, 0.0, -30.0))
+        self.assertIn("32631", ds.GetSpatialRef().GetAuthorityCode(None))
+        river = gdal.Open(rivers).GetRasterBand(1).ReadAsArray()  # row 0 north
+        with open(lines) as f:
+            collection = json.load(f)
+        self.assertEqual(collection["crs"]["properties"]["name"], "EPSG:32631")
+        self.assertGreater(len(collection["features"]), 0)
+        for feature in collection["features"]:
+            for x, y in feature["geometry"]["coordinates"]:
+                row, col = int((gt[3] - y) // 30.0), int((x - gt[0]) // 30.0)
+                self.assertEqual(river[row, col], 1)
+
     def test_params_file_and_command_line(self):
         """The parameter file gives what the same options give; an option wins over it."""
         params = {"seed": 6, "width": 96, "height": 80, "rivers": 4}
