@@ -141,7 +141,8 @@ class GenerateRiverLand(unittest.TestCase):
         gt = ds.GetGeoTransform()
         self.assertEqual(gt, (600000 - 15.0, 30.0, 0.0, 4100000 + 79.5 * 30.0, 0.0, -30.0))
         self.assertIn("32631", ds.GetSpatialRef().GetAuthorityCode(None))
-        river = gdal.Open(rivers).GetRasterBand(1).ReadAsArray()  # row 0 north
+        river_ds = gdal.Open(rivers)  # kept open while its band is read
+        river = river_ds.GetRasterBand(1).ReadAsArray()  # row 0 north
         with open(lines) as f:
             collection = json.load(f)
         self.assertEqual(collection["crs"]["properties"]["name"], "EPSG:32631")
