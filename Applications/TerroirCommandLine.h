@@ -278,8 +278,12 @@ struct CommandLine
     std::string RiverLines;  ///< --river-lines FILE.geojson
     std::string CRS;         ///< --crs: a projected CRS GDAL takes (empty: none)
     std::vector<double> Origin{ 500000.0, 4000000.0 }; ///< --origin X,Y with --crs
-    int RiverLandThreads = 1;                          ///< riverland: --threads
-    std::string RiverLandParams; ///< riverland: the checked --params JSON (GenerateRiverLand.cxx)
+    /// `generate riverland`'s own settings (GenerateRiverLandOptions.cxx).
+    struct RiverLandSettings
+    {
+      int Threads = 1;    ///< --threads
+      std::string Params; ///< the checked --params JSON, less the keys the options override
+    } RiverLand;
   } Generate;
 
   // morphometry (vtkTerroirMorphometry)

@@ -78,7 +78,7 @@ public:
       ->add_option("--origin", g.Origin, "With --crs: world X,Y of the first cell (500000,4000000)")
       ->delimiter(',')
       ->expected(2);
-    sub->add_option("--threads", g.RiverLandThreads, "riverland: threads (same output on any)")
+    sub->add_option("--threads", g.RiverLand.Threads, "riverland: threads (same output on any)")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
     sub->add_flag("--overwrite", line.Overwrite, "Replace existing output files");

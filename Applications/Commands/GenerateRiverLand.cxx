@@ -44,8 +44,8 @@ int CommandGenerateRiverLand(const CommandLine& c)
   source->SetSpacing(g.Spacing);
   source->SetSeed(static_cast<unsigned long long>(g.Seed));
   source->SetRivers(g.Rivers);
-  source->SetThreads(g.RiverLandThreads);
-  source->SetParametersJSON(g.RiverLandParams.c_str());
+  source->SetThreads(g.RiverLand.Threads);
+  source->SetParametersJSON(g.RiverLand.Params.c_str());
   if (!g.CRS.empty())
   {
     source->SetCRS(g.CRS.c_str());

@@ -89,7 +89,7 @@ void CheckRiverLandOptions(CommandLine& line, const CLI::App& sub)
   {
     p.rivers = g.Rivers;
   }
-  p.threads = g.RiverLandThreads;
+  p.threads = g.RiverLand.Threads;
   std::string error;
   if (!terroir::generation::RiverLandParametersFromJson(j.dump(), p, error))
   {
@@ -101,7 +101,7 @@ void CheckRiverLandOptions(CommandLine& line, const CLI::App& sub)
   g.Height = p.height;
   g.Spacing = p.spacing;
   g.Rivers = p.rivers;
-  g.RiverLandParams = j.dump();
+  g.RiverLand.Params = j.dump();
 }
 
 } // namespace app

@@ -261,7 +261,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     const auto& g = line.Generate;
     Check(g.Kind == "island" || g.Kind == "riverland");
-    Check(g.RiverLandThreads >= 1 && g.RiverLandThreads <= 1024);
+    Check(g.RiverLand.Threads >= 1 && g.RiverLand.Threads <= 1024);
     Check(g.Width >= 8 && g.Width <= 65536 && g.Height >= 8 && g.Height <= 65536);
     Check(g.Regions >= 16 && g.Relaxations >= 0 && g.Relaxations <= 100 && g.Rivers >= 0);
     Check(Within(g.Spacing, 1e-3, 1e5) && Within(g.MaximumHeight, 1e-3, 1e5));
