@@ -12,7 +12,7 @@ build=$2
 only=${3:-}
 declare -A minimum=(
   [unit]=305 [pipeline]=193 [gpu]=71 [rendering]=44 [python]=19 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=44 [mpi]=31
+  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=50 [mpi]=37
 )
 status=0
 labels=("${!minimum[@]}")

@@ -215,8 +215,7 @@ int vtkTerroirFloodFill::RequestUpdateExtent(vtkInformation* request,
   vtkInformationVector** inputVector,
   vtkInformationVector* outputVector)
 {
-  this->DistributedRun = this->Mode == FillDepressions &&
-    GetDistributedController(outputVector->GetInformationObject(0)) != nullptr;
+  this->DistributedRun = GetDistributedController(outputVector->GetInformationObject(0)) != nullptr;
   return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
 }
 
@@ -276,15 +275,31 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
     return 0; // a GPU request: this filter has no GPU path
   }
 
-  // Seeds to cells, with every check before anything is allocated.
+  // Seeds to cells, with every check before anything is allocated. A distributed run places
+  // them in the whole extent (every rank alike) and checks the cells it owns.
   std::vector<hy::FloodSeed> seeds;
+  std::vector<hy::DistributedSeed> wholeSeeds;
+  std::vector<int> noData; // distributed: per seed, 1 when this rank owns its cell and it has none
   if (this->Mode == Seeds)
   {
-    int ext[6];
+    int ext[6], input6[6], owned[6] = { 0, -1, 0, -1, 0, -1 };
     double origin[3], spacing[3];
-    input->GetExtent(ext);
+    input->GetExtent(input6);
+    std::copy(input6, input6 + 6, ext);
     input->GetOrigin(origin);
     input->GetSpacing(spacing);
+    if (this->DistributedRun)
+    {
+      using SDDP = vtkStreamingDemandDrivenPipeline;
+      vtkInformation* outInfo = this->GetOutputInformation(0);
+      outInfo->Get(SDDP::WHOLE_EXTENT(), ext);
+      GetOwnedExtent(outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()),
+        outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()),
+        ext,
+        owned);
+    }
+    const int wnx = ext[1] - ext[0] + 1;
+    const int wny = ext[3] - ext[2] + 1;
     for (std::size_t s = 0; s < this->SeedList.size(); ++s)
     {
       const Seed& seed = this->SeedList[s];
@@ -295,13 +310,13 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
         ci = std::floor((seed.X - origin[0]) / spacing[0] + 0.5) - ext[0];
         cj = std::floor((seed.Y - origin[1]) / spacing[1] + 0.5) - ext[2];
       }
-      if (!(ci >= 0.0 && ci < v.nx && cj >= 0.0 && cj < v.ny))
+      if (!(ci >= 0.0 && ci < wnx && cj >= 0.0 && cj < wny))
       {
         std::string where;
         if (seed.IsCell)
         {
-          where = "the terrain of " + std::to_string(v.nx) + " x " + std::to_string(v.ny) +
-            " cells (i 0.." + std::to_string(v.nx - 1) + ", j 0.." + std::to_string(v.ny - 1) + ")";
+          where = "the terrain of " + std::to_string(wnx) + " x " + std::to_string(wny) +
+            " cells (i 0.." + std::to_string(wnx - 1) + ", j 0.." + std::to_string(wny - 1) + ")";
         }
         else
         {
@@ -319,6 +334,29 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
       }
       const int i = static_cast<int>(ci);
       const int j = static_cast<int>(cj);
+      if (this->DistributedRun)
+      {
+        // The rank that owns the cell checks it; the ranks all-reduce the answer below.
+        const int gi = i + ext[0];
+        const int gj = j + ext[2];
+        const bool mine = gi >= owned[0] && gi <= owned[1] && gj >= owned[2] && gj <= owned[3];
+        const std::size_t k = mine ? v.Index(gi - input6[0], gj - input6[2]) : 0;
+        noData.push_back(mine && !hy::HasData(v, k) ? 1 : 0);
+        if (mine && hy::HasData(v, k) && seed.HasLevel && seed.Level < v.data[k])
+        {
+          vtkWarningMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << ": level "
+                          << terroir::NumberText(seed.Level) << " m is below the terrain there ("
+                          << terroir::NumberText(v.data[k]) << " m); its water body is empty");
+        }
+        hy::DistributedSeed ds;
+        ds.cell = static_cast<std::int64_t>(j) * wnx + i;
+        if (seed.HasLevel)
+        {
+          ds.level = seed.Level;
+        }
+        wholeSeeds.push_back(ds);
+        continue;
+      }
       const std::size_t k = v.Index(i, j);
       if (!hy::HasData(v, k))
       {
@@ -355,7 +393,14 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
   float* dp = depth->GetPointer(0);
 
   std::vector<hy::WaterBodyStats> bodies;
-  if (this->Mode == Seeds)
+  if (this->Mode == Seeds && this->DistributedRun)
+  {
+    if (!this->FloodSeedsInPieces(input, v, wholeSeeds, noData, idp, dp, bodies))
+    {
+      return 0;
+    }
+  }
+  else if (this->Mode == Seeds)
   {
     bodies = hy::FloodFillSeeds(
       v, seeds, idp, dp, [this](double f) { this->UpdateProgress(0.05 + 0.9 * f); });
@@ -414,6 +459,55 @@ bool vtkTerroirFloodFill::FillDepressionsInPieces(vtkImageData* input,
   float* depth,
   std::vector<terroir::hydrology::WaterBodyStats>& bodies)
 {
+  return this->RunInPieces(input, view, nullptr, ids, depth, bodies);
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirFloodFill::FloodSeedsInPieces(vtkImageData* input,
+  const terroir::GridView<float>& view,
+  const std::vector<terroir::hydrology::DistributedSeed>& seeds,
+  const std::vector<int>& noData,
+  std::int32_t* ids,
+  float* depth,
+  std::vector<terroir::hydrology::WaterBodyStats>& bodies)
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  // A seed on a no-data cell is an error, as in a serial run: its owner knows, every rank hears.
+  vtkMultiProcessController* controller = GetDistributedController(this->GetOutputInformation(0));
+  std::vector<int> any(noData.size(), 0);
+  if (!controller ||
+    (!noData.empty() &&
+      !controller->AllReduce(
+        noData.data(), any.data(), static_cast<vtkIdType>(noData.size()), vtkCommunicator::MAX_OP)))
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << "the all-reduce of the seeds' cells failed");
+    return false;
+  }
+  int whole[6];
+  this->GetOutputInformation(0)->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  const long long wnx = whole[1] - whole[0] + 1;
+  for (std::size_t s = 0; s < any.size(); ++s)
+  {
+    if (any[s])
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << this->DescribeSeed(s) << " falls on cell ("
+                    << seeds[s].cell % wnx << ", " << seeds[s].cell / wnx
+                    << "), which holds no data");
+      return false;
+    }
+  }
+#endif
+  return this->RunInPieces(input, view, &seeds, ids, depth, bodies);
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirFloodFill::RunInPieces(vtkImageData* input,
+  const terroir::GridView<float>& view,
+  const std::vector<terroir::hydrology::DistributedSeed>* seeds,
+  std::int32_t* ids,
+  float* depth,
+  std::vector<terroir::hydrology::WaterBodyStats>& bodies)
+{
   namespace hy = terroir::hydrology;
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
   using SDDP = vtkStreamingDemandDrivenPipeline;
@@ -424,7 +518,7 @@ bool vtkTerroirFloodFill::FillDepressionsInPieces(vtkImageData* input,
     vtkErrorMacro(<< this->SourcePrefix(input) << "a distributed run without its controller");
     return false;
   }
-  vtkDebugMacro(<< "FillDepressions in pieces: " << hy::kPriorityFloodBarnes2016Citation);
+  vtkDebugMacro(<< "flood fill in pieces: " << hy::kPriorityFloodBarnes2016Citation);
   int whole[6], owned[6], e[6];
   outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
   GetOwnedExtent(outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()),
@@ -453,7 +547,9 @@ bool vtkTerroirFloodFill::FillDepressionsInPieces(vtkImageData* input,
   ControllerTileExchange exchange(controller);
   try
   {
-    hy::DistributedFillResult result = hy::FillDepressionsDistributed(in, options, exchange);
+    hy::DistributedFillResult result = seeds
+      ? hy::FloodFillSeedsDistributed(in, *seeds, exchange)
+      : hy::FillDepressionsDistributed(in, options, exchange);
     std::copy(result.bodyId.begin(), result.bodyId.end(), ids);
     std::copy(result.depth.begin(), result.depth.end(), depth);
     bodies = std::move(result.bodies);
@@ -470,6 +566,7 @@ bool vtkTerroirFloodFill::FillDepressionsInPieces(vtkImageData* input,
   return true;
 #else
   (void)view;
+  (void)seeds;
   (void)ids;
   (void)depth;
   (void)bodies;

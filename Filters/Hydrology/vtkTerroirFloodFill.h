@@ -39,7 +39,10 @@
  * Barnes (2016) (terroir::hydrology::FillDepressionsDistributed: only tile perimeters and
  * per-label summaries travel, to rank 0 and back); the filled surface, ids and depths equal
  * the serial run's bit for bit, the bodies' areas and volumes to ~1e-15 (order of the sums).
- * Seeds mode still computes the whole grid on every process and keeps its piece. Errors (one line,
+ * Seeds mode in pieces (terroir::hydrology::FloodFillSeedsDistributed): each piece labels the
+ * parts of {z <= a seed's level} on its cells, rank 0 joins them across pieces and picks each
+ * seed's; the same ids, depths and table as serially (seeds in the whole extent's cells or world
+ * coordinates; a seed on no data is an error on every rank). Errors (one line,
  * empty output): Seeds mode without seeds, a seed outside the terrain or on a no-data cell, a
  * non-finite seed level or coordinate, MinimumArea < 0.
  *
@@ -76,6 +79,7 @@ struct GridView;
 namespace hydrology
 {
 struct WaterBodyStats;
+struct DistributedSeed;
 }
 }
 
@@ -163,7 +167,7 @@ protected:
   vtkTerroirFloodFill();
   ~vtkTerroirFloodFill() override;
 
-  /// FillDepressions in a distributed run: the piece and one ring (Barnes 2016); else whole.
+  /// A distributed run: the piece and one ring (Barnes 2016's tiles); else the whole extent.
   int GetHaloWidth() override { return this->DistributedRun ? 1 : -1; }
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   bool HasGPUPath() override { return false; }
@@ -198,6 +202,22 @@ private:
   /// FillDepressions on this process's piece (Barnes 2016 through the global controller).
   bool FillDepressionsInPieces(vtkImageData* input,
     const terroir::GridView<float>& view,
+    std::int32_t* ids,
+    float* depth,
+    std::vector<terroir::hydrology::WaterBodyStats>& bodies);
+  /// Seeds on this process's piece; `noData` flags the seeds whose cell this rank owns and
+  /// has no data (all-reduced: every rank refuses them alike).
+  bool FloodSeedsInPieces(vtkImageData* input,
+    const terroir::GridView<float>& view,
+    const std::vector<terroir::hydrology::DistributedSeed>& seeds,
+    const std::vector<int>& noData,
+    std::int32_t* ids,
+    float* depth,
+    std::vector<terroir::hydrology::WaterBodyStats>& bodies);
+  /// Either distributed core (seeds null: depressions) through the global controller.
+  bool RunInPieces(vtkImageData* input,
+    const terroir::GridView<float>& view,
+    const std::vector<terroir::hydrology::DistributedSeed>* seeds,
     std::int32_t* ids,
     float* depth,
     std::vector<terroir::hydrology::WaterBodyStats>& bodies);

@@ -1,6 +1,6 @@
 """Checks a distributed run of DistributedChain.py (mpirun -np N pvbatch) against the same chain
 run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, package `terroir`):
-    CompareDistributed.py terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost N DEM OUT_DIR
+    CompareDistributed.py terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost|seeds N DEM OUT_DIR
 - the pieces of OUT_DIR/chain.pvti, reassembled by VTK 9.1's vtkXMLPImageDataReader, give the
   serial arrays bit for bit (besides the all-zero vtkGhostType ParaView's writer adds) (the same cores on the same cells in the same order: a piece's
   cells see the same neighbours through their ghost layer); `vtkValidPointMask`, which the
@@ -18,7 +18,8 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
 - lakes (flood fill, FillDepressions in pieces, Barnes 2016): WaterBody and WaterDepth bit for
   bit, every rank's table of water bodies equal to the serial one (levels, cell counts, depths
   exact; areas and volumes within LAKE_RTOL), and on 4 ranks a lake of the serial run lying in
-  more than one piece; lakesghost: the same with a slope after it (reader: 2 cells).
+  more than one piece; lakesghost: the same with a slope after it (reader: 2 cells); seeds
+  (flood fill from two seeds in pieces): the same checks.
 Fails (exit 1) with one line per problem."""
 import filecmp
 import json
@@ -37,7 +38,7 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 # iteration and 1 more for the heights of no-data cells beside them.
 # The flood fill reads its piece and one ring (its perimeter's neighbours), one more for a slope.
 GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'lakes': 1,
-         'lakesghost': 2}
+         'lakesghost': 2, 'seeds': 1}
 # Water flow: the run's volumes are sums over the cells that each process adds for its own
 # cells before the processes' sums are added in rank order, another order than the serial
 # rows (doubles, ~1e-16 relative per addition, over up to 1e4 iterations).
@@ -77,6 +78,10 @@ def serial(recipe, dem):
     if recipe in ('lakes', 'lakesghost'):
         stages = [terroir.vtkTerroirFloodFill()]
         stages[0].SetModeToFillDepressions()
+    if recipe == 'seeds':
+        stages = [terroir.vtkTerroirFloodFill()]
+        for x, y in ((215365.0, 4371215.0), (220005.0, 4368475.0)):  # DistributedChain.SEEDS
+            stages[0].AddSeedPoint(x, y)
     if recipe == 'lakesghost':
         stages.append(terroir.vtkTerroirSlope())
     if recipe == 'flowghost':
@@ -221,7 +226,7 @@ def main():
                 if not ok:
                     problems.append('%s: pieces %r, serial %r' % (name, have, value))
 
-    if recipe in ('lakes', 'lakesghost'):
+    if recipe in ('lakes', 'lakesghost', 'seeds'):
         fy = expected.GetFieldData()
         want = {name: [fy.GetArray(name).GetTuple1(i)
                        for i in range(fy.GetArray(name).GetNumberOfTuples())]

@@ -2,14 +2,15 @@
 builds the same pipeline, ParaView's parallel image writer writes one piece per rank (.pvti), and
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
-        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost
+        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost|seeds
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
 zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
 flow (Pulse, defaults: a halo exchanged every iteration, the stop rule's sums all-gathered);
 flowghost: flow, then slope (the water flow asked for a ghost layer); lakes: DEM -> flood fill
 (FillDepressions: Barnes 2016's parallel Priority-Flood, the water bodies joined across the
-pieces); lakesghost: lakes, then slope (the flood fill asked for a ghost layer).
+pieces); lakesghost: lakes, then slope (the flood fill asked for a ghost layer); seeds: DEM ->
+flood fill (Seeds: Independence Lake's cell and a cell in another piece, at the terrain height).
 OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
 rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
 the whole grid on every rank and rank 0 writes), and
@@ -43,6 +44,9 @@ def main():
             # and the cells it gives back beyond its piece must be right too.
             last = TerroirSlope(Input=last)  # noqa: F821
         return write(reader, last, out_dir, recipe)
+    if recipe == 'seeds':
+        last = TerroirFloodFill(Input=reader, Mode='Seeds', SeedPoints=SEEDS)  # noqa: F821
+        return write(reader, last, out_dir, recipe)
     if recipe in ('lakes', 'lakesghost'):
         # Depressions filled on each piece and a ring of one cell; rank 0 floods the graph of
         # the pieces' spill levels and joins the lakes that cross piece boundaries.
@@ -61,9 +65,14 @@ def main():
         # that layer, and must still count each point once.
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
-        raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, lakes or '
-                         'lakesghost, not ' + recipe)
+        raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, lakes, '
+                         'lakesghost or seeds, not ' + recipe)
     return write(reader, last, out_dir, recipe)
+
+
+# Seeds recipe: Independence Lake (cell 138, 474 of the bundled DEM: the lake's flat, 23,531
+# cells, crosses the row the 4 pieces share) and a cell of the south-east piece.
+SEEDS = [215365.0, 4371215.0, 220005.0, 4368475.0]
 
 
 def smp_threads():
@@ -131,7 +140,7 @@ def write(reader, last, out_dir, recipe):
                          'WaterFlowOutflowVolume', 'WaterFlowMovedVolume')}
         record['water_flow']['WaterFlowStopReason'] = \
             fd.GetAbstractArray('WaterFlowStopReason').GetValue(0)
-    if recipe in ('lakes', 'lakesghost'):
+    if recipe in ('lakes', 'lakesghost', 'seeds'):
         # The water bodies' table (field data): every rank holds the whole grid's.
         fd = local.GetFieldData()
         record['water_bodies'] = {

@@ -5,6 +5,7 @@
 // against a brute force and by hand in TestFloodFill.cxx).
 #include "DepressionWaterBodies.h"
 #include "DistributedPriorityFlood.h"
+#include "FloodFill.h"
 #include "PriorityFlood.h"
 
 #include <gtest/gtest.h>
@@ -156,16 +157,18 @@ struct Outcome
 {
   std::vector<TileCopy> copies;
   std::vector<hy::DistributedFillResult> results;
-  std::vector<std::string> errors; ///< per rank: the exception's message, or empty
+  std::vector<std::string> errors;    ///< per rank: the exception's message, or empty
   std::vector<std::size_t> sentBytes; ///< per rank: what it sent to rank 0
 };
 
-/// Runs every tile on its own thread; tile r sees its box grown by `halo` (clipped).
+/// Runs every tile on its own thread; tile r sees its box grown by `halo` (clipped). With
+/// `seeds`, the seed flood fill, else the depressions.
 Outcome RunTiles(const Terrain& w,
   const std::vector<hy::TileBox>& owned,
   int reach,
   int halo,
-  const hy::DepressionWaterBodyOptions& options)
+  const hy::DepressionWaterBodyOptions& options,
+  const std::vector<hy::DistributedSeed>* seeds = nullptr)
 {
   const int ranks = static_cast<int>(owned.size());
   Outcome out;
@@ -201,7 +204,8 @@ Outcome RunTiles(const Terrain& w,
         in.reach = reach;
         try
         {
-          out.results[r] = hy::FillDepressionsDistributed(in, options, exchange);
+          out.results[r] = seeds ? hy::FloodFillSeedsDistributed(in, *seeds, exchange)
+                                 : hy::FillDepressionsDistributed(in, options, exchange);
         }
         catch (const std::exception& e)
         {
@@ -476,4 +480,91 @@ TEST(DistributedPriorityFlood, SendsPerimetersNotTiles)
     const double perimeter = 2.0 * 240; // two inner edges of a corner tile
     EXPECT_LT(static_cast<double>(out.sentBytes[r]), 200.0 * perimeter) << "rank " << r;
   }
+}
+
+// The seed flood fill in tiles: 40 random terrains (flats, no data), 1 to 5 seeds each (levels
+// given or the terrain's, some below the terrain, some on no data, some inside another's body),
+// 1 to 16 uneven tiles: ids, depths and the seeds' table equal FloodFillSeeds on the whole
+// grid, on every owned and ring cell.
+TEST(DistributedPriorityFlood, SeedsEqualSerialOnRandomTerrains)
+{
+  std::mt19937_64 rng(1990);
+  int crossing = 0;
+  for (int t = 0; t < 40; ++t)
+  {
+    const int nx = 4 + static_cast<int>(rng() % 36);
+    const int ny = 4 + static_cast<int>(rng() % 36);
+    const Terrain w = RandomTerrain(rng, nx, ny, t % 2 == 0, t % 3 == 0 ? 60 : 0);
+    const std::vector<hy::TileBox> boxes = Blocks(Cuts(rng, nx, 1 + static_cast<int>(rng() % 4)),
+      Cuts(rng, ny, 1 + static_cast<int>(rng() % 4)));
+    std::vector<hy::DistributedSeed> seeds(1 + rng() % 5);
+    std::vector<hy::FloodSeed> serialSeeds;
+    for (hy::DistributedSeed& seed : seeds)
+    {
+      seed.cell = static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(nx * ny));
+      const int kind = static_cast<int>(rng() % 3);
+      const float z = w.z[static_cast<std::size_t>(seed.cell)];
+      const float top = t % 2 == 0 ? 8.0f : 125.0f;
+      seed.level = kind == 0 ? std::numeric_limits<double>::quiet_NaN()
+        : kind == 1          ? top * (0.3 + 0.6 * static_cast<double>(rng() % 1000) / 1000.0)
+                             : (std::isnan(z) ? 50.0 : static_cast<double>(z) - 0.5);
+      hy::FloodSeed f;
+      f.cell = static_cast<std::size_t>(seed.cell);
+      f.level = seed.level;
+      serialSeeds.push_back(f);
+    }
+    const GridView<float> v = w.View();
+    std::vector<std::int32_t> id(v.Size());
+    std::vector<float> depth(v.Size());
+    const std::vector<hy::WaterBodyStats> bodies =
+      hy::FloodFillSeeds(v, serialSeeds, id.data(), depth.data());
+    const int reach = 1 + t % 2;
+    const Outcome out = RunTiles(w, boxes, reach, reach + 1, {}, &seeds);
+    const std::string what = "terrain " + std::to_string(t);
+    std::vector<std::vector<int>> tilesOf(seeds.size() + 1);
+    for (std::size_t r = 0; r < boxes.size(); ++r)
+    {
+      ASSERT_EQ(out.errors[r], "") << what;
+      const hy::DistributedFillResult& got = out.results[r];
+      ASSERT_EQ(got.bodies.size(), bodies.size()) << what;
+      for (std::size_t b = 0; b < bodies.size(); ++b)
+      {
+        EXPECT_TRUE(
+          SameFloat(static_cast<float>(got.bodies[b].level), static_cast<float>(bodies[b].level)))
+          << what << " seed " << b + 1;
+        EXPECT_EQ(got.bodies[b].cells, bodies[b].cells) << what << " seed " << b + 1;
+        EXPECT_EQ(got.bodies[b].maxDepth, bodies[b].maxDepth) << what << " seed " << b + 1;
+        EXPECT_NEAR(got.bodies[b].area, bodies[b].area, 1e-12 * bodies[b].area);
+        EXPECT_NEAR(got.bodies[b].volume, bodies[b].volume, 1e-12 * bodies[b].volume + 1e-300);
+      }
+      if (boxes[r].Cells() == 0)
+      {
+        continue;
+      }
+      const TileCopy& c = out.copies[r];
+      for (int j = std::max(0, boxes[r].j0 - reach); j <= std::min(ny - 1, boxes[r].j1 + reach);
+           ++j)
+      {
+        for (int i = std::max(0, boxes[r].i0 - reach); i <= std::min(nx - 1, boxes[r].i1 + reach);
+             ++i)
+        {
+          const std::size_t k = static_cast<std::size_t>(j) * nx + i;
+          const std::size_t q = static_cast<std::size_t>(j - c.gj0) * c.t.nx + (i - c.gi0);
+          EXPECT_EQ(got.bodyId[q], id[k]) << what << " rank " << r << " (" << i << ", " << j << ")";
+          EXPECT_TRUE(SameFloat(got.depth[q], depth[k]))
+            << what << " rank " << r << " (" << i << ", " << j << ")";
+          if (boxes[r].Contains(i, j) && id[k] > 0 &&
+            (tilesOf[id[k]].empty() || tilesOf[id[k]].back() != static_cast<int>(r)))
+          {
+            tilesOf[id[k]].push_back(static_cast<int>(r));
+          }
+        }
+      }
+    }
+    for (const std::vector<int>& held : tilesOf)
+    {
+      crossing += held.size() > 1 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(crossing, 10); // bodies that more than one tile holds part of
 }

@@ -888,5 +888,496 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
   }
 }
 
+namespace
+{
+struct SeedCell
+{
+  std::int32_t seed;
+  std::uint8_t data;
+  float z;
+};
+
+struct SeedBand
+{
+  std::int64_t cell; ///< whole-grid row-major index
+  std::int32_t seed;
+  std::int32_t component; ///< this tile's component under the seed's level (sent index)
+};
+
+struct SeedComponent
+{
+  std::int32_t seedCell; ///< index into the tile's SeedCell list
+  std::int32_t seed;
+  std::int32_t component; ///< that seed cell's component under this seed's level, or -1
+};
+} // namespace
+
+DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
+  const std::vector<DistributedSeed>& seeds,
+  TileExchange& exchange)
+{
+  const int ranks = exchange.Size();
+  const bool root = exchange.Rank() == 0;
+  const Tile tile(in);
+  const TileBox& owned = in.owned;
+  const std::size_t ownedCells = static_cast<std::size_t>(owned.Cells());
+  const int nx = in.wholeNx;
+  const int ny = in.wholeNy;
+  const auto nSeeds = static_cast<std::int32_t>(seeds.size());
+
+  // ---- 1. The seed cells this tile holds; rank 0 resolves the levels and the order.
+  std::string problem = CheckTile(in);
+  for (std::int32_t s = 0; s < nSeeds && problem.empty(); ++s)
+  {
+    if (seeds[s].cell < 0 || seeds[s].cell >= static_cast<std::int64_t>(nx) * ny)
+    {
+      problem = "seed " + std::to_string(s + 1) + " lies outside the grid";
+    }
+  }
+  std::vector<SeedCell> mine;
+  for (std::int32_t s = 0; s < nSeeds && problem.empty(); ++s)
+  {
+    const int gi = static_cast<int>(seeds[s].cell % nx);
+    const int gj = static_cast<int>(seeds[s].cell / nx);
+    if (owned.Contains(gi, gj))
+    {
+      const bool data = tile.Data(gi, gj);
+      mine.push_back(SeedCell{ s,
+        static_cast<std::uint8_t>(data ? 1 : 0),
+        data ? in.view.data[tile.ViewIndex(gi, gj)] : kNaN });
+    }
+  }
+  Writer w1;
+  w1.Put<std::uint8_t>(problem.empty() ? 0 : 1);
+  w1.PutString(problem);
+  w1.Put(owned);
+  w1.Put<std::int32_t>(nx);
+  w1.Put<std::int32_t>(ny);
+  w1.Put<std::int32_t>(in.reach);
+  w1.PutVector(mine);
+  const std::vector<std::vector<char>> all1 = exchange.Gather(w1.Bytes);
+  std::vector<std::vector<char>> replies1;
+  std::vector<TileBox> boxes;
+  std::vector<std::int32_t> reaches;
+  std::vector<std::vector<SeedCell>> seedCells;
+  std::vector<double> level(seeds.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<std::uint8_t> starts(seeds.size(), 0);
+  std::vector<std::int32_t> ownerOf(seeds.size(), -1), slotOf(seeds.size(), -1);
+  if (root)
+  {
+    std::string why;
+    for (int t = 0; t < ranks && why.empty(); ++t)
+    {
+      Reader r(all1.at(static_cast<std::size_t>(t)));
+      const bool failed = r.Get<std::uint8_t>() != 0;
+      const std::string message = r.GetString();
+      if (failed)
+      {
+        why = "rank " + std::to_string(t) + ": " + message;
+        break;
+      }
+      boxes.push_back(r.Get<TileBox>());
+      const auto wnx = r.Get<std::int32_t>();
+      const auto wny = r.Get<std::int32_t>();
+      reaches.push_back(r.Get<std::int32_t>());
+      seedCells.push_back(r.GetVector<SeedCell>());
+      if (wnx != nx || wny != ny)
+      {
+        why = "rank " + std::to_string(t) + " sees another grid size than rank 0";
+      }
+    }
+    if (why.empty())
+    {
+      why = CheckPartition(boxes, nx, ny);
+    }
+    for (int t = 0; t < ranks && why.empty(); ++t)
+    {
+      for (std::size_t k = 0; k < seedCells[t].size(); ++k)
+      {
+        const SeedCell& c = seedCells[t][k];
+        if (c.seed < 0 || c.seed >= nSeeds)
+        {
+          throw std::runtime_error("FloodFillSeedsDistributed: a seed cell names an unknown seed");
+        }
+        ownerOf[c.seed] = t;
+        slotOf[c.seed] = static_cast<std::int32_t>(k);
+        level[c.seed] = !std::isnan(seeds[c.seed].level) ? seeds[c.seed].level
+          : c.data                                       ? static_cast<double>(c.z)
+                                                         : level[c.seed];
+        starts[c.seed] = c.data && static_cast<double>(c.z) <= level[c.seed] ? 1 : 0;
+      }
+    }
+    Writer reply;
+    if (!why.empty())
+    {
+      replies1 = FailAll(ranks, why);
+    }
+    else
+    {
+      reply.Put<std::uint8_t>(0);
+      reply.Put<std::int32_t>(*std::max_element(reaches.begin(), reaches.end()));
+      reply.PutVector(level);
+      replies1.assign(static_cast<std::size_t>(ranks), reply.Bytes);
+    }
+  }
+  {
+    const std::vector<char> got = exchange.Scatter(replies1);
+    Reader r(got);
+    CheckStatus(r);
+    const auto reachAll = r.Get<std::int32_t>();
+    level = r.GetVector<double>();
+    if (level.size() != seeds.size() || reachAll < in.reach)
+    {
+      throw std::runtime_error("FloodFillSeedsDistributed: rank 0's levels do not match");
+    }
+    // The serial order: highest level first, ties in seed order, seeds without a level last.
+    std::vector<std::int32_t> order(seeds.size());
+    std::iota(order.begin(), order.end(), 0);
+    const auto key = [&](std::int32_t s)
+    { return std::isnan(level[s]) ? -std::numeric_limits<double>::infinity() : level[s]; };
+    std::stable_sort(
+      order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) { return key(a) > key(b); });
+
+    // ---- 2. Per seed, the tile's components of {data, z <= level}; those rank 0 needs.
+    const auto inMask = [&](std::size_t o, double l)
+    {
+      const int gi = owned.i0 + static_cast<int>(o % static_cast<std::size_t>(tile.ox));
+      const int gj = owned.j0 + static_cast<int>(o / static_cast<std::size_t>(tile.ox));
+      const std::size_t k = tile.ViewIndex(gi, gj);
+      return HasData(in.view, k) && static_cast<double>(in.view.data[k]) <= l;
+    };
+    const auto near = [&](int gi, int gj)
+    {
+      return (owned.i0 > 0 && gi - owned.i0 < reachAll) ||
+        (owned.i1 < nx - 1 && owned.i1 - gi < reachAll) ||
+        (owned.j0 > 0 && gj - owned.j0 < reachAll) ||
+        (owned.j1 < ny - 1 && owned.j1 - gj < reachAll);
+    };
+    std::vector<std::vector<std::int32_t>> component(seeds.size()); // sent index per owned cell
+    std::vector<std::vector<WaterBodyStats>> sentStats(seeds.size());
+    std::vector<SeedBand> band;
+    std::vector<SeedComponent> seedComponents;
+    std::vector<std::int32_t> queue;
+    for (std::int32_t s = 0; s < nSeeds && ownedCells > 0; ++s)
+    {
+      const double l = level[s];
+      if (std::isnan(l))
+      {
+        continue;
+      }
+      std::vector<std::int32_t>& comp = component[s];
+      comp.assign(ownedCells, -1);
+      std::vector<WaterBodyStats> stats;
+      for (std::size_t first = 0; first < ownedCells; ++first)
+      {
+        if (comp[first] >= 0 || !inMask(first, l))
+        {
+          continue;
+        }
+        const auto id = static_cast<std::int32_t>(stats.size());
+        WaterBodyStats body;
+        body.level = l;
+        comp[first] = id;
+        queue.assign(1, static_cast<std::int32_t>(first));
+        for (std::size_t head = 0; head < queue.size(); ++head)
+        {
+          const std::int32_t c = queue[head];
+          const int ci = owned.i0 + c % tile.ox;
+          const int cj = owned.j0 + c / tile.ox;
+          const int vj = cj - in.gj0;
+          body.AddCell(in.view.DxAt(vj) * in.view.DyAt(vj),
+            l - static_cast<double>(in.view.data[tile.ViewIndex(ci, cj)]));
+          for (int e = 0; e < 8; ++e)
+          {
+            const int ii = ci + detail::kNeighbourDi[e];
+            const int jj = cj + detail::kNeighbourDj[e];
+            if (!owned.Contains(ii, jj))
+            {
+              continue;
+            }
+            const std::size_t k = tile.Owned(ii, jj);
+            if (comp[k] < 0 && inMask(k, l))
+            {
+              comp[k] = id;
+              queue.push_back(static_cast<std::int32_t>(k));
+            }
+          }
+        }
+        stats.push_back(body);
+      }
+      // Sent: the components with a band cell or a seed cell; the others wet nothing.
+      std::vector<std::int32_t> sent(stats.size(), -1);
+      const auto send = [&](std::int32_t c)
+      {
+        if (sent[c] < 0)
+        {
+          sent[c] = static_cast<std::int32_t>(sentStats[s].size());
+          sentStats[s].push_back(stats[c]);
+        }
+        return sent[c];
+      };
+      for (int gj = owned.j0; gj <= owned.j1; ++gj)
+      {
+        for (int gi = owned.i0; gi <= owned.i1; ++gi)
+        {
+          const std::size_t o = tile.Owned(gi, gj);
+          if (comp[o] >= 0 && near(gi, gj))
+          {
+            band.push_back(SeedBand{ tile.Global(gi, gj), s, send(comp[o]) });
+          }
+        }
+      }
+      for (std::size_t k = 0; k < mine.size(); ++k)
+      {
+        const int gi = static_cast<int>(seeds[mine[k].seed].cell % nx);
+        const int gj = static_cast<int>(seeds[mine[k].seed].cell / nx);
+        const std::int32_t c = comp[tile.Owned(gi, gj)];
+        seedComponents.push_back(
+          SeedComponent{ static_cast<std::int32_t>(k), s, c >= 0 ? send(c) : -1 });
+      }
+      for (std::int32_t& c : comp)
+      {
+        c = c >= 0 ? sent[c] : -1;
+      }
+    }
+    Writer w2;
+    for (std::int32_t s = 0; s < nSeeds; ++s)
+    {
+      w2.PutVector(sentStats[s]);
+    }
+    w2.PutVector(band);
+    w2.PutVector(seedComponents);
+    const std::vector<std::vector<char>> all2 = exchange.Gather(w2.Bytes);
+
+    // ---- 3. Rank 0: components joined across tiles per seed; the seeds' bodies in order.
+    std::vector<std::vector<char>> replies2;
+    if (root)
+    {
+      std::vector<std::vector<std::vector<WaterBodyStats>>> tileStats(
+        static_cast<std::size_t>(ranks));
+      std::vector<std::vector<SeedBand>> bands(static_cast<std::size_t>(ranks));
+      std::vector<std::vector<SeedComponent>> seedComps(static_cast<std::size_t>(ranks));
+      // Node of (seed, tile, component): base[s][t] + component.
+      std::vector<std::vector<std::int64_t>> base(
+        seeds.size(), std::vector<std::int64_t>(static_cast<std::size_t>(ranks) + 1, 0));
+      for (int t = 0; t < ranks; ++t)
+      {
+        Reader r2(all2.at(static_cast<std::size_t>(t)));
+        for (std::int32_t s = 0; s < nSeeds; ++s)
+        {
+          tileStats[t].push_back(r2.GetVector<WaterBodyStats>());
+        }
+        bands[t] = r2.GetVector<SeedBand>();
+        seedComps[t] = r2.GetVector<SeedComponent>();
+      }
+      std::int64_t nodes = 0;
+      for (std::int32_t s = 0; s < nSeeds; ++s)
+      {
+        for (int t = 0; t <= ranks; ++t)
+        {
+          base[s][t] = nodes;
+          nodes += t < ranks ? static_cast<std::int64_t>(tileStats[t][s].size()) : 0;
+        }
+      }
+      const auto check = [&](int t, std::int32_t s, std::int32_t c)
+      {
+        if (s < 0 || s >= nSeeds || c < 0 || static_cast<std::size_t>(c) >= tileStats[t][s].size())
+        {
+          throw std::runtime_error("FloodFillSeedsDistributed: a message names an unknown "
+                                   "component");
+        }
+        return base[s][t] + c;
+      };
+      std::unordered_map<std::int64_t, std::pair<int, std::int32_t>> where; // cell*S+s
+      for (int t = 0; t < ranks; ++t)
+      {
+        for (const SeedBand& b : bands[t])
+        {
+          check(t, b.seed, b.component);
+          where.emplace(b.cell * nSeeds + b.seed, std::make_pair(t, b.component));
+        }
+      }
+      Groups groups(static_cast<std::size_t>(nodes));
+      for (int t = 0; t < ranks; ++t)
+      {
+        for (const SeedBand& b : bands[t])
+        {
+          const int gi = static_cast<int>(b.cell % nx);
+          const int gj = static_cast<int>(b.cell / nx);
+          for (int e = 0; e < 8; ++e)
+          {
+            const int ii = gi + detail::kNeighbourDi[e];
+            const int jj = gj + detail::kNeighbourDj[e];
+            if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || boxes[t].Contains(ii, jj))
+            {
+              continue;
+            }
+            const auto it = where.find((static_cast<std::int64_t>(jj) * nx + ii) * nSeeds + b.seed);
+            if (it != where.end())
+            {
+              groups.Join(
+                base[b.seed][t] + b.component, base[b.seed][it->second.first] + it->second.second);
+            }
+          }
+        }
+      }
+      // The component of seed u's cell under seed s's level, as a node (-1: not in the mask).
+      const auto seedNode = [&](std::int32_t u, std::int32_t s) -> std::int64_t
+      {
+        const int t = ownerOf[u];
+        for (const SeedComponent& c : seedComps[t])
+        {
+          if (c.seedCell == slotOf[u] && c.seed == s)
+          {
+            return c.component < 0 ? -1 : groups.Find(check(t, s, c.component));
+          }
+        }
+        return -1;
+      };
+      std::vector<std::int64_t> wet(seeds.size(), -1); // each seed's group, -1 when empty
+      std::vector<WaterBodyStats> bodies(seeds.size());
+      for (std::size_t k = 0; k < order.size(); ++k)
+      {
+        const std::int32_t s = order[k];
+        bodies[s].level = level[s];
+        if (!starts[s])
+        {
+          continue; // no data, no level, or the terrain above the level
+        }
+        bool joins = false;
+        for (std::size_t e = 0; e < k && !joins; ++e)
+        {
+          const std::int32_t t = order[e];
+          joins = wet[t] >= 0 && seedNode(s, t) == wet[t];
+        }
+        if (!joins)
+        {
+          wet[s] = seedNode(s, s);
+        }
+      }
+      for (std::int32_t s = 0; s < nSeeds; ++s)
+      {
+        for (int t = 0; t < ranks && wet[s] >= 0; ++t)
+        {
+          for (std::size_t c = 0; c < tileStats[t][s].size(); ++c)
+          {
+            if (groups.Find(base[s][t] + static_cast<std::int64_t>(c)) != wet[s])
+            {
+              continue;
+            }
+            const WaterBodyStats& a = tileStats[t][s][c];
+            bodies[s].cells += a.cells;
+            bodies[s].area += a.area;
+            bodies[s].volume += a.volume;
+            bodies[s].maxDepth = std::max(bodies[s].maxDepth, a.maxDepth);
+          }
+        }
+      }
+      for (int t = 0; t < ranks; ++t)
+      {
+        Writer reply;
+        for (std::int32_t s = 0; s < nSeeds; ++s)
+        {
+          std::vector<std::uint8_t> wetComponent(tileStats[t][s].size(), 0);
+          for (std::size_t c = 0; c < wetComponent.size() && wet[s] >= 0; ++c)
+          {
+            wetComponent[c] =
+              groups.Find(base[s][t] + static_cast<std::int64_t>(c)) == wet[s] ? 1 : 0;
+          }
+          reply.PutVector(wetComponent);
+        }
+        std::vector<std::int32_t> ringBody;
+        const TileBox ring = Grow(boxes[t], reaches[t], nx, ny);
+        for (int jj = ring.j0; jj <= ring.j1 && boxes[t].Cells() > 0; ++jj)
+        {
+          for (int ii = ring.i0; ii <= ring.i1; ++ii)
+          {
+            if (boxes[t].Contains(ii, jj))
+            {
+              continue;
+            }
+            std::int32_t body = 0;
+            for (std::size_t k = 0; k < order.size() && body == 0; ++k)
+            {
+              const std::int32_t s = order[k];
+              const auto it = where.find((static_cast<std::int64_t>(jj) * nx + ii) * nSeeds + s);
+              if (wet[s] >= 0 && it != where.end() &&
+                groups.Find(base[s][it->second.first] + it->second.second) == wet[s])
+              {
+                body = s + 1;
+              }
+            }
+            ringBody.push_back(body);
+          }
+        }
+        reply.PutVector(ringBody);
+        reply.PutVector(bodies);
+        replies2.push_back(std::move(reply.Bytes));
+      }
+    }
+    const std::vector<char> mine2 = exchange.Scatter(replies2);
+
+    // ---- 4. This tile's cells and its ring: the first seed in order whose body holds them.
+    Reader r2(mine2);
+    std::vector<std::vector<std::uint8_t>> wetComponent;
+    for (std::int32_t s = 0; s < nSeeds; ++s)
+    {
+      wetComponent.push_back(r2.GetVector<std::uint8_t>());
+      if (wetComponent[s].size() != sentStats[s].size())
+      {
+        throw std::runtime_error("FloodFillSeedsDistributed: rank 0's bodies do not match "
+                                 "this tile");
+      }
+    }
+    const std::vector<std::int32_t> ringBody = r2.GetVector<std::int32_t>();
+    DistributedFillResult result;
+    result.bodies = r2.GetVector<WaterBodyStats>();
+    const std::size_t n = in.view.Size();
+    result.filled.assign(n, kNaN);
+    result.bodyId.assign(n, 0);
+    result.depth.assign(n, kNaN);
+    const auto set = [&](int gi, int gj, std::int32_t body)
+    {
+      const std::size_t k = tile.ViewIndex(gi, gj);
+      if (!HasData(in.view, k))
+      {
+        return;
+      }
+      result.bodyId[k] = body;
+      result.depth[k] = body > 0
+        ? static_cast<float>(level[body - 1] - static_cast<double>(in.view.data[k]))
+        : 0.0f;
+    };
+    std::size_t next = 0;
+    const TileBox ring = Grow(owned, in.reach, nx, ny);
+    for (int gj = ring.j0; gj <= ring.j1 && ownedCells > 0; ++gj)
+    {
+      for (int gi = ring.i0; gi <= ring.i1; ++gi)
+      {
+        if (!owned.Contains(gi, gj))
+        {
+          if (next >= ringBody.size())
+          {
+            throw std::runtime_error("FloodFillSeedsDistributed: rank 0's ring does not match "
+                                     "this tile");
+          }
+          set(gi, gj, ringBody[next++]);
+          continue;
+        }
+        const std::size_t o = tile.Owned(gi, gj);
+        std::int32_t body = 0;
+        for (std::size_t k = 0; k < order.size() && body == 0; ++k)
+        {
+          const std::int32_t s = order[k];
+          const std::int32_t c = component[s].empty() ? -1 : component[s][o];
+          body = c >= 0 && wetComponent[s][c] ? s + 1 : 0;
+        }
+        set(gi, gj, body);
+      }
+    }
+    return result;
+  }
+}
+
 } // namespace hydrology
 } // namespace terroir

@@ -62,6 +62,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace terroir
@@ -138,6 +139,33 @@ struct DistributedFillResult
  */
 DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& input,
   const DepressionWaterBodyOptions& options,
+  TileExchange& exchange);
+
+/// A seed of FloodFillSeedsDistributed: a cell of the whole grid and its level.
+struct DistributedSeed
+{
+  std::int64_t cell = 0; ///< whole-grid row-major index j * wholeNx + i
+  /// Water surface, metres; NaN (the default) means the terrain height at the seed cell.
+  double level = std::numeric_limits<double>::quiet_NaN();
+};
+
+/**
+ * @brief FloodFillSeeds (FloodFill.h) on a grid split into tiles: the same bodies, ids, depths
+ *        and table (areas and volumes to the order of their sums).
+ *
+ * Every seed's body is the connected part of {cells with data, z <= its level} that holds its
+ * cell (seeds taken from the highest level down, a seed already wet joining that body, as the
+ * serial code; a lower seed can never reach a higher one's cells). Rank 0 first resolves the
+ * levels from the tiles that hold the seed cells; each tile then labels, per seed level, the
+ * components of that set on its cells and sends those that reach its band or hold a seed cell;
+ * rank 0 joins them across tiles (union-find over the bands, as the water bodies of
+ * FillDepressionsDistributed) and picks each seed's component. Cost: one labelling of the tile
+ * per seed (O(seeds x cells)), two gathers and two replies. `filled` stays NaN.
+ * @throws as FillDepressionsDistributed; also when a seed cell lies outside the grid
+ * @correctness Testing/Unit/TestDistributedPriorityFlood.cxx, SeedsEqualSerialOnRandomTerrains
+ */
+DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& input,
+  const std::vector<DistributedSeed>& seeds,
   TileExchange& exchange);
 
 } // namespace hydrology
