@@ -51,7 +51,9 @@
  * fixed point on 50 random terrains), Testing/Pipeline/TestTerroirFloodFill.cxx (Independence
  * Lake on the bundled Sagehen DEM found by both modes; arrays, units, errors),
  * Testing/Pipeline/TestDeterminism.cxx, Testing/Python/TestFloodFill.py (the lake equals an
- * independent breadth-first fill in Python).
+ * independent breadth-first fill in Python); in pieces: Testing/Unit/
+ * TestDistributedPriorityFlood.cxx (threads as ranks) and ParaView/Testing's
+ * Distributed.lakes|lakesghost|seeds (mpirun -np 1, 2, 4 pvbatch against the serial run).
  *
  * @par References
  * Barnes, R., Lehman, C., Mulla, D. (2014). Priority-Flood: An optimal depression-filling and
