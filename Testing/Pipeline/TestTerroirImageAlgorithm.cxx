@@ -9,8 +9,8 @@
 #include "vtkExecutive.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
-#include "vtkNew.h"
 #include "vtkInformation.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkTerroirComputeContext.h"
@@ -160,8 +160,8 @@ TEST(TerroirImageAlgorithm, PieceOfAWholeExtentFilterIsItsCells)
   {
     EXPECT_EQ(ext[a], piece[a]) << a;
   }
-  ASSERT_EQ(got->GetPointData()->GetNumberOfArrays(),
-    expected->GetPointData()->GetNumberOfArrays());
+  ASSERT_EQ(
+    got->GetPointData()->GetNumberOfArrays(), expected->GetPointData()->GetNumberOfArrays());
   for (int a = 0; a < expected->GetPointData()->GetNumberOfArrays(); ++a)
   {
     vtkDataArray* x = got->GetPointData()->GetArray(a);
@@ -170,7 +170,8 @@ TEST(TerroirImageAlgorithm, PieceOfAWholeExtentFilterIsItsCells)
     ASSERT_EQ(x->GetDataType(), y->GetDataType()) << y->GetName();
     ASSERT_EQ(x->GetNumberOfTuples(), 6 * 5) << y->GetName();
     ASSERT_EQ(x->GetNumberOfComponents(), y->GetNumberOfComponents()) << y->GetName();
-    EXPECT_EQ(std::memcmp(x->GetVoidPointer(0), y->GetVoidPointer(0),
+    EXPECT_EQ(std::memcmp(x->GetVoidPointer(0),
+                y->GetVoidPointer(0),
                 static_cast<std::size_t>(x->GetNumberOfValues() * x->GetDataTypeSize())),
       0)
       << y->GetName();
