@@ -7,6 +7,7 @@
 #include "TerroirFilterTestUtilities.h"
 #include "TerroirIOTestUtilities.h"
 
+#include "TerroirFeatureCurveScenes.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
@@ -14,6 +15,7 @@
 #include "vtkSMPTools.h"
 #include "vtkTable.h"
 #include "vtkTerroirDEMReader.h"
+#include "vtkTerroirFeatureCurveTerrain.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFlowAccumulation.h"
 #include "vtkTerroirFractalTerrainSource.h"
@@ -320,6 +322,17 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         vtkNew<vtkTerroirMorphometry> f;
         f->SetBackendToCPU();
         f->SetInputData(TerrainWithHoles());
+        f->Update();
+        return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirFeatureCurveTerrain",
+      []
+      {
+        vtkNew<vtkTerroirFeatureCurveTerrain> f;
+        f->SetBackend(1);
+        f->SetCurvesData(terroir_test::RidgeAndValley());
+        f->SetDimensions(131, 101);
+        f->SetTolerance(1e-4);
         f->Update();
         return OutputBytes(f->GetOutput());
       } },
