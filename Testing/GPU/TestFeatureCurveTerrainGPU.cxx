@@ -18,7 +18,7 @@
 
 namespace
 {
-vtkSmartPointer<vtkImageData> Run(int backend,
+vtkSmartPointer<vtkImageData> RunFeatureCurves(int backend,
   int nx,
   int ny,
   double spacing,
@@ -57,13 +57,14 @@ TEST(FeatureCurveTerrainGPU, SameBitsAsTheCPU)
     GTEST_SKIP() << vtkTerroirComputeContext::GetUnavailableReason();
   }
   // Odd and even sizes (the coarse grids' last points differ).
-  for (const int* size : { (const int[]){ 131, 101 }, (const int[]){ 256, 200 } })
+  const int sizes[2][2] = { { 131, 101 }, { 256, 200 } };
+  for (const auto& size : sizes)
   {
     const double spacing = 1300.0 / (size[0] - 1);
     int cpuCycles = 0, gpuCycles = 0;
     double cpuSeconds = 0, gpuSeconds = 0;
-    auto cpu = Run(1, size[0], size[1], spacing, &cpuCycles, &cpuSeconds);
-    auto gpu = Run(2, size[0], size[1], spacing, &gpuCycles, &gpuSeconds);
+    auto cpu = RunFeatureCurves(1, size[0], size[1], spacing, &cpuCycles, &cpuSeconds);
+    auto gpu = RunFeatureCurves(2, size[0], size[1], spacing, &gpuCycles, &gpuSeconds);
     EXPECT_EQ(cpuCycles, gpuCycles);
     vtkDataArray* a = cpu->GetPointData()->GetArray("Elevation");
     vtkDataArray* b = gpu->GetPointData()->GetArray("Elevation");
