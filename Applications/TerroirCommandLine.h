@@ -284,6 +284,16 @@ struct CommandLine
       int Threads = 1;    ///< --threads
       std::string Params; ///< the checked --params JSON, less the keys the options override
     } RiverLand;
+    /// `generate features` (GenerateFeaturesOptions.cxx): Weiss (2015)'s feature curves.
+    struct FeatureSettings
+    {
+      std::string Curves;         ///< --curves FILE (.geojson, .json or .vtp)
+      std::string SaveCurves;     ///< --save-curves FILE.vtp
+      std::string Base;           ///< --base DEM (empty: a flat BaseElevation)
+      double Tolerance = 1e-3;    ///< --tolerance M
+      int MaximumCycles = 100;    ///< --max-cycles N
+      double BaseElevation = 0.0; ///< --base-elevation M
+    } Features;
   } Generate;
 
   // morphometry (vtkTerroirMorphometry)

@@ -27,6 +27,7 @@ namespace app
 {
 
 int CommandGenerateRiverLand(const CommandLine& c); // GenerateRiverLand.cxx
+int CommandGenerateFeatures(const CommandLine& c); // GenerateFeatures.cxx
 
 int CommandGenerate(const CommandLine& c)
 {
@@ -35,6 +36,10 @@ int CommandGenerate(const CommandLine& c)
     return CommandGenerateRiverLand(c);
   }
   const auto& g = c.Generate;
+  if (g.Kind == "features")
+  {
+    return CommandGenerateFeatures(c);
+  }
   std::vector<std::string> outputs{ c.Output };
   for (const std::string* extra : { &g.BiomeOutput, &g.RiverOutput, &g.RiverLines })
   {

@@ -13,6 +13,10 @@ namespace terroir
 namespace app
 {
 void CheckRiverLandOptions(CommandLine& line, const CLI::App& sub); // GenerateRiverLandOptions.cxx
+// GenerateFeaturesOptions.cxx
+void AddGenerateFeaturesOptions(CLI::App* sub, CommandLine& line);
+void CheckGenerateFeaturesOptions(CommandLine& line);
+
 namespace
 {
 class GenerateOptions : public CommandOptions
@@ -21,9 +25,12 @@ public:
   void Add(CLI::App* sub, CommandLine& line) override
   {
     auto& g = line.Generate;
-    sub->add_option("KIND", g.Kind, "What to generate: island (Weiss 2015), riverland (Jensen)")
+    sub
+      ->add_option("KIND",
+        g.Kind,
+        "What to generate: island (Weiss 2015), riverland (Jensen 2011), features (Weiss's curves)")
       ->required()
-      ->check(CLI::IsMember({ "island", "riverland" }));
+      ->check(CLI::IsMember({ "island", "riverland", "features" }));
     sub->add_option("OUT", line.Output, "Output .tif (Elevation) or .vti (every array)")
       ->required()
       ->check(EndsWith(RasterOutputs()));
@@ -82,6 +89,7 @@ public:
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
     sub->add_flag("--overwrite", line.Overwrite, "Replace existing output files");
+    AddGenerateFeaturesOptions(sub, line);
   }
 
   /// The --params file's values for the options not given on the command line. Keys: seed,
@@ -91,6 +99,7 @@ public:
   {
     auto& g = line.Generate;
     CheckNotOutput({ &g.BiomeOutput, &g.RiverOutput, &g.RiverLines }, line.Output);
+    CheckGenerateFeaturesOptions(line);
     if (!g.BiomeOutput.empty() && g.BiomeOutput == g.RiverOutput)
     {
       throw std::invalid_argument("'" + g.BiomeOutput + "' is both --biome and --river-map");

@@ -273,6 +273,24 @@ void vtkTerroirFeatureCurveTerrain::SetCurvesData(vtkPolyData* curves)
 }
 
 //------------------------------------------------------------------------------
+std::string vtkTerroirFeatureCurveTerrain::CheckCurves(vtkPolyData* curves)
+{
+  if (!curves)
+  {
+    return "no curves";
+  }
+  // The checks run before any rasterising: a 2 x 2 grid of huge cells costs nothing.
+  terroir::terrain::FeatureGrid grid;
+  grid.nx = grid.ny = 2;
+  grid.dx = grid.dy = 1e9;
+  terroir::terrain::FeatureConstraints c;
+  std::string error;
+  terroir::terrain::RasterizeFeatureCurves(
+    CurvesFromPolyData(curves), grid, terroir::terrain::FeatureSolverParameters(), c, error);
+  return error;
+}
+
+//------------------------------------------------------------------------------
 int vtkTerroirFeatureCurveTerrain::FillInputPortInformation(int port, vtkInformation* info)
 {
   if (port == 0)

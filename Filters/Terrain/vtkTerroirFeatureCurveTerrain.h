@@ -125,6 +125,11 @@ public:
   vtkGetMacro(LastConverged, bool);
   ///@}
 
+  /// "" when the curves of `curves` (lines with the point arrays above) are usable, else one
+  /// line naming the first bad curve and point ("curve 2, point 0: widths must not be
+  /// negative"). RequestData refuses the same curves with the same words.
+  static std::string CheckCurves(vtkPolyData* curves);
+
   /// The last error as one line, or "" after a successful run.
   const char* GetErrorMessage() const { return this->ErrorMessage.c_str(); }
 
