@@ -32,6 +32,14 @@ void AddGenerateFeaturesOptions(CLI::App* sub, CommandLine& line)
   sub->add_option("--max-cycles", f.MaximumCycles, "features: multigrid V-cycles at most")
     ->check(CLI::Range(1, 100000))
     ->capture_default_str();
+  sub
+    ->add_option("--backend",
+      line.Backend,
+      "features: auto, cpu or gpu (the solver's GPU path gives the CPU's bits; auto means the "
+      "CPU until a GPU is recorded as faster, Documentation/Compute.md)")
+    ->check(CLI::IsMember({ "auto", "cpu", "gpu" }))
+    ->capture_default_str();
+  AddZUnitOption(sub, line); // for --base
   sub->add_option("--base-elevation", f.BaseElevation, "features: ground height without --base, m")
     ->check(FiniteIn(-1e5, 1e5))
     ->capture_default_str();

@@ -260,8 +260,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (c == "generate")
   {
     const auto& g = line.Generate;
-    Check(g.Kind == "island" || g.Kind == "riverland");
+    Check(g.Kind == "island" || g.Kind == "riverland" || g.Kind == "features");
     Check(g.RiverLand.Threads >= 1 && g.RiverLand.Threads <= 1024);
+    const auto& f = g.Features;
+    Check((g.Kind == "features") == !f.Curves.empty());
+    Check(f.Curves.empty() || EndsWith(f.Curves, ".geojson") || EndsWith(f.Curves, ".json") ||
+      EndsWith(f.Curves, ".vtp"));
+    Check(f.SaveCurves.empty() || (EndsWith(f.SaveCurves, ".vtp") && f.SaveCurves != line.Output));
+    Check(g.Kind == "features" || (f.SaveCurves.empty() && f.Base.empty()));
+    Check(Within(f.Tolerance, 1e-9, 1e3) && f.MaximumCycles >= 1 && f.MaximumCycles <= 100000);
+    Check(Within(f.BaseElevation, -1e5, 1e5));
     Check(g.Width >= 8 && g.Width <= 65536 && g.Height >= 8 && g.Height <= 65536);
     Check(g.Regions >= 16 && g.Relaxations >= 0 && g.Relaxations <= 100 && g.Rivers >= 0);
     Check(Within(g.Spacing, 1e-3, 1e5) && Within(g.MaximumHeight, 1e-3, 1e5));
