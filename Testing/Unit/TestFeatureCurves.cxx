@@ -351,3 +351,68 @@ TEST(FeatureCurves, BadCurvesAreRefused)
   EXPECT_FALSE(RasterizeFeatureCurves({ nan }, Grid(8, 8), p, c, error));
   EXPECT_NE(error.find("finite"), std::string::npos);
 }
+
+// The rasteriser visits only the cells near each piece of the sampled curve (strips, wedges at
+// the bends, caps at the ends): it must find what a search of every piece for every cell finds.
+TEST(FeatureCurves, RasterisingMatchesABruteForceSearch)
+{
+  const int n = 65;
+  std::vector<float> base;
+  auto curves = Scene(base, n);
+  // A sharp bend too (90 degrees), so that the wedge on its outer side matters.
+  FeatureCurve bend{ Point(20, 5, 30), Point(40, 5, 30), Point(40, 25, 30) };
+  for (auto& p : bend)
+  {
+    p.plateauWidth = 2.0;
+    p.slopeLeftWidth = p.slopeRightWidth = 9.0;
+    p.slopeLeftAngle = p.slopeRightAngle = 20.0;
+    p.envelopeLeft = p.envelopeRight = 3.0;
+  }
+  curves.push_back(bend);
+  FeatureSolverParameters p;
+  FeatureConstraints c;
+  std::string error;
+  ASSERT_TRUE(RasterizeFeatureCurves(curves, Grid(n, n), p, c, error)) << error;
+  std::vector<double> best(static_cast<std::size_t>(n) * n, 1e300);
+  std::vector<int> kind(best.size(), 0);
+  std::vector<int> inside(best.size(), 0);
+  for (const auto& curve : curves)
+  {
+    const auto s = SampleFeatureCurveFlat(curve, 0.05, 64.0);
+    for (std::size_t q = 0; q + 1 < s.size(); ++q)
+    {
+      const auto &A = s[q], &B = s[q + 1];
+      const double ex = B.x - A.x, ey = B.y - A.y, len2 = ex * ex + ey * ey;
+      for (int j = 0; j < n; ++j)
+      {
+        for (int i = 0; i < n; ++i)
+        {
+          double u = len2 > 0 ? ((i - A.x) * ex + (j - A.y) * ey) / len2 : 0.0;
+          u = std::min(1.0, std::max(0.0, u));
+          const double d = std::max(0.0, std::hypot(i - A.x - u * ex, j - A.y - u * ey) - 1e-6);
+          const bool left = ex * (j - A.y) - ey * (i - A.x) > 0.0;
+          const double half = 0.5 * (A.plateauWidth + u * (B.plateauWidth - A.plateauWidth));
+          const double w = left ? A.slopeLeftWidth + u * (B.slopeLeftWidth - A.slopeLeftWidth)
+                                : A.slopeRightWidth + u * (B.slopeRightWidth - A.slopeRightWidth);
+          const double env = left ? A.envelopeLeft + u * (B.envelopeLeft - A.envelopeLeft)
+                                  : A.envelopeRight + u * (B.envelopeRight - A.envelopeRight);
+          const std::size_t k = static_cast<std::size_t>(j) * n + i;
+          inside[k] |= d <= half + w + env;
+          if (d <= half + w && d < best[k])
+          {
+            best[k] = d;
+            kind[k] = d <= half ? 1 : 2;
+          }
+        }
+      }
+    }
+  }
+  int mismatches = 0, constrained = 0;
+  for (std::size_t k = 0; k < best.size(); ++k)
+  {
+    mismatches += kind[k] != c.kind[k] || inside[k] != (c.gamma[k] == 1.0f);
+    constrained += kind[k] != 0;
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(constrained, 1000);
+}

@@ -192,6 +192,54 @@ std::vector<FeatureControlPoint> SampleFeatureCurve(const FeatureCurve& curve, d
 }
 
 //------------------------------------------------------------------------------
+std::vector<FeatureControlPoint> SampleFeatureCurveFlat(const FeatureCurve& curve,
+  double flatness,
+  double maxStep)
+{
+  std::vector<FeatureControlPoint> out;
+  const int n = static_cast<int>(curve.size());
+  if (n < 2 || !(flatness > 0.0) || !(maxStep > 0.0))
+  {
+    return out;
+  }
+  auto emit = [&](int s, double t)
+  {
+    double p[3], dp[3];
+    FeatureCurveHermite(curve, s, t, p, dp);
+    FeatureControlPoint c = LerpPoint(curve[s], curve[s + 1], t);
+    c.x = p[0];
+    c.y = p[1];
+    c.elevation = p[2];
+    out.push_back(c);
+  };
+  // Halves [t0, t1] until the spline's midpoint is within `flatness` of the chord's and the
+  // chord is at most maxStep, at least three times (an S bend has its midpoint on the chord).
+  std::function<void(int, double, double, int)> split = [&](int s, double t0, double t1, int depth)
+  {
+    double a[3], b[3], m[3], d[3];
+    FeatureCurveHermite(curve, s, t0, a, d);
+    FeatureCurveHermite(curve, s, t1, b, d);
+    const double tm = 0.5 * (t0 + t1);
+    FeatureCurveHermite(curve, s, tm, m, d);
+    const double dev = std::hypot(m[0] - 0.5 * (a[0] + b[0]), m[1] - 0.5 * (a[1] + b[1]));
+    const double chord = std::hypot(b[0] - a[0], b[1] - a[1]);
+    if (depth < 24 && (depth < 3 || dev > flatness || chord > maxStep))
+    {
+      split(s, t0, tm, depth + 1);
+      split(s, tm, t1, depth + 1);
+      return;
+    }
+    emit(s, t1);
+  };
+  emit(0, 0.0);
+  for (int s = 0; s + 1 < n; ++s)
+  {
+    split(s, 0.0, 1.0, 0);
+  }
+  return out;
+}
+
+//------------------------------------------------------------------------------
 bool RasterizeFeatureCurves(const std::vector<FeatureCurve>& curves,
   const FeatureGrid& grid,
   const FeatureSolverParameters& params,
@@ -249,11 +297,23 @@ bool RasterizeFeatureCurves(const std::vector<FeatureCurve>& curves,
   out.kind.assign(n, 0);
   std::vector<double> best(n, std::numeric_limits<double>::infinity());
   bool unbounded = false;
-  const double step = 0.25 * std::min(grid.dx, grid.dy);
-  const double eps = 1e-6 * std::min(grid.dx, grid.dy);
+  const double cell = std::min(grid.dx, grid.dy);
+  const double eps = 1e-6 * cell;
   for (const FeatureCurve& curve : curves)
   {
-    const std::vector<FeatureControlPoint> s = SampleFeatureCurve(curve, step);
+    // A polyline within a twentieth of a cell of the spline, without zero-length pieces.
+    std::vector<FeatureControlPoint> s;
+    for (const FeatureControlPoint& p : SampleFeatureCurveFlat(curve, 0.05 * cell, 64.0 * cell))
+    {
+      if (s.empty() || p.x != s.back().x || p.y != s.back().y)
+      {
+        s.push_back(p);
+      }
+    }
+    if (s.size() == 1)
+    {
+      s.push_back(s.back()); // every control point at one place: a disc
+    }
     for (const FeatureControlPoint& p : s)
     {
       unbounded = unbounded || p.envelopeLeft < 0.0 || p.envelopeRight < 0.0;
@@ -270,16 +330,67 @@ bool RasterizeFeatureCurves(const std::vector<FeatureCurve>& curves,
       };
       const double R = std::max(reach(A), reach(B)) + 1e-9;
       const double ex = B.x - A.x, ey = B.y - A.y, len2 = ex * ex + ey * ey;
-      const int i0 =
-        std::max(0, static_cast<int>(std::floor((std::min(A.x, B.x) - R - grid.x0) / grid.dx)));
-      const int i1 = std::min(
-        grid.nx - 1, static_cast<int>(std::ceil((std::max(A.x, B.x) + R - grid.x0) / grid.dx)));
-      const int j0 =
-        std::max(0, static_cast<int>(std::floor((std::min(A.y, B.y) - R - grid.y0) / grid.dy)));
-      const int j1 = std::min(
-        grid.ny - 1, static_cast<int>(std::ceil((std::max(A.y, B.y) + R - grid.y0) / grid.dy)));
+      const double len = std::sqrt(len2);
+      const double tx = len > 0.0 ? ex / len : 1.0, ty = len > 0.0 ? ey / len : 0.0;
+      // The cells whose nearest point of the polyline can be on this piece: a strip R wide on
+      // each side, extended past a joint by R tan(turn / 2) (the wedge on the outer side of
+      // the bend) and past the curve's ends by R (the round caps); two cells of margin.
+      auto extension = [&](std::size_t other, bool atStart)
+      {
+        if (atStart ? q == 0 : q + 2 == s.size())
+        {
+          return R;
+        }
+        const FeatureControlPoint& o = s[other];
+        const double ox = atStart ? A.x - o.x : o.x - B.x, oy = atStart ? A.y - o.y : o.y - B.y;
+        const double ol = std::hypot(ox, oy);
+        const double c = ol > 0.0 ? std::max(-1.0, std::min(1.0, (ox * tx + oy * ty) / ol)) : 1.0;
+        const double turn = std::min(std::acos(c), 2.0);
+        return std::min(R, R * std::tan(0.5 * turn)) + 2.0 * std::max(grid.dx, grid.dy);
+      };
+      const double e0 = extension(q == 0 ? 0 : q - 1, true);
+      const double e1 = extension(q + 2 < s.size() ? q + 2 : q + 1, false);
+      const double m = 2.0 * std::max(grid.dx, grid.dy);
+      double cx[4], cy[4]; // corners in grid units
+      const double along[4] = { -e0, len + e1, len + e1, -e0 };
+      const double across[4] = { -R - m, -R - m, R + m, R + m };
+      for (int k = 0; k < 4; ++k)
+      {
+        cx[k] = (A.x + along[k] * tx - across[k] * ty - grid.x0) / grid.dx;
+        cy[k] = (A.y + along[k] * ty + across[k] * tx - grid.y0) / grid.dy;
+      }
+      const double ylo = std::min(std::min(cy[0], cy[1]), std::min(cy[2], cy[3]));
+      const double yhi = std::max(std::max(cy[0], cy[1]), std::max(cy[2], cy[3]));
+      const int j0 = std::max(0, static_cast<int>(std::floor(ylo)));
+      const int j1 = std::min(grid.ny - 1, static_cast<int>(std::ceil(yhi)));
       for (int j = j0; j <= j1; ++j)
       {
+        // The quad's x range on this row (convex: the edges that cross it), one cell wider.
+        double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo;
+        for (int k = 0; k < 4; ++k)
+        {
+          const int l = (k + 1) % 4;
+          const double ya = cy[k], yb = cy[l];
+          if ((ya - j) * (yb - j) > 0.0)
+          {
+            continue;
+          }
+          if (ya == yb)
+          {
+            xlo = std::min(xlo, std::min(cx[k], cx[l]));
+            xhi = std::max(xhi, std::max(cx[k], cx[l]));
+            continue;
+          }
+          const double x = cx[k] + (j - ya) * (cx[l] - cx[k]) / (yb - ya);
+          xlo = std::min(xlo, x);
+          xhi = std::max(xhi, x);
+        }
+        if (!(xlo <= xhi))
+        {
+          continue;
+        }
+        const int i0 = std::max(0, static_cast<int>(std::floor(xlo)) - 1);
+        const int i1 = std::min(grid.nx - 1, static_cast<int>(std::ceil(xhi)) + 1);
         for (int i = i0; i <= i1; ++i)
         {
           const double px = grid.x0 + i * grid.dx, py = grid.y0 + j * grid.dy;

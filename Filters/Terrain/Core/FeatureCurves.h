@@ -131,6 +131,14 @@ void FeatureCurveTangent(const FeatureCurve& curve, int k, double m[3]);
 /// to the last; x, y and elevation from the Hermite spline, the other values linear in t.
 std::vector<FeatureControlPoint> SampleFeatureCurve(const FeatureCurve& curve, double step);
 
+/// Points along the spline from the first control point to the last, the pieces halved (at
+/// least three times per control segment) until the spline's midpoint is within `flatness`
+/// metres of the chord's and the chord is at most `maxStep` metres; values as above. The
+/// rasteriser uses it with a twentieth of a cell.
+std::vector<FeatureControlPoint> SampleFeatureCurveFlat(const FeatureCurve& curve,
+  double flatness,
+  double maxStep);
+
 /// The constraints of eq. 5-9 on a grid (row-major, n = nx ny).
 struct FeatureConstraints
 {
