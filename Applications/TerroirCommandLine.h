@@ -174,9 +174,10 @@ struct KMeansSettings
 /// Options of `view` (the interactive window; Documentation/Viewer.md).
 struct ViewSettings
 {
-  std::string Script;            ///< --script FILE: actions to replay (checked before any work)
-  int Width = 1024;              ///< --size WxH, [320, 7680]
-  int Height = 768;              ///< --size WxH, [240, 4320]
+  std::string Script; ///< --script FILE: actions to replay (checked before any work)
+  std::string Curves; ///< --curves FILE: feature curves drawn over the terrain (GeoJSON, .vtp)
+  int Width = 1024;   ///< --size WxH, [320, 7680]
+  int Height = 768;   ///< --size WxH, [240, 4320]
   std::string Overlay = "none";  ///< --overlay NAME (see TerroirViewerScript.h)
   std::string Style = "terrain"; ///< --style terrain or first-person
   std::string ScreenshotDir;     ///< --screenshot-dir DIR (empty: the current folder)

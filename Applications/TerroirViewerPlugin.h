@@ -10,6 +10,7 @@
 #include <vector>
 
 class vtkImageData;
+class vtkPolyData;
 
 namespace terroir
 {
@@ -30,7 +31,8 @@ struct TerroirViewerRequest
   std::string TerrainName;                                             ///< for the window title
   const terroir::app::CommandLine* Line = nullptr;                     ///< the parsed command line
   const std::vector<terroir::viewer::ViewerAction>* Actions = nullptr; ///< --script, or null
-  std::string Error; ///< set on failure (one line)
+  vtkPolyData* Curves = nullptr; ///< --curves, read (lines with the feature-curve arrays), or null
+  std::string Error;             ///< set on failure (one line)
 };
 
 /// Opens the window, replays the actions, then (without `quit`) lets the user work. Returns the

@@ -23,9 +23,13 @@
 #include "vtkMapper.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
 #include "vtkPolyDataMapper2D.h"
+#include "vtkProperty.h"
 #include "vtkProperty2D.h"
 #include "vtkSliderRepresentation2D.h"
+#include "vtkTerroirFeatureCurveTerrain.h"
 #include "vtkTextProperty.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -521,11 +525,76 @@ void ViewerWindow::RenderStill()
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// `--curves`: the feature curves' splines (vtkTerroirFeatureCurveTerrain::SampleCurves) draped
+/// on the terrain, a little above it (1/200 of the relief), z as the relief surface's
+/// (elevation x exaggeration); off the grid, at the curve's own elevation.
+vtkSmartPointer<vtkActor> CurveActor(vtkPolyData* curves,
+  vtkImageData* terrain,
+  double exaggeration)
+{
+  double spacing[3];
+  terrain->GetSpacing(spacing);
+  vtkNew<vtkPolyData> lines;
+  vtkTerroirFeatureCurveTerrain::SampleCurves(
+    curves, 0.25 * std::min(std::abs(spacing[0]), std::abs(spacing[1])), lines);
+  vtkDataArray* e = terrain->GetPointData()->GetArray("Elevation");
+  double range[2] = { 0.0, 0.0 };
+  if (e)
+  {
+    e->GetRange(range, 0);
+  }
+  const double lift = 0.005 * (range[1] - range[0]) + 0.5;
+  vtkPoints* points = lines->GetPoints();
+  for (vtkIdType k = 0; e && k < points->GetNumberOfPoints(); ++k)
+  {
+    double p[3], pc[3];
+    int ijk[3];
+    points->GetPoint(k, p);
+    double z = p[2];
+    const double at[3] = { p[0], p[1], terrain->GetOrigin()[2] };
+    if (terrain->ComputeStructuredCoordinates(at, ijk, pc))
+    {
+      const int* ext = terrain->GetExtent();
+      const int i1 = std::min(ijk[0] + 1, ext[1]), j1 = std::min(ijk[1] + 1, ext[3]);
+      auto h = [&](int i, int j)
+      {
+        int q[3] = { i, j, ext[4] };
+        return e->GetComponent(terrain->ComputePointId(q), 0);
+      };
+      const double v = (1 - pc[0]) * (1 - pc[1]) * h(ijk[0], ijk[1]) +
+        pc[0] * (1 - pc[1]) * h(i1, ijk[1]) + (1 - pc[0]) * pc[1] * h(ijk[0], j1) +
+        pc[0] * pc[1] * h(i1, j1);
+      if (std::isfinite(v))
+      {
+        z = v;
+      }
+    }
+    points->SetPoint(k, p[0], p[1], (z + lift) * exaggeration);
+  }
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(lines);
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(0.85, 0.1, 0.1);
+  actor->GetProperty()->SetLineWidth(3.0);
+  actor->GetProperty()->LightingOff();
+  actor->PickableOff();
+  return actor;
+}
+} // namespace
+
 int ViewerWindow::Run(TerroirViewerRequest* request)
 {
   if (!this->Build(request->TerrainName, request->Error))
   {
     return 1;
+  }
+  if (request->Curves)
+  {
+    this->Scene->AddActor(CurveActor(
+      request->Curves, this->Session.GetTerrain(), this->Relief->GetVerticalExaggeration()));
   }
   ViewerOverlay first = ViewerOverlay::None;
   terroir::viewer::OverlayFromName(this->Line.View.Overlay, first);

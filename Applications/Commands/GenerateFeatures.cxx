@@ -255,6 +255,18 @@ void WriteCurves(vtkPolyData* curves, const std::string& path)
 }
 } // namespace
 
+vtkSmartPointer<vtkPolyData> ReadFeatureCurves(const std::string& path)
+{
+  vtkSmartPointer<vtkPolyData> curves =
+    HasExtension(path, ".vtp") ? ReadVTPCurves(path) : ReadGeoJSONCurves(path);
+  const std::string bad = vtkTerroirFeatureCurveTerrain::CheckCurves(curves);
+  if (!bad.empty())
+  {
+    throw Failure(path + ": " + bad);
+  }
+  return curves;
+}
+
 int CommandGenerateFeatures(const CommandLine& c)
 {
   const auto& g = c.Generate;
@@ -265,13 +277,7 @@ int CommandGenerateFeatures(const CommandLine& c)
     outputs.push_back(f.SaveCurves);
   }
   CheckWritable(outputs, c.Overwrite);
-  vtkSmartPointer<vtkPolyData> curves =
-    HasExtension(f.Curves, ".vtp") ? ReadVTPCurves(f.Curves) : ReadGeoJSONCurves(f.Curves);
-  const std::string bad = vtkTerroirFeatureCurveTerrain::CheckCurves(curves);
-  if (!bad.empty())
-  {
-    throw Failure(f.Curves + ": " + bad);
-  }
+  vtkSmartPointer<vtkPolyData> curves = ReadFeatureCurves(f.Curves);
   vtkNew<vtkTerroirFeatureCurveTerrain> filter;
   filter->SetCurvesData(curves);
   filter->SetBackend(ParseBackend(c.Backend));

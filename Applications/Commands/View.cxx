@@ -7,6 +7,7 @@
 #include "TerroirViewerScript.h"
 
 #include "vtkImageData.h"
+#include "vtkPolyData.h"
 
 #include <nlohmann/json.hpp>
 
@@ -22,6 +23,9 @@ namespace terroir
 {
 namespace app
 {
+/// GenerateFeatures.cxx: the curves of a GeoJSON or .vtp file, checked (Failure naming the file).
+vtkSmartPointer<vtkPolyData> ReadFeatureCurves(const std::string& path);
+
 namespace
 {
 /// `terroir view`: checks the script (one line naming FILE:LINE and the problem) before any
@@ -53,6 +57,12 @@ int View(const terroir::app::CommandLine& c)
     std::cerr << "terroir view: no DEM given; opening the bundled Sagehen Creek DEM (" << dem
               << ")\n";
   }
+  // --curves: read and checked before the DEM, so a bad file is the one error.
+  vtkSmartPointer<vtkPolyData> curves;
+  if (!c.View.Curves.empty())
+  {
+    curves = ReadFeatureCurves(c.View.Curves);
+  }
   vtkSmartPointer<vtkImageData> terrain = terroir::app::ReadTerrain(dem, c.AllowNetwork, c.ZUnit);
   auto run = reinterpret_cast<TerroirRunViewerFunction>(LoadPluginSymbol(TERROIR_VIEWER_PLUGIN_NAME,
     TERROIR_VIEWER_PLUGIN_SYMBOL,
@@ -63,6 +73,7 @@ int View(const terroir::app::CommandLine& c)
   request.TerrainName = dem;
   request.Line = &c;
   request.Actions = c.View.Script.empty() ? nullptr : &actions;
+  request.Curves = curves;
   if (run(&request) != 0)
   {
     throw Failure(request.Error.empty() ? "terroir view failed" : request.Error);

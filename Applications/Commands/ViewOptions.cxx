@@ -24,6 +24,11 @@ public:
   {
     sub->add_option("DEM", line.Input, "DEM file (default: the bundled Sagehen Creek DEM)");
     sub->add_option("--script", line.View.Script, "Replay the actions of FILE (one per line)");
+    sub
+      ->add_option("--curves",
+        line.View.Curves,
+        "Draw the feature curves of FILE (GeoJSON or .vtp, as generate features reads them)")
+      ->check(EndsWith({ ".geojson", ".json", ".vtp" }));
     sub->add_option("--size", this->Size, "Window size WxH (default 1024x768)");
     sub
       ->add_option("--overlay",

@@ -11,6 +11,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
@@ -288,6 +289,35 @@ std::string vtkTerroirFeatureCurveTerrain::CheckCurves(vtkPolyData* curves)
   terroir::terrain::RasterizeFeatureCurves(
     CurvesFromPolyData(curves), grid, terroir::terrain::FeatureSolverParameters(), c, error);
   return error;
+}
+
+//------------------------------------------------------------------------------
+void vtkTerroirFeatureCurveTerrain::SampleCurves(vtkPolyData* curves,
+  double flatness,
+  vtkPolyData* out)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  if (curves && flatness > 0.0)
+  {
+    for (const auto& c : CurvesFromPolyData(curves))
+    {
+      const auto s = terroir::terrain::SampleFeatureCurveFlat(c, flatness, 1e300);
+      if (s.size() < 2)
+      {
+        continue;
+      }
+      lines->InsertNextCell(static_cast<int>(s.size()));
+      for (const auto& p : s)
+      {
+        lines->InsertCellPoint(points->InsertNextPoint(p.x, p.y, p.elevation));
+      }
+    }
+  }
+  out->Initialize();
+  out->SetPoints(points);
+  out->SetLines(lines);
 }
 
 //------------------------------------------------------------------------------

@@ -130,6 +130,10 @@ public:
   /// negative"). RequestData refuses the same curves with the same words.
   static std::string CheckCurves(vtkPolyData* curves);
 
+  /// The curves as the solver sees them, for drawing: each line of `curves` as its Hermite
+  /// spline sampled within `flatness` metres (a polyline in `out`, z = the spline's elevation).
+  static void SampleCurves(vtkPolyData* curves, double flatness, vtkPolyData* out);
+
   /// The last error as one line, or "" after a successful run.
   const char* GetErrorMessage() const { return this->ErrorMessage.c_str(); }
 

@@ -342,6 +342,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (c == "view")
   {
     CheckView(line.View);
+    Check(line.View.Curves.empty() || EndsWith(line.View.Curves, ".geojson") ||
+      EndsWith(line.View.Curves, ".json") || EndsWith(line.View.Curves, ".vtp"));
   }
   if (c == "fractal")
   {

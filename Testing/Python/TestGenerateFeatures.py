@@ -150,5 +150,44 @@ class GenerateFeatures(unittest.TestCase):
         self.assertIn("--curves", r.stderr)
 
 
+    def test_view_draws_the_curves(self):
+        """`terroir view --curves`: the curves are drawn over the terrain (red lines), and a
+        bad curves file is refused before the window opens. Needs an X display (xvfb-run)."""
+        if not os.environ.get("DISPLAY"):
+            if os.environ.get("TERROIR_REQUIRE_GPU") == "1":
+                self.fail("TERROIR_REQUIRE_GPU=1 but DISPLAY is unset")
+            self.skipTest("no DISPLAY (run under xvfb-run -a)")
+        import vtk
+        from vtk.util.numpy_support import vtk_to_numpy
+        dem = self.path("rv.tif")
+        r = terroir("generate", "features", dem, "--curves", EXAMPLE, "--width", "128",
+                    "--height", "128", "--spacing", "40", "--base-elevation", "200")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        red = {}
+        for name, extra in (("with", ["--curves", EXAMPLE]), ("without", [])):
+            script = self.path(name + ".txt")
+            with open(script, "w") as f:
+                f.write("wait\nscreenshot %s\nquit\n" % self.path(name + ".png"))
+            r = terroir("view", dem, "--script", script, "--size", "640x480", *extra)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            reader = vtk.vtkPNGReader()
+            reader.SetFileName(self.path(name + ".png"))
+            reader.Update()
+            image = reader.GetOutput()
+            scalars = image.GetPointData().GetScalars()
+            rgb = vtk_to_numpy(scalars).astype(int).reshape(-1, scalars.GetNumberOfComponents())
+            red[name] = int(np.sum((rgb[:, 0] > 170) & (rgb[:, 1] < 80) & (rgb[:, 2] < 80)))
+        # The compass arrow is red in both; the curves add hundreds of red pixels.
+        self.assertGreater(red["with"] - red["without"], 300, red)
+        bad = self.path("bad.geojson")
+        with open(bad, "w") as f:
+            f.write("{}")
+        r = terroir("view", dem, "--curves", bad, "--script", self.path("with.txt"))
+        self.assertNotEqual(r.returncode, 0)
+        lines = [l for l in r.stderr.splitlines() if l.strip()]
+        self.assertEqual(len(lines), 1, r.stderr)
+        self.assertIn(bad + ": expected a GeoJSON FeatureCollection", lines[0])
+
+
 if __name__ == "__main__":
     unittest.main()
