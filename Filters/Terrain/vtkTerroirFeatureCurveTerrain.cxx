@@ -463,8 +463,11 @@ int vtkTerroirFeatureCurveTerrain::RequestData(vtkInformation*,
   }
   const double n = static_cast<double>(grid.nx) * grid.ny;
   // Constraints (~33 B), six float stencils and three doubles per cell on the levels (~64 B
-  // with the coarse ones), the output (5 B) and the copies (12 B).
-  const std::string memory = terroir::CheckMemory(120.0 * n, "the feature-curve solver");
+  // with the coarse ones), the output (5 B) and the copies (12 B); the GPU path keeps a second
+  // copy of the levels (64 B) for a fallback to the CPU.
+  const bool maybeGPU = this->Backend != vtkTerroirComputeContext::CPU;
+  const std::string memory =
+    terroir::CheckMemory((maybeGPU ? 184.0 : 120.0) * n, "the feature-curve solver");
   if (!memory.empty())
   {
     return fail(memory);
