@@ -107,6 +107,33 @@ class GenerateFeatures(unittest.TestCase):
         np.testing.assert_allclose(steps, 10.0, atol=0.05)
         np.testing.assert_allclose(row[::-1], row, atol=1e-3)
 
+    def test_over_a_base_dem(self):
+        """--base: the DEM's grid and world coordinates (UTM); far from the curve the DEM's
+        heights are kept exactly, on the curve's plateau the curve's elevation holds."""
+        dem = os.path.join(os.environ.get("TERROIR_DATA_DIR", os.path.join(HERE, "..", "..", "Data")),
+                           "sagehen_creek_ca", "sagehen_dem_utm11n_10m.tif")
+        # Origin 213985, 4366475 (UTM 11N), 786 x 720 cells of 10 m.
+        outside = self.write_json("outside.geojson", collection(
+            line([[0, 0, 10], [100, 0, 10]], envelope=10)))
+        ridge = self.write_json("ridge.geojson", collection(
+            line([[217000, 4369000, 2500], [219000, 4370000, 2500]], plateau_width=40,
+                 slope=30, slope_width=150, envelope=200)))
+        base, out = self.path("base.vti"), self.path("out.vti")
+        for curves, path in ((outside, base), (ridge, out)):
+            r = terroir("generate", "features", path, "--curves", curves, "--base", dem)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("features 786 x 720", r.stdout)
+        b, e = read_vti(base)["Elevation"], read_vti(out)["Elevation"]
+        # The segment runs from cell (i, j) = (301.5, 252.5) to (501.5, 352.5); its midpoint
+        # (218000, 4369500) is cell (401.5, 302.5).
+        self.assertAlmostEqual(float(e[302, 401]), 2500.0, delta=10.0)
+        self.assertGreater(float(e[302, 401]) - float(b[302, 401]), 100.0)
+        # Cells more than plateau + slope + envelope (370 m = 37 cells) from the segment keep
+        # the DEM's heights: every row below 210 and every column left of 260.
+        np.testing.assert_array_equal(e[:210, :], b[:210, :])
+        np.testing.assert_array_equal(e[:, :260], b[:, :260])
+        self.assertGreater(int(np.sum(e != b)), 5000)
+
     def test_bad_curves_files_are_refused(self):
         cases = {
             "notjson.geojson": ("{ not json", "not JSON"),
