@@ -12,7 +12,7 @@ build=$2
 only=${3:-}
 declare -A minimum=(
   [unit]=315 [pipeline]=197 [gpu]=72 [rendering]=47 [python]=20 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=50 [mpi]=37
+  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=58 [mpi]=45
 )
 status=0
 labels=("${!minimum[@]}")

@@ -5,12 +5,15 @@
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkLogger.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTerroirGPU.h"
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirShadowGatherCS.h"
@@ -33,6 +36,12 @@
 #include <limits>
 #include <memory>
 #include <vector>
+
+#include "vtkTerroirFiltersTerrainModule.h" // For VTK_MODULE_ENABLE_VTK_ParallelCore
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+#include "vtkCommunicator.h"
+#include "vtkMultiProcessController.h"
+#endif
 
 vtkStandardNewMacro(vtkTerroirSolarIllumination);
 
@@ -469,6 +478,7 @@ void vtkTerroirSolarIllumination::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AirTemperature: " << this->AirTemperature << " C\n";
   os << indent << "Transmittance: " << this->Transmittance << "\n";
   os << indent << "DeltaT: " << this->DeltaT << " s\n";
+  os << indent << "DistributedHalo: " << this->DistributedHalo << " cells\n";
   os << indent << "LastHorizonMapSeconds: " << this->LastHorizonMapSeconds << "\n";
 }
 
@@ -598,6 +608,45 @@ bool vtkTerroirSolarIllumination::MakeFrame(vtkImageData* input,
       zMax = std::max(zMax, v.data[c]);
     }
   }
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  if (vtkMultiProcessController* controller =
+        this->DistributedRun ? GetDistributedController(this->GetOutputInformation(0)) : nullptr)
+  {
+    // The whole grid's mean and highest elevation: every piece sees the same sun. The pieces'
+    // halos overlap, so each adds only the cells it owns.
+    using SDDP = vtkStreamingDemandDrivenPipeline;
+    vtkInformation* outInfo = this->GetOutputInformation(0);
+    int whole[6], owned[6], e[6];
+    outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+    GetOwnedExtent(outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()),
+      outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()),
+      whole,
+      owned);
+    input->GetExtent(e);
+    double local[2] = { 0.0, 0.0 }, all[2] = { 0.0, 0.0 };
+    for (int j = owned[2]; j <= owned[3]; ++j)
+    {
+      for (int i = owned[0]; i <= owned[1]; ++i)
+      {
+        const std::size_t c = v.Index(i - e[0], j - e[2]);
+        if ((!v.valid || v.valid[c]) && !std::isnan(v.data[c]))
+        {
+          local[0] += v.data[c];
+          local[1] += 1.0;
+        }
+      }
+    }
+    float highest = zMax;
+    if (!controller->AllReduce(local, all, 2, vtkCommunicator::SUM_OP) ||
+      !controller->AllReduce(&highest, &zMax, 1, vtkCommunicator::MAX_OP))
+    {
+      vtkErrorMacro(<< this->SourcePrefix(input) << "the all-reduce of the elevations failed");
+      return false;
+    }
+    zSum = all[0];
+    zCount = static_cast<std::size_t>(all[1]);
+  }
+#endif
   frame.meanElevationM = zCount ? zSum / zCount : 0.0;
   frame.observer.latitudeDeg = std::isfinite(lat) ? lat : 0.0;
   frame.observer.longitudeDeg = std::isfinite(lon) ? lon : 0.0;
@@ -863,5 +912,112 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
 
   // Field data: the sun positions used and the frame.
   AddSunFieldData(output->GetFieldData(), steps, frame, this->NeedsPlace());
+  this->LastHaloUncertainShare = -1.0;
+  if (this->DistributedRun && !this->MeasureHaloUncertainty(input, v, steps, zMax, output))
+  {
+    return 0;
+  }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirSolarIllumination::MeasureHaloUncertainty(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  const std::vector<terroir::terrain::SunStep>& steps,
+  float zMax,
+  vtkImageData* output)
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkInformation* outInfo = this->GetOutputInformation(0);
+  vtkMultiProcessController* controller = GetDistributedController(outInfo);
+  if (!controller)
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << "a distributed run without its controller");
+    return false;
+  }
+  int whole[6], owned[6], e[6];
+  outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+  GetOwnedExtent(outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()),
+    outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()),
+    whole,
+    owned);
+  input->GetExtent(e);
+  // tan(elevation) of the steps with the sun above the horizontal, sorted.
+  std::vector<float> tans;
+  for (const tt::SunStep& step : steps)
+  {
+    if (step.elevationDeg > 0.0)
+    {
+      tans.push_back(step.tanElevation);
+    }
+  }
+  std::sort(tans.begin(), tans.end());
+  const double inf = std::numeric_limits<double>::infinity();
+  // Terrain beyond a cut edge of the halo (one the whole grid does not share) lies at least
+  // this far from a cell, and rises at most to the grid's highest cell: a step whose sun is
+  // above that tangent is decided by the terrain this piece holds.
+  double counts[2] = { 0.0, 0.0 }, all[2] = { 0.0, 0.0 };
+  for (int j = owned[2]; j <= owned[3]; ++j)
+  {
+    const int vj = j - e[2];
+    const double dx = v.DxAt(vj);
+    const double dy = v.DyAt(vj);
+    const double dj = std::min(
+      e[2] > whole[2] ? (j - e[2] + 1) * dy : inf, e[3] < whole[3] ? (e[3] - j + 1) * dy : inf);
+    for (int i = owned[0]; i <= owned[1]; ++i)
+    {
+      const std::size_t c = v.Index(i - e[0], vj);
+      if ((v.valid && !v.valid[c]) || std::isnan(v.data[c]))
+      {
+        continue;
+      }
+      const double d = std::min({ dj,
+        e[0] > whole[0] ? (i - e[0] + 1) * dx : inf,
+        e[1] < whole[1] ? (e[1] - i + 1) * dx : inf });
+      const double bound = (static_cast<double>(zMax) - v.data[c]) / d;
+      counts[0] +=
+        static_cast<double>(std::upper_bound(tans.begin(),
+                              tans.end(),
+                              bound,
+                              [](double b, float t) { return b < static_cast<double>(t); }) -
+          tans.begin());
+      counts[1] += static_cast<double>(tans.size());
+    }
+  }
+  if (!controller->AllReduce(counts, all, 2, vtkCommunicator::SUM_OP))
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << "the all-reduce of the halo's decisions failed");
+    return false;
+  }
+  this->LastHaloUncertainShare = all[1] > 0.0 ? all[0] / all[1] : 0.0;
+  auto share = vtkSmartPointer<vtkDoubleArray>::New();
+  share->SetName("SunHaloUncertainShare");
+  share->InsertNextValue(this->LastHaloUncertainShare);
+  output->GetFieldData()->AddArray(share);
+  if (this->LastHaloUncertainShare > 0.0 && controller->GetLocalProcessId() == 0)
+  {
+    vtkWarningMacro(<< this->SourcePrefix(input) << "in pieces with a halo of "
+                    << this->DistributedHalo << " cells, " << 100.0 * this->LastHaloUncertainShare
+                    << " % of the sunlit decisions could change with terrain beyond the halo "
+                       "(raise DistributedHalo for the serial shadows)");
+  }
+  return true;
+#else
+  (void)v;
+  (void)steps;
+  (void)zMax;
+  (void)output;
+  vtkErrorMacro(<< this->SourcePrefix(input) << "built without VTK::ParallelCore");
+  return false;
+#endif
+}
+
+//------------------------------------------------------------------------------
+int vtkTerroirSolarIllumination::RequestUpdateExtent(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  this->DistributedRun = GetDistributedController(outputVector->GetInformationObject(0)) != nullptr;
+  return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
 }

@@ -40,7 +40,13 @@
  * Kasten & Young (1989) air mass, times cos(incidence), over the lit steps (see
  * terroir/SolarIllumination.h); diffuse and reflected light are not included.
  *
- * Whole extent (global filter). Backends: CPU (vtkSMPTools over sectors and cells, float32;
+ * Whole extent (global filter), except in a distributed run (a global controller of N > 1
+ * processes, N pieces asked): each piece then computes on itself and DistributedHalo cells
+ * around it, as if the terrain ended there; the grid's mean and highest elevation (the sun's
+ * refraction, the march's cut-off) are all-reduced, and the share of decisions that terrain
+ * beyond the halo could change is measured (GetLastHaloUncertainShare, field data
+ * `SunHaloUncertainShare`, a warning when not 0): where it is 0 the shadows are the serial ones.
+ * Backends: CPU (vtkSMPTools over sectors and cells, float32;
  * results do not depend on the thread count) and GPU (Shaders/ShadowSweep.comp,
  * ShadowGather.comp, SolarIllumination.comp).
  *
@@ -238,11 +244,31 @@ public:
   /// was not needed).
   vtkGetMacro(LastHorizonMapSeconds, double);
 
+  ///@{
+  /**
+   * Distributed runs only (pvbatch under mpirun, one piece per process): each piece computes
+   * its shadows on itself and this many cells around it (ghost levels), as if the terrain
+   * ended there. Default 256 cells, 1..100000.
+   */
+  vtkSetClampMacro(DistributedHalo, int, 1, 100000);
+  vtkGetMacro(DistributedHalo, int);
+  ///@}
+
+  /**
+   * Distributed runs: the share of (cell, sun step) pairs with the sun above the horizontal
+   * whose lit/shadowed decision terrain beyond the halo could change (tan(sun elevation) <=
+   * (highest cell of the whole grid - cell) / distance to the cut edge of its halo), over the
+   * whole grid (all-reduced); 0 means the pieces give the serial shadows. -1 in a serial run.
+   * Also field data `SunHaloUncertainShare`.
+   */
+  vtkGetMacro(LastHaloUncertainShare, double);
+
 protected:
   vtkTerroirSolarIllumination();
   ~vtkTerroirSolarIllumination() override;
 
-  int GetHaloWidth() override { return -1; }
+  int GetHaloWidth() override { return this->DistributedRun ? this->DistributedHalo : -1; }
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int GetMinimumGridSize() override { return 2; }
   bool HasGPUPath() override { return true; }
   double EstimateMemory(double nx, double ny) override;
@@ -276,6 +302,9 @@ protected:
   double Transmittance = 0.7;
   double DeltaT = 69.2;
   double LastHorizonMapSeconds = 0.0;
+  int DistributedHalo = 256;
+  bool DistributedRun = false;
+  double LastHaloUncertainShare = -1.0;
 
 private:
   vtkTerroirSolarIllumination(const vtkTerroirSolarIllumination&) = delete;
@@ -296,6 +325,12 @@ private:
     const terroir::GridView<float>& v,
     terroir::terrain::SunFrame& frame,
     float& zMax);
+  /// Distributed: LastHaloUncertainShare, its field data and warning (see its comment).
+  bool MeasureHaloUncertainty(vtkImageData* input,
+    const terroir::GridView<float>& v,
+    const std::vector<terroir::terrain::SunStep>& steps,
+    float zMax,
+    vtkImageData* output);
   /// The sun steps of the Mode and the number of output slots (12 months, or 1).
   std::vector<terroir::terrain::SunStep> SunSteps(const terroir::terrain::SunFrame& frame,
     int& slots);

@@ -2,7 +2,7 @@
 builds the same pipeline, ParaView's parallel image writer writes one piece per rank (.pvti), and
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
-        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost|seeds
+        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost|seeds|sun|sunhours
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
 zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
@@ -10,7 +10,9 @@ flow (Pulse, defaults: a halo exchanged every iteration, the stop rule's sums al
 flowghost: flow, then slope (the water flow asked for a ghost layer); lakes: DEM -> flood fill
 (FillDepressions: Barnes 2016's parallel Priority-Flood, the water bodies joined across the
 pieces); lakesghost: lakes, then slope (the flood fill asked for a ghost layer); seeds: DEM ->
-flood fill (Seeds: Independence Lake's cell and a cell in another piece, at the terrain height).
+flood fill (Seeds: Independence Lake's cell and a cell in another piece, at the terrain height);
+sun: DEM -> solar illumination (Instant, 21 June at 12:00 PST) with a halo of SUN_HALO cells;
+sunhours: the same day's hours of sun (Daily, 30-minute steps) with a halo of 16 cells only.
 OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
 rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
 the whole grid on every rank and rank 0 writes), and
@@ -44,6 +46,14 @@ def main():
             # and the cells it gives back beyond its piece must be right too.
             last = TerroirSlope(Input=last)  # noqa: F821
         return write(reader, last, out_dir, recipe)
+    if recipe == 'sun':
+        last = TerroirSolarIllumination(Input=reader, Mode='Instant', Month=6, Day=21,  # noqa: F821
+                                        Time=12.0, UTCOffset=-8.0, DistributedHalo=SUN_HALO)
+        return write(reader, last, out_dir, recipe)
+    if recipe == 'sunhours':
+        last = TerroirSolarIllumination(Input=reader, Mode='Daily', Month=6, Day=21,  # noqa: F821
+                                        TimeStep=30.0, DistributedHalo=16)
+        return write(reader, last, out_dir, recipe)
     if recipe == 'seeds':
         last = TerroirFloodFill(Input=reader, Mode='Seeds', SeedPoints=SEEDS)  # noqa: F821
         return write(reader, last, out_dir, recipe)
@@ -66,13 +76,16 @@ def main():
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
         raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, lakes, '
-                         'lakesghost or seeds, not ' + recipe)
+                         'lakesghost, seeds, sun or sunhours, not ' + recipe)
     return write(reader, last, out_dir, recipe)
 
 
 # Seeds recipe: Independence Lake (cell 138, 474 of the bundled DEM: the lake's flat, 23,531
 # cells, crosses the row the 4 pieces share) and a cell of the south-east piece.
 SEEDS = [215365.0, 4371215.0, 220005.0, 4368475.0]
+# Sun recipe: each piece sees 64 cells (640 m) around it; at noon in June the sun (74 degrees)
+# is above every tangent terrain beyond could make (at most 54 degrees on this DEM).
+SUN_HALO = 64
 
 
 def smp_threads():
@@ -140,6 +153,10 @@ def write(reader, last, out_dir, recipe):
                          'WaterFlowOutflowVolume', 'WaterFlowMovedVolume')}
         record['water_flow']['WaterFlowStopReason'] = \
             fd.GetAbstractArray('WaterFlowStopReason').GetValue(0)
+    if recipe in ('sun', 'sunhours'):
+        # Only a distributed run (N > 1 pieces) measures it.
+        share = local.GetFieldData().GetArray('SunHaloUncertainShare')
+        record['sun_halo_uncertain_share'] = share.GetTuple1(0) if share else None
     if recipe in ('lakes', 'lakesghost', 'seeds'):
         # The water bodies' table (field data): every rank holds the whole grid's.
         fd = local.GetFieldData()
