@@ -293,6 +293,80 @@ void CheckStatus(Reader& r)
     throw std::invalid_argument("FillDepressionsDistributed: " + r.GetString());
   }
 }
+
+/// The head of every tile's first message: its status, its tile and what it needs.
+void WriteHead(Writer& w, const std::string& problem, const DistributedFillInput& in)
+{
+  w.Put<std::uint8_t>(problem.empty() ? 0 : 1);
+  w.PutString(problem);
+  w.Put(in.owned);
+  w.Put<std::int32_t>(in.wholeNx);
+  w.Put<std::int32_t>(in.wholeNy);
+  w.Put<std::int32_t>(in.reach);
+}
+
+/// Rank 0 reads the head of tile t's first message into boxes and reaches; returns why it
+/// cannot go on ("" when it can).
+std::string ReadHead(Reader& r,
+  int t,
+  int nx,
+  int ny,
+  std::vector<TileBox>& boxes,
+  std::vector<std::int32_t>& reaches)
+{
+  const bool failed = r.Get<std::uint8_t>() != 0;
+  const std::string message = r.GetString();
+  if (failed)
+  {
+    return "rank " + std::to_string(t) + ": " + message;
+  }
+  boxes.push_back(r.Get<TileBox>());
+  const auto wnx = r.Get<std::int32_t>();
+  const auto wny = r.Get<std::int32_t>();
+  reaches.push_back(r.Get<std::int32_t>());
+  if (wnx != nx || wny != ny)
+  {
+    return "rank " + std::to_string(t) + " sees a grid of " + std::to_string(wnx) + " x " +
+      std::to_string(wny) + ", rank 0 one of " + std::to_string(nx) + " x " + std::to_string(ny);
+  }
+  return std::string();
+}
+
+/// Calls f(i, j) for the cells of `box` grown by `reach` (within the grid) outside `box`, row
+/// by row: the ring whose results a tile's caller wants.
+template<typename F>
+void ForRing(const TileBox& box, int reach, int nx, int ny, F f)
+{
+  const TileBox ring = Grow(box, reach, nx, ny);
+  for (int j = ring.j0; j <= ring.j1 && box.Cells() > 0; ++j)
+  {
+    for (int i = ring.i0; i <= ring.i1; ++i)
+    {
+      if (!box.Contains(i, j))
+      {
+        f(i, j);
+      }
+    }
+  }
+}
+
+/// Calls f(q) for the 8-neighbours of whole-grid cell `cell` that lie in the grid outside
+/// `box` (in other tiles), q their whole-grid index.
+template<typename F>
+void ForOtherTiles(std::int64_t cell, const TileBox& box, int nx, int ny, F f)
+{
+  const int gi = static_cast<int>(cell % nx);
+  const int gj = static_cast<int>(cell / nx);
+  for (int e = 0; e < 8; ++e)
+  {
+    const int ii = gi + detail::kNeighbourDi[e];
+    const int jj = gj + detail::kNeighbourDj[e];
+    if (ii >= 0 && jj >= 0 && ii < nx && jj < ny && !box.Contains(ii, jj))
+    {
+      f(static_cast<std::int64_t>(jj) * nx + ii);
+    }
+  }
+}
 } // namespace
 
 DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
@@ -423,12 +497,7 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
   }
   {
     Writer w;
-    w.Put<std::uint8_t>(problem.empty() ? 0 : 1);
-    w.PutString(problem);
-    w.Put(owned);
-    w.Put<std::int32_t>(nx);
-    w.Put<std::int32_t>(ny);
-    w.Put<std::int32_t>(in.reach);
+    WriteHead(w, problem, in);
     w.Put<std::int32_t>(labels);
     w.PutVector(perimeter);
     w.PutVector(edges);
@@ -446,26 +515,14 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
       for (int t = 0; t < ranks && why.empty(); ++t)
       {
         Reader r(all.at(static_cast<std::size_t>(t)));
-        const bool failed = r.Get<std::uint8_t>() != 0;
-        const std::string message = r.GetString();
-        if (failed)
+        why = ReadHead(r, t, nx, ny, boxes, reaches);
+        if (!why.empty())
         {
-          why = "rank " + std::to_string(t) + ": " + message;
           break;
         }
-        boxes.push_back(r.Get<TileBox>());
-        const auto wnx = r.Get<std::int32_t>();
-        const auto wny = r.Get<std::int32_t>();
-        reaches.push_back(r.Get<std::int32_t>());
         labelCount.push_back(r.Get<std::int32_t>());
         perimeters.push_back(r.GetVector<PerimeterCell>());
         spills.push_back(r.GetVector<SpillEdge>());
-        if (wnx != nx || wny != ny)
-        {
-          why = "rank " + std::to_string(t) + " sees a grid of " + std::to_string(wnx) + " x " +
-            std::to_string(wny) + ", rank 0 one of " + std::to_string(nx) + " x " +
-            std::to_string(ny);
-        }
       }
       if (why.empty())
       {
@@ -528,25 +585,20 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
         {
           for (const PerimeterCell& p : perimeters[t])
           {
-            const int gi = static_cast<int>(p.cell % nx);
-            const int gj = static_cast<int>(p.cell / nx);
-            for (int e = 0; e < 8; ++e)
-            {
-              const int ii = gi + detail::kNeighbourDi[e];
-              const int jj = gj + detail::kNeighbourDj[e];
-              if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || boxes[t].Contains(ii, jj))
+            ForOtherTiles(p.cell,
+              boxes[t],
+              nx,
+              ny,
+              [&](std::int64_t q)
               {
-                continue;
-              }
-              const std::int64_t q = static_cast<std::int64_t>(jj) * nx + ii;
-              const auto it = where.find(q);
-              if (it != where.end() && q > p.cell)
-              {
-                link(node(t, p.label),
-                  node(it->second.tile, it->second.label),
-                  std::max(p.z, it->second.z));
-              }
-            }
+                const auto it = where.find(q);
+                if (it != where.end() && q > p.cell)
+                {
+                  link(node(t, p.label),
+                    node(it->second.tile, it->second.label),
+                    std::max(p.z, it->second.z));
+                }
+              });
           }
         }
         // Minimax Dijkstra from the ocean: the level each seed's water must reach to leave.
@@ -738,22 +790,18 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
       {
         for (const BandCell& b : bands[t])
         {
-          const int gi = static_cast<int>(b.cell % nx);
-          const int gj = static_cast<int>(b.cell / nx);
-          for (int e = 0; e < 8; ++e)
-          {
-            const int ii = gi + detail::kNeighbourDi[e];
-            const int jj = gj + detail::kNeighbourDj[e];
-            if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || boxes[t].Contains(ii, jj))
+          ForOtherTiles(b.cell,
+            boxes[t],
+            nx,
+            ny,
+            [&](std::int64_t q)
             {
-              continue;
-            }
-            const auto it = where.find(static_cast<std::int64_t>(jj) * nx + ii);
-            if (it != where.end() && it->second.filled == b.filled)
-            {
-              groups.Join(base[t] + b.flat, base[it->second.tile] + it->second.flat);
-            }
-          }
+              const auto it = where.find(q);
+              if (it != where.end() && it->second.filled == b.filled)
+              {
+                groups.Join(base[t] + b.flat, base[it->second.tile] + it->second.flat);
+              }
+            });
         }
       }
       // Each group's statistics added in rank order, then flat order.
@@ -807,21 +855,17 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
         // The ring this tile's caller wants, row by row (no data: NaN and 0).
         std::vector<float> ringFilled;
         std::vector<std::int32_t> ringBody;
-        const TileBox ring = Grow(boxes[t], reaches[t], nx, ny);
-        for (int jj = ring.j0; jj <= ring.j1 && boxes[t].Cells() > 0; ++jj)
-        {
-          for (int ii = ring.i0; ii <= ring.i1; ++ii)
+        ForRing(boxes[t],
+          reaches[t],
+          nx,
+          ny,
+          [&](int ii, int jj)
           {
-            if (boxes[t].Contains(ii, jj))
-            {
-              continue;
-            }
             const auto it = where.find(static_cast<std::int64_t>(jj) * nx + ii);
             ringFilled.push_back(it == where.end() ? kNaN : it->second.filled);
             ringBody.push_back(
               it == where.end() ? 0 : bodyOf[groups.Find(base[it->second.tile] + it->second.flat)]);
-          }
-        }
+          });
         Writer reply;
         reply.PutVector(flatBody);
         reply.PutVector(ringFilled);
@@ -948,12 +992,7 @@ DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
     }
   }
   Writer w1;
-  w1.Put<std::uint8_t>(problem.empty() ? 0 : 1);
-  w1.PutString(problem);
-  w1.Put(owned);
-  w1.Put<std::int32_t>(nx);
-  w1.Put<std::int32_t>(ny);
-  w1.Put<std::int32_t>(in.reach);
+  WriteHead(w1, problem, in);
   w1.PutVector(mine);
   const std::vector<std::vector<char>> all1 = exchange.Gather(w1.Bytes);
   std::vector<std::vector<char>> replies1;
@@ -969,22 +1008,12 @@ DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
     for (int t = 0; t < ranks && why.empty(); ++t)
     {
       Reader r(all1.at(static_cast<std::size_t>(t)));
-      const bool failed = r.Get<std::uint8_t>() != 0;
-      const std::string message = r.GetString();
-      if (failed)
+      why = ReadHead(r, t, nx, ny, boxes, reaches);
+      if (!why.empty())
       {
-        why = "rank " + std::to_string(t) + ": " + message;
         break;
       }
-      boxes.push_back(r.Get<TileBox>());
-      const auto wnx = r.Get<std::int32_t>();
-      const auto wny = r.Get<std::int32_t>();
-      reaches.push_back(r.Get<std::int32_t>());
       seedCells.push_back(r.GetVector<SeedCell>());
-      if (wnx != nx || wny != ny)
-      {
-        why = "rank " + std::to_string(t) + " sees another grid size than rank 0";
-      }
     }
     if (why.empty())
     {
@@ -1202,23 +1231,19 @@ DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
       {
         for (const SeedBand& b : bands[t])
         {
-          const int gi = static_cast<int>(b.cell % nx);
-          const int gj = static_cast<int>(b.cell / nx);
-          for (int e = 0; e < 8; ++e)
-          {
-            const int ii = gi + detail::kNeighbourDi[e];
-            const int jj = gj + detail::kNeighbourDj[e];
-            if (ii < 0 || jj < 0 || ii >= nx || jj >= ny || boxes[t].Contains(ii, jj))
+          ForOtherTiles(b.cell,
+            boxes[t],
+            nx,
+            ny,
+            [&](std::int64_t q)
             {
-              continue;
-            }
-            const auto it = where.find((static_cast<std::int64_t>(jj) * nx + ii) * nSeeds + b.seed);
-            if (it != where.end())
-            {
-              groups.Join(
-                base[b.seed][t] + b.component, base[b.seed][it->second.first] + it->second.second);
-            }
-          }
+              const auto it = where.find(q * nSeeds + b.seed);
+              if (it != where.end())
+              {
+                groups.Join(base[b.seed][t] + b.component,
+                  base[b.seed][it->second.first] + it->second.second);
+              }
+            });
         }
       }
       // The component of seed u's cell under seed s's level, as a node (-1: not in the mask).
@@ -1287,15 +1312,12 @@ DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
           reply.PutVector(wetComponent);
         }
         std::vector<std::int32_t> ringBody;
-        const TileBox ring = Grow(boxes[t], reaches[t], nx, ny);
-        for (int jj = ring.j0; jj <= ring.j1 && boxes[t].Cells() > 0; ++jj)
-        {
-          for (int ii = ring.i0; ii <= ring.i1; ++ii)
+        ForRing(boxes[t],
+          reaches[t],
+          nx,
+          ny,
+          [&](int ii, int jj)
           {
-            if (boxes[t].Contains(ii, jj))
-            {
-              continue;
-            }
             std::int32_t body = 0;
             for (std::size_t k = 0; k < order.size() && body == 0; ++k)
             {
@@ -1308,8 +1330,7 @@ DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
               }
             }
             ringBody.push_back(body);
-          }
-        }
+          });
         reply.PutVector(ringBody);
         reply.PutVector(bodies);
         replies2.push_back(std::move(reply.Bytes));
