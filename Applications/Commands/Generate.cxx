@@ -27,7 +27,50 @@ namespace app
 {
 
 int CommandGenerateRiverLand(const CommandLine& c); // GenerateRiverLand.cxx
-int CommandGenerateFeatures(const CommandLine& c); // GenerateFeatures.cxx
+int CommandGenerateFeatures(const CommandLine& c);  // GenerateFeatures.cxx
+
+void WriteRiverLines(vtkPolyData* rivers,
+  const std::vector<LineProperty>& properties,
+  const std::string& crs,
+  const std::string& path,
+  bool overwrite)
+{
+  nlohmann::json features = nlohmann::json::array();
+  for (vtkIdType k = 0; k < rivers->GetNumberOfCells(); ++k)
+  {
+    vtkCell* line = rivers->GetCell(k);
+    nlohmann::json coordinates = nlohmann::json::array();
+    for (vtkIdType v = 0; v < line->GetNumberOfPoints(); ++v)
+    {
+      double xyz[3];
+      rivers->GetPoint(line->GetPointId(v), xyz);
+      coordinates.push_back({ xyz[0], xyz[1] });
+    }
+    nlohmann::json values = nlohmann::json::object();
+    for (const LineProperty& p : properties)
+    {
+      const double value = rivers->GetCellData()->GetArray(p.array)->GetComponent(k, 0);
+      if (p.integer)
+      {
+        values[p.key] = static_cast<int>(value);
+      }
+      else
+      {
+        values[p.key] = value;
+      }
+    }
+    features.push_back({ { "type", "Feature" },
+      { "properties", values },
+      { "geometry", { { "type", "LineString" }, { "coordinates", coordinates } } } });
+  }
+  nlohmann::json collection = { { "type", "FeatureCollection" }, { "features", features } };
+  if (!crs.empty())
+  {
+    // GeoJSON 2008's named CRS (GDAL reads it): the lines are in the generator's CRS.
+    collection["crs"] = { { "type", "name" }, { "properties", { { "name", crs } } } };
+  }
+  WriteTextFile(path, collection.dump() + "\n", overwrite);
+}
 
 int CommandGenerate(const CommandLine& c)
 {
@@ -84,30 +127,11 @@ int CommandGenerate(const CommandLine& c)
     {
       // GeoJSON LineStrings in the image's coordinates (no CRS: metres from the first cell),
       // each with the water it carries.
-      vtkPolyData* rivers = vtkPolyData::SafeDownCast(source->GetOutputDataObject(1));
-      vtkDataArray* flow = rivers->GetCellData()->GetArray("RiverFlow");
-      nlohmann::json features = nlohmann::json::array();
-      for (vtkIdType k = 0; k < rivers->GetNumberOfCells(); ++k)
-      {
-        vtkCell* line = rivers->GetCell(k);
-        nlohmann::json coordinates = nlohmann::json::array();
-        for (vtkIdType v = 0; v < line->GetNumberOfPoints(); ++v)
-        {
-          double xyz[3];
-          rivers->GetPoint(line->GetPointId(v), xyz);
-          coordinates.push_back({ xyz[0], xyz[1] });
-        }
-        features.push_back({ { "type", "Feature" },
-          { "properties", { { "river_flow", flow->GetComponent(k, 0) } } },
-          { "geometry", { { "type", "LineString" }, { "coordinates", coordinates } } } });
-      }
-      nlohmann::json collection = { { "type", "FeatureCollection" }, { "features", features } };
-      if (!g.CRS.empty())
-      {
-        // GeoJSON 2008's named CRS (GDAL reads it): the lines are in the island's CRS.
-        collection["crs"] = { { "type", "name" }, { "properties", { { "name", g.CRS } } } };
-      }
-      WriteTextFile(g.RiverLines, collection.dump() + "\n", c.Overwrite);
+      WriteRiverLines(vtkPolyData::SafeDownCast(source->GetOutputDataObject(1)),
+        { { "river_flow", "RiverFlow", false } },
+        g.CRS,
+        g.RiverLines,
+        c.Overwrite);
     }
   }
   catch (...)

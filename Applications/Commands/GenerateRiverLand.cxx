@@ -66,34 +66,13 @@ int CommandGenerateRiverLand(const CommandLine& c)
     {
       // GeoJSON LineStrings through the river cells' centres, in the image's coordinates (or
       // its CRS), with each river's id, parent and level.
-      vtkPolyData* rivers = vtkPolyData::SafeDownCast(source->GetOutputDataObject(1));
-      vtkDataArray* ids = rivers->GetCellData()->GetArray("RiverId");
-      vtkDataArray* parents = rivers->GetCellData()->GetArray("Parent");
-      vtkDataArray* levels = rivers->GetCellData()->GetArray("Level");
-      nlohmann::json features = nlohmann::json::array();
-      for (vtkIdType k = 0; k < rivers->GetNumberOfCells(); ++k)
-      {
-        vtkCell* polyline = rivers->GetCell(k);
-        nlohmann::json coordinates = nlohmann::json::array();
-        for (vtkIdType v = 0; v < polyline->GetNumberOfPoints(); ++v)
-        {
-          double xyz[3];
-          rivers->GetPoint(polyline->GetPointId(v), xyz);
-          coordinates.push_back({ xyz[0], xyz[1] });
-        }
-        features.push_back({ { "type", "Feature" },
-          { "properties",
-            { { "river_id", static_cast<int>(ids->GetComponent(k, 0)) },
-              { "parent", static_cast<int>(parents->GetComponent(k, 0)) },
-              { "level", static_cast<int>(levels->GetComponent(k, 0)) } } },
-          { "geometry", { { "type", "LineString" }, { "coordinates", coordinates } } } });
-      }
-      nlohmann::json collection = { { "type", "FeatureCollection" }, { "features", features } };
-      if (!g.CRS.empty())
-      {
-        collection["crs"] = { { "type", "name" }, { "properties", { { "name", g.CRS } } } };
-      }
-      WriteTextFile(g.RiverLines, collection.dump() + "\n", c.Overwrite);
+      WriteRiverLines(vtkPolyData::SafeDownCast(source->GetOutputDataObject(1)),
+        { { "river_id", "RiverId", true },
+          { "parent", "Parent", true },
+          { "level", "Level", true } },
+        g.CRS,
+        g.RiverLines,
+        c.Overwrite);
     }
   }
   catch (...)

@@ -14,7 +14,10 @@
 
 #include "TerroirCommandLine.h"
 
+#include <string>
 #include <vector>
+
+class vtkPolyData;
 
 namespace terroir
 {
@@ -54,6 +57,26 @@ int CommandValidate(const CommandLine& c);         // Validate.cxx
 int CommandKMeans(const CommandLine& c);           // KMeans.cxx
 int CommandMorphometry(const CommandLine& c);      // Morphometry.cxx
 // new-filter.sh: commands
+
+/// One GeoJSON property of WriteRiverLines: `key`, from the lines' cell array `array`.
+struct LineProperty
+{
+  const char* key;
+  const char* array;
+  bool integer; ///< written as an integer, else as a number
+};
+
+/**
+ * Writes a generator's rivers (polylines, port 1 of the island and RiverLand sources) as a
+ * GeoJSON FeatureCollection of LineStrings in the lines' coordinates, each with `properties`;
+ * with a CRS (EPSG:NNNN or WKT) the collection names it (GeoJSON 2008's named CRS, which GDAL
+ * reads). Generate.cxx.
+ */
+void WriteRiverLines(vtkPolyData* rivers,
+  const std::vector<LineProperty>& properties,
+  const std::string& crs,
+  const std::string& path,
+  bool overwrite);
 
 } // namespace app
 } // namespace terroir
