@@ -80,7 +80,10 @@ public:
                                "than it holds");
     }
     std::vector<T> values(static_cast<std::size_t>(n));
-    std::memcpy(values.data(), this->Bytes.data() + this->Position, n * sizeof(T));
+    if (n > 0) // an empty vector's data() may be null, which memcpy does not take
+    {
+      std::memcpy(values.data(), this->Bytes.data() + this->Position, n * sizeof(T));
+    }
     this->Position += static_cast<std::size_t>(n * sizeof(T));
     return values;
   }
