@@ -99,6 +99,7 @@ int vtkTerroirImageAlgorithm::RequestUpdateExtent(vtkInformation*,
 {
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  this->DistributedRequest = GetDistributedController(outInfo) != nullptr;
   int whole[6];
   inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
   int ext[6];

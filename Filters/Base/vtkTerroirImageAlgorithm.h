@@ -104,6 +104,7 @@ protected:
   ~vtkTerroirImageAlgorithm() override;
 
   /// Stencil half-width in cells: 0 pointwise, r for a (2r+1)^2 stencil, -1 whole extent.
+  /// Called by RequestUpdateExtent after DistributedRequest is set for the request.
   virtual int GetHaloWidth() { return 0; }
   /// Smallest nx and ny the filter accepts (1 by default).
   virtual int GetMinimumGridSize() { return 1; }
@@ -150,6 +151,9 @@ protected:
 
   int Backend = 0;
   int LastBackend = -1;
+  /// Set by RequestUpdateExtent: this request is one of N pieces with a global controller of
+  /// N > 1 processes (GetDistributedController is not null).
+  bool DistributedRequest = false;
   std::string LastBackendReason;
 
 private:

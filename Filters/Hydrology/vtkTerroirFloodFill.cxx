@@ -211,15 +211,6 @@ private:
 #endif
 
 //------------------------------------------------------------------------------
-int vtkTerroirFloodFill::RequestUpdateExtent(vtkInformation* request,
-  vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector)
-{
-  this->DistributedRun = GetDistributedController(outputVector->GetInformationObject(0)) != nullptr;
-  return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
-}
-
-//------------------------------------------------------------------------------
 double vtkTerroirFloodFill::EstimateMemory(double nx, double ny)
 {
   // Outputs: WaterBody 4 B + WaterDepth 4 B per cell. Seeds: the fill stack holds each wet cell
@@ -288,7 +279,7 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
     std::copy(input6, input6 + 6, ext);
     input->GetOrigin(origin);
     input->GetSpacing(spacing);
-    if (this->DistributedRun)
+    if (this->DistributedRequest)
     {
       using SDDP = vtkStreamingDemandDrivenPipeline;
       vtkInformation* outInfo = this->GetOutputInformation(0);
@@ -334,7 +325,7 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
       }
       const int i = static_cast<int>(ci);
       const int j = static_cast<int>(cj);
-      if (this->DistributedRun)
+      if (this->DistributedRequest)
       {
         // The rank that owns the cell checks it; the ranks all-reduce the answer below.
         const int gi = i + ext[0];
@@ -393,7 +384,7 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
   float* dp = depth->GetPointer(0);
 
   std::vector<hy::WaterBodyStats> bodies;
-  if (this->Mode == Seeds && this->DistributedRun)
+  if (this->Mode == Seeds && this->DistributedRequest)
   {
     if (!this->FloodSeedsInPieces(input, v, wholeSeeds, noData, idp, dp, bodies))
     {
@@ -405,7 +396,7 @@ int vtkTerroirFloodFill::RequestTerrainData(vtkImageData* input,
     bodies = hy::FloodFillSeeds(
       v, seeds, idp, dp, [this](double f) { this->UpdateProgress(0.05 + 0.9 * f); });
   }
-  else if (this->DistributedRun)
+  else if (this->DistributedRequest)
   {
     if (!this->FillDepressionsInPieces(input, v, idp, dp, bodies))
     {

@@ -170,8 +170,7 @@ protected:
   ~vtkTerroirFloodFill() override;
 
   /// A distributed run: the piece and one ring (Barnes 2016's tiles); else the whole extent.
-  int GetHaloWidth() override { return this->DistributedRun ? 1 : -1; }
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int GetHaloWidth() override { return this->DistributedRequest ? 1 : -1; }
   bool HasGPUPath() override { return false; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
@@ -184,7 +183,6 @@ protected:
   int Mode = Seeds;
   double MinimumArea = 10000.0;
   bool IncludeFlatSurfaces = true;
-  bool DistributedRun = false; ///< this request is one piece of a distributed FillDepressions
 
 private:
   vtkTerroirFloodFill(const vtkTerroirFloodFill&) = delete;

@@ -609,8 +609,9 @@ bool vtkTerroirSolarIllumination::MakeFrame(vtkImageData* input,
     }
   }
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
-  if (vtkMultiProcessController* controller =
-        this->DistributedRun ? GetDistributedController(this->GetOutputInformation(0)) : nullptr)
+  if (vtkMultiProcessController* controller = this->DistributedRequest
+      ? GetDistributedController(this->GetOutputInformation(0))
+      : nullptr)
   {
     // The whole grid's mean and highest elevation: every piece sees the same sun. The pieces'
     // halos overlap, so each adds only the cells it owns.
@@ -913,7 +914,7 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
   // Field data: the sun positions used and the frame.
   AddSunFieldData(output->GetFieldData(), steps, frame, this->NeedsPlace());
   this->LastHaloUncertainShare = -1.0;
-  if (this->DistributedRun && !this->MeasureHaloUncertainty(input, v, steps, zMax, output))
+  if (this->DistributedRequest && !this->MeasureHaloUncertainty(input, v, steps, zMax, output))
   {
     return 0;
   }
@@ -1011,13 +1012,4 @@ bool vtkTerroirSolarIllumination::MeasureHaloUncertainty(vtkImageData* input,
   vtkErrorMacro(<< this->SourcePrefix(input) << "built without VTK::ParallelCore");
   return false;
 #endif
-}
-
-//------------------------------------------------------------------------------
-int vtkTerroirSolarIllumination::RequestUpdateExtent(vtkInformation* request,
-  vtkInformationVector** inputVector,
-  vtkInformationVector* outputVector)
-{
-  this->DistributedRun = GetDistributedController(outputVector->GetInformationObject(0)) != nullptr;
-  return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
 }

@@ -267,8 +267,7 @@ protected:
   vtkTerroirSolarIllumination();
   ~vtkTerroirSolarIllumination() override;
 
-  int GetHaloWidth() override { return this->DistributedRun ? this->DistributedHalo : -1; }
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int GetHaloWidth() override { return this->DistributedRequest ? this->DistributedHalo : -1; }
   int GetMinimumGridSize() override { return 2; }
   bool HasGPUPath() override { return true; }
   double EstimateMemory(double nx, double ny) override;
@@ -303,7 +302,6 @@ protected:
   double DeltaT = 69.2;
   double LastHorizonMapSeconds = 0.0;
   int DistributedHalo = 256;
-  bool DistributedRun = false;
   double LastHaloUncertainShare = -1.0;
 
 private:
