@@ -32,6 +32,7 @@
 #include "vtkTerroirFiltersHydrologyModule.h" // For VTK_MODULE_ENABLE_VTK_ParallelCore
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
 #include "vtkMultiProcessController.h"
+#include "vtkTerroirControllerTileExchange.h"
 #endif
 
 vtkStandardNewMacro(vtkTerroirFloodFill);
@@ -133,82 +134,6 @@ std::string vtkTerroirFloodFill::DescribeSeed(std::size_t s) const
         ? " at cell (" + std::to_string(seed.I) + ", " + std::to_string(seed.J) + ")"
         : " at (" + terroir::NumberText(seed.X) + ", " + terroir::NumberText(seed.Y) + ")");
 }
-
-#if VTK_MODULE_ENABLE_VTK_ParallelCore
-namespace
-{
-/// The core's gather and scatter through a vtkMultiProcessController (rank 0 the root).
-class ControllerTileExchange : public terroir::hydrology::TileExchange
-{
-public:
-  explicit ControllerTileExchange(vtkMultiProcessController* controller)
-    : Controller(controller)
-  {
-  }
-  int Rank() const override { return this->Controller->GetLocalProcessId(); }
-  int Size() const override { return this->Controller->GetNumberOfProcesses(); }
-  std::vector<std::vector<char>> Gather(const std::vector<char>& mine) override
-  {
-    const std::size_t ranks = static_cast<std::size_t>(this->Size());
-    const long length = static_cast<long>(mine.size());
-    std::vector<long> lengths(ranks, 0);
-    Check(this->Controller->Gather(&length, lengths.data(), 1, 0));
-    std::vector<vtkIdType> counts(lengths.begin(), lengths.end());
-    std::vector<vtkIdType> offsets(ranks, 0);
-    for (std::size_t r = 1; r < ranks; ++r)
-    {
-      offsets[r] = offsets[r - 1] + counts[r - 1];
-    }
-    std::vector<char> all(
-      this->Rank() == 0 ? static_cast<std::size_t>(offsets.back() + counts.back()) : 0);
-    Check(this->Controller->GatherV(
-      mine.data(), all.data(), static_cast<vtkIdType>(length), counts.data(), offsets.data(), 0));
-    std::vector<std::vector<char>> parts;
-    for (std::size_t r = 0; r < ranks && this->Rank() == 0; ++r)
-    {
-      parts.emplace_back(all.begin() + offsets[r], all.begin() + offsets[r] + counts[r]);
-    }
-    return parts;
-  }
-  std::vector<char> Scatter(const std::vector<std::vector<char>>& parts) override
-  {
-    // Point to point from rank 0 (a length, then the bytes): rank 0's replies differ in size.
-    const int ranks = this->Size();
-    if (this->Rank() == 0)
-    {
-      for (int r = 1; r < ranks; ++r)
-      {
-        const std::vector<char>& part = parts.at(static_cast<std::size_t>(r));
-        const long length = static_cast<long>(part.size());
-        Check(this->Controller->Send(&length, 1, r, kTag));
-        Check(this->Controller->Send(part.data(), static_cast<vtkIdType>(length), r, kTag));
-      }
-      return parts.at(0);
-    }
-    long length = 0;
-    Check(this->Controller->Receive(&length, 1, 0, kTag));
-    if (length < 0)
-    {
-      throw std::runtime_error("a negative message length from rank 0");
-    }
-    std::vector<char> mine(static_cast<std::size_t>(length));
-    Check(this->Controller->Receive(mine.data(), static_cast<vtkIdType>(length), 0, kTag));
-    return mine;
-  }
-
-private:
-  static void Check(int ok)
-  {
-    if (!ok)
-    {
-      throw std::runtime_error("an MPI gather or scatter failed");
-    }
-  }
-  static constexpr int kTag = 25016; ///< this exchange's messages (issue 25, Barnes 2016)
-  vtkMultiProcessController* Controller;
-};
-} // namespace
-#endif
 
 //------------------------------------------------------------------------------
 double vtkTerroirFloodFill::EstimateMemory(double nx, double ny)
@@ -510,32 +435,12 @@ bool vtkTerroirFloodFill::RunInPieces(vtkImageData* input,
     return false;
   }
   vtkDebugMacro(<< "flood fill in pieces: " << hy::kPriorityFloodBarnes2016Citation);
-  int whole[6], owned[6], e[6];
-  outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
-  GetOwnedExtent(outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()),
-    outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()),
-    whole,
-    owned);
-  input->GetExtent(e);
-  hy::DistributedFillInput in;
-  in.view = view;
-  in.gi0 = e[0] - whole[0];
-  in.gj0 = e[2] - whole[2];
-  in.owned = hy::TileBox{
-    owned[0] - whole[0], owned[1] - whole[0], owned[2] - whole[2], owned[3] - whole[2]
-  };
-  in.wholeNx = whole[1] - whole[0] + 1;
-  in.wholeNy = whole[3] - whole[2] + 1;
-  // The output's ghost levels lie within this ring of the owned points (the piece's upper
-  // boundary points are one step out).
-  in.reach = 1 +
-    (outInfo->Has(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
-        ? outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS())
-        : 0);
+  const hy::DistributedFillInput in =
+    vtkTerroirControllerTileExchange::TileInput(outInfo, input, view);
   hy::DepressionWaterBodyOptions options;
   options.minimumArea = this->MinimumArea;
   options.includeFlatSurfaces = this->IncludeFlatSurfaces;
-  ControllerTileExchange exchange(controller);
+  vtkTerroirControllerTileExchange exchange(controller);
   try
   {
     hy::DistributedFillResult result = seeds

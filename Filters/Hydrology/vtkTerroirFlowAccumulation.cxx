@@ -12,12 +12,21 @@
 #include "vtkTerroirTerrainInput.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "vtkTerroirFiltersHydrologyModule.h" // For VTK_MODULE_ENABLE_VTK_ParallelCore
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+#include "vtkMultiProcessController.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirControllerTileExchange.h"
+#endif
+
+#include "DistributedFlowAccumulation.h"
 #include "FlowAccumulation.h"
 #include "MultipleFlow.h"
 #include "PriorityFlood.h"
 
 #include "NumberText.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <new>
@@ -176,75 +185,88 @@ int vtkTerroirFlowAccumulation::RequestTerrainData(vtkImageData* input,
     }
   }
 
-  // 1. Depression filling, straight into the output array.
-  auto filled = NewArray<vtkFloatArray>(FilledElevationName(), n, "m");
-  vtkDebugMacro(<< "Priority-Flood: " << hy::kPriorityFloodBarnes2014Citation);
-  hy::PriorityFloodBarnes2014(
-    v, filled->GetPointer(0), [this](double f) { this->UpdateProgress(0.05 + 0.45 * f); });
-
-  // 2. D8 directions, flats routed breadth-first.
-  auto direction = NewArray<vtkSignedCharArray>(FlowDirectionName(), n, nullptr);
-  vtkDebugMacro(<< "D8: " << hy::kD8OCallaghanMark1984Citation
-                << "; flats: " << hy::kFlatsBarnes2014Citation);
-  const hy::D8Summary summary = hy::D8FlowDirections(v,
-    filled->GetPointer(0),
-    direction->GetPointer(0),
-    [this](double f) { this->UpdateProgress(0.5 + 0.2 * f); });
-  vtkDebugMacro(<< summary.outlets << " outlets, " << summary.flatCells << " flat cells, "
-                << summary.sinks << " sinks");
-  const std::int8_t* dir = direction->GetPointer(0);
-
-  // 3. Accumulations by the chosen method: cells, area, and the weighted volume.
-  auto angle = this->Method == DInfinity ? NewArray<vtkFloatArray>(FlowAngleName(), n, "rad")
-                                         : vtkSmartPointer<vtkFloatArray>();
-  hy::MFDOptions mfd;
-  mfd.exponent = this->MFDExponent;
-  mfd.contourLength = this->MFDContourLength != 0;
-  mfd.adaptive = this->MFDAdaptiveExponent != 0;
-  auto accumulate = [&](const float* weight, double* out, const hy::AccumulationOptions& o)
-  {
-    switch (this->Method)
-    {
-      case MFD:
-        hy::MultipleFlowAccumulation(v, filled->GetPointer(0), dir, mfd, weight, out, o);
-        break;
-      case DInfinity:
-        hy::DInfinityAccumulation(v,
-          filled->GetPointer(0),
-          dir,
-          weight,
-          out,
-          angle && weight == nullptr && !o.timesCellArea ? angle->GetPointer(0) : nullptr,
-          o);
-        break;
-      default:
-        hy::D8FlowAccumulation(v, dir, weight, out, o);
-    }
-  };
-  vtkDebugMacro(<< "accumulation: " << MethodName(this->Method));
-  auto cells = NewArray<vtkDoubleArray>(FlowAccumulationName(), n, "cells");
-  hy::AccumulationOptions options;
-  options.progress = [this](double f) { this->UpdateProgress(0.7 + 0.08 * f); };
-  accumulate(nullptr, cells->GetPointer(0), options);
-
-  auto area = NewArray<vtkDoubleArray>(ContributingAreaName(), n, "m2");
-  options.timesCellArea = true;
-  options.progress = [this](double f) { this->UpdateProgress(0.78 + 0.08 * f); };
-  accumulate(nullptr, area->GetPointer(0), options);
-
-  vtkSmartPointer<vtkDoubleArray> volume;
+  std::vector<float> weight;
   if (weighted)
   {
-    std::vector<float> weight(n);
+    weight.resize(n);
     for (std::size_t k = 0; k < n; ++k)
     {
       weight[k] = static_cast<float>(
         weightArray->GetComponent(static_cast<vtkIdType>(k), this->WeightComponent));
     }
-    volume = NewArray<vtkDoubleArray>(WeightedAccumulationName(), n, "m3");
-    options.scale = 1e-3; // mm -> m
-    options.progress = [this](double f) { this->UpdateProgress(0.86 + 0.08 * f); };
-    accumulate(weight.data(), volume->GetPointer(0), options);
+  }
+  auto filled = NewArray<vtkFloatArray>(FilledElevationName(), n, "m");
+  auto direction = NewArray<vtkSignedCharArray>(FlowDirectionName(), n, nullptr);
+  auto cells = NewArray<vtkDoubleArray>(FlowAccumulationName(), n, "cells");
+  auto area = NewArray<vtkDoubleArray>(ContributingAreaName(), n, "m2");
+  auto volume = weighted ? NewArray<vtkDoubleArray>(WeightedAccumulationName(), n, "m3")
+                         : vtkSmartPointer<vtkDoubleArray>();
+  auto angle = this->Method == DInfinity ? NewArray<vtkFloatArray>(FlowAngleName(), n, "rad")
+                                         : vtkSmartPointer<vtkFloatArray>();
+  if (this->DistributedRequest && this->Method == D8)
+  {
+    if (!this->AccumulateInPieces(
+          input, v, weighted ? weight.data() : nullptr, filled, direction, cells, area, volume))
+    {
+      return 0;
+    }
+  }
+  else
+  {
+    // 1. Depression filling, straight into the output array.
+    vtkDebugMacro(<< "Priority-Flood: " << hy::kPriorityFloodBarnes2014Citation);
+    hy::PriorityFloodBarnes2014(
+      v, filled->GetPointer(0), [this](double f) { this->UpdateProgress(0.05 + 0.45 * f); });
+
+    // 2. D8 directions, flats routed breadth-first.
+    vtkDebugMacro(<< "D8: " << hy::kD8OCallaghanMark1984Citation
+                  << "; flats: " << hy::kFlatsBarnes2014Citation);
+    const hy::D8Summary summary = hy::D8FlowDirections(v,
+      filled->GetPointer(0),
+      direction->GetPointer(0),
+      [this](double f) { this->UpdateProgress(0.5 + 0.2 * f); });
+    vtkDebugMacro(<< summary.outlets << " outlets, " << summary.flatCells << " flat cells, "
+                  << summary.sinks << " sinks");
+    const std::int8_t* dir = direction->GetPointer(0);
+
+    // 3. Accumulations by the chosen method: cells, area, and the weighted volume.
+    hy::MFDOptions mfd;
+    mfd.exponent = this->MFDExponent;
+    mfd.contourLength = this->MFDContourLength != 0;
+    mfd.adaptive = this->MFDAdaptiveExponent != 0;
+    auto accumulate = [&](const float* w, double* out, const hy::AccumulationOptions& o)
+    {
+      switch (this->Method)
+      {
+        case MFD:
+          hy::MultipleFlowAccumulation(v, filled->GetPointer(0), dir, mfd, w, out, o);
+          break;
+        case DInfinity:
+          hy::DInfinityAccumulation(v,
+            filled->GetPointer(0),
+            dir,
+            w,
+            out,
+            angle && w == nullptr && !o.timesCellArea ? angle->GetPointer(0) : nullptr,
+            o);
+          break;
+        default:
+          hy::D8FlowAccumulation(v, dir, w, out, o);
+      }
+    };
+    vtkDebugMacro(<< "accumulation: " << MethodName(this->Method));
+    hy::AccumulationOptions options;
+    options.progress = [this](double f) { this->UpdateProgress(0.7 + 0.08 * f); };
+    accumulate(nullptr, cells->GetPointer(0), options);
+    options.timesCellArea = true;
+    options.progress = [this](double f) { this->UpdateProgress(0.78 + 0.08 * f); };
+    accumulate(nullptr, area->GetPointer(0), options);
+    if (weighted)
+    {
+      options.scale = 1e-3; // mm -> m
+      options.progress = [this](double f) { this->UpdateProgress(0.86 + 0.08 * f); };
+      accumulate(weight.data(), volume->GetPointer(0), options);
+    }
   }
 
   // 4. The slope-area channel-initiation score of the contributing area.
@@ -276,4 +298,68 @@ int vtkTerroirFlowAccumulation::RequestTerrainData(vtkImageData* input,
     pd->AddArray(volume);
   }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirFlowAccumulation::AccumulateInPieces(vtkImageData* input,
+  const terroir::GridView<float>& view,
+  const float* weight,
+  vtkFloatArray* filled,
+  vtkSignedCharArray* direction,
+  vtkDoubleArray* cells,
+  vtkDoubleArray* area,
+  vtkDoubleArray* volume)
+{
+  namespace hy = terroir::hydrology;
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  vtkInformation* outInfo = this->GetOutputInformation(0);
+  vtkMultiProcessController* controller = GetDistributedController(outInfo);
+  if (!controller || !outInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << "a distributed run without its controller");
+    return false;
+  }
+  vtkDebugMacro(<< "D8 in pieces: " << hy::kPriorityFloodBarnes2016Citation << "; "
+                << hy::kFlowAccumulationBarnes2017Citation);
+  vtkTerroirControllerTileExchange exchange(controller);
+  hy::DistributedFlowOptions options;
+  options.weight = weight;
+  options.weightScale = 1e-3; // mm -> m
+  try
+  {
+    const hy::DistributedFlowResult r = hy::D8FlowAccumulationDistributed(
+      vtkTerroirControllerTileExchange::TileInput(outInfo, input, view), options, exchange);
+    vtkDebugMacro(<< r.summary.outlets << " outlets, " << r.summary.flatCells << " flat cells, "
+                  << r.summary.sinks << " sinks; the flats took " << r.flatExchanges
+                  << " exchanges");
+    std::copy(r.filled.begin(), r.filled.end(), filled->GetPointer(0));
+    std::copy(r.direction.begin(), r.direction.end(), direction->GetPointer(0));
+    std::copy(r.cells.begin(), r.cells.end(), cells->GetPointer(0));
+    std::copy(r.area.begin(), r.area.end(), area->GetPointer(0));
+    if (volume)
+    {
+      std::copy(r.weighted.begin(), r.weighted.end(), volume->GetPointer(0));
+    }
+  }
+  catch (const std::bad_alloc&)
+  {
+    throw;
+  }
+  catch (const std::exception& x)
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
+    return false;
+  }
+  return true;
+#else
+  (void)view;
+  (void)weight;
+  (void)filled;
+  (void)direction;
+  (void)cells;
+  (void)area;
+  (void)volume;
+  vtkErrorMacro(<< this->SourcePrefix(input) << "built without VTK::ParallelCore");
+  return false;
+#endif
 }

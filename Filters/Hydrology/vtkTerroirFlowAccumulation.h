@@ -42,7 +42,14 @@
  * D8 code in both (MultipleFlowAccumulation, DInfinityAccumulation in MultipleFlow.h).
  *
  * Whole extent (global filter). CPU only, sequential: flow accumulation is a topological
- * sweep along the flow paths; results cannot depend on the thread count. Backend Auto and CPU
+ * sweep along the flow paths; results cannot depend on the thread count. Distributed runs
+ * (pvbatch or pvserver under mpirun, one piece per process), method D8: each process holds its
+ * piece and 2 ghost layers (terroir::hydrology::D8FlowAccumulationDistributed: Barnes 2016's
+ * parallel fill, the flats' distances relaxed across pieces, Barnes 2017's perimeter graph for
+ * the sums); only piece perimeters travel. The filled surface, directions, cell counts and
+ * River are the serial ones bit for bit; areas and weighted sums agree to about 1e-15
+ * relative (the order of the additions). MFD and DInfinity compute the whole grid on every
+ * process and keep their piece. Backend Auto and CPU
  * run the CPU path; an explicit GPU request is an error (as for vtkTerroirFloodFill). Errors
  * (one line, empty output): RiverThreshold < 0 or not finite; MFDExponent <= 0, SlopeExponent
  * or MinimumSlope < 0, or one of them not finite; WeightArrayName naming no point
@@ -82,6 +89,15 @@
 
 #include "vtkTerroirFiltersHydrologyModule.h" // For export macro
 #include "vtkTerroirImageAlgorithm.h"
+
+class vtkDoubleArray;
+class vtkFloatArray;
+class vtkSignedCharArray;
+namespace terroir
+{
+template<typename T>
+struct GridView;
+}
 
 class VTKTERROIRFILTERSHYDROLOGY_EXPORT vtkTerroirFlowAccumulation : public vtkTerroirImageAlgorithm
 {
@@ -182,7 +198,9 @@ protected:
   vtkTerroirFlowAccumulation();
   ~vtkTerroirFlowAccumulation() override;
 
-  int GetHaloWidth() override { return -1; }
+  /// The whole extent, except D8 in a distributed run: two ghost layers (one for the ring's
+  /// directions, one for the slope of ChannelInitiation).
+  int GetHaloWidth() override { return this->DistributedRequest && this->Method == D8 ? 2 : -1; }
   bool HasGPUPath() override { return false; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
@@ -203,6 +221,17 @@ protected:
   double MinimumSlope = 1e-3;
 
 private:
+  /// D8 in a distributed run: fills the FilledElevation, FlowDirection, FlowAccumulation,
+  /// ContributingArea and (with weights) WeightedAccumulation arrays of this piece.
+  bool AccumulateInPieces(vtkImageData* input,
+    const terroir::GridView<float>& view,
+    const float* weight,
+    vtkFloatArray* filled,
+    vtkSignedCharArray* direction,
+    vtkDoubleArray* cells,
+    vtkDoubleArray* area,
+    vtkDoubleArray* volume);
+
   vtkTerroirFlowAccumulation(const vtkTerroirFlowAccumulation&) = delete;
   void operator=(const vtkTerroirFlowAccumulation&) = delete;
 };

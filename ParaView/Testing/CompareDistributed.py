@@ -1,6 +1,6 @@
 """Checks a distributed run of DistributedChain.py (mpirun -np N pvbatch) against the same chain
 run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, package `terroir`):
-    CompareDistributed.py terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost|seeds|sun N DEM OUT_DIR
+    CompareDistributed.py terrain|zones|...|sun|sunhours|d8|d8ghost N DEM OUT_DIR
 - the pieces of OUT_DIR/chain.pvti, reassembled by VTK 9.1's vtkXMLPImageDataReader, give the
   serial arrays bit for bit (besides the all-zero vtkGhostType ParaView's writer adds) (the same cores on the same cells in the same order: a piece's
   cells see the same neighbours through their ghost layer); `vtkValidPointMask`, which the
@@ -26,7 +26,11 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
   the low sun): the hours and insolation above the serial run's somewhere and below it on at
   most 0.1 % of the cells (hours: by more than one step on at most 10; the horizon map's
   sampling), and a share
-  of uncertain decisions above 0 on every rank (the measure sees what the halo lacks).
+  of uncertain decisions above 0 on every rank (the measure sees what the halo lacks);
+- d8 (flow accumulation, D8 in pieces): FilledElevation, FlowDirection, FlowAccumulation and
+  River bit for bit, ContributingArea and ChannelInitiation within D8_RTOL, and a river of the
+  serial run crossing every column and row that the pieces share; d8ghost: the same with a
+  slope after it (reader: 3 cells).
 Fails (exit 1) with one line per problem."""
 import filecmp
 import json
@@ -45,7 +49,7 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 # iteration and 1 more for the heights of no-data cells beside them.
 # The flood fill reads its piece and one ring (its perimeter's neighbours), one more for a slope.
 GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'lakes': 1,
-         'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16}
+         'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16, 'd8': 2, 'd8ghost': 3}
 # Water flow: the run's volumes are sums over the cells that each process adds for its own
 # cells before the processes' sums are added in rank order, another order than the serial
 # rows (doubles, ~1e-16 relative per addition, over up to 1e4 iterations).
@@ -53,6 +57,10 @@ FLOW_VOLUME_RTOL = 1e-12
 # Flood fill: a lake's area and volume are added piece by piece, then the pieces' sums in rank
 # order, instead of breadth first over the lake (doubles: ~1e-16 relative per addition).
 LAKE_RTOL = 1e-12
+# D8 in pieces: a cell downstream of a piece edge adds the flow entering the piece before its own
+# upstream cells (another order of the double additions than the serial sweep; cell counts are
+# integers and exact).
+D8_RTOL = 1e-12
 # sunhours: the time step (30 min) in hours.
 SUNHOURS_STEP_HOURS = 0.5
 LAKE_FIELDS = ('WaterBodyLevel', 'WaterBodyArea', 'WaterBodyVolume', 'WaterBodyCells',
@@ -103,7 +111,9 @@ def serial(recipe, dem):
         stages = [terroir.vtkTerroirFloodFill()]
         for x, y in ((215365.0, 4371215.0), (220005.0, 4368475.0)):  # DistributedChain.SEEDS
             stages[0].AddSeedPoint(x, y)
-    if recipe == 'lakesghost':
+    if recipe in ('d8', 'd8ghost'):
+        stages = [terroir.vtkTerroirFlowAccumulation()]
+    if recipe in ('lakesghost', 'd8ghost'):
         stages.append(terroir.vtkTerroirSlope())
     if recipe == 'flowghost':
         stages.append(terroir.vtkTerroirSlope())
@@ -174,6 +184,15 @@ def main():
                 problems.append('%s: equal to the serial run: the halo was not too small' % name)
             compared += 1
             continue
+        if recipe in ('d8', 'd8ghost') and name in ('ContributingArea', 'ChannelInitiation'):
+            close = x.shape == y.shape and np.allclose(x, y, rtol=D8_RTOL, atol=0.0, equal_nan=True)
+            print('%s: max relative difference %.3g' % (
+                name, float(np.nanmax(np.abs(x - y) / np.maximum(np.abs(y), 1e-300)))))
+            if not close:
+                problems.append('%s: differs from the serial run by more than %g relative' % (
+                    name, D8_RTOL))
+            compared += 1
+            continue
         if x.dtype != y.dtype or x.shape != y.shape or not np.array_equal(x, y, equal_nan=True):
             diff = (np.nanmax(np.abs(x.astype(float) - y.astype(float)))
                     if x.shape == y.shape else float('inf'))
@@ -226,7 +245,7 @@ def main():
         problems.append('the pieces do not tile the extent (%d cells covered %s times)' % (
             int((cover != 1).sum()), sorted(set(cover.ravel().tolist()) - {1})))
 
-    if recipe in ('flow', 'flowghost') and ranks > 1:
+    if recipe in ('flow', 'flowghost', 'd8', 'd8ghost') and ranks > 1:
         # A river must cross every line the pieces share (else the halo is not really tested):
         # the serial run's River cells on both sides of each shared column and row.
         dims = expected.GetDimensions()

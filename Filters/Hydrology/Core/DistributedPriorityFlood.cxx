@@ -1,5 +1,7 @@
 #include "DistributedPriorityFlood.h"
 
+#include "DistributedTiles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -23,80 +25,12 @@ const char* const kPriorityFloodBarnes2016Citation =
   "elevation models on desktops or clusters. Computers & Geosciences 96:56-68. "
   "doi:10.1016/j.cageo.2016.07.001";
 
+using namespace tiles;
+
 namespace
 {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-
-/// Appends plain values to a message.
-class Writer
-{
-public:
-  template<typename T>
-  void Put(const T& value)
-  {
-    static_assert(std::is_trivially_copyable<T>::value, "plain values only");
-    const char* p = reinterpret_cast<const char*>(&value);
-    this->Bytes.insert(this->Bytes.end(), p, p + sizeof(T));
-  }
-  template<typename T>
-  void PutVector(const std::vector<T>& values)
-  {
-    this->Put<std::uint64_t>(values.size());
-    const char* p = reinterpret_cast<const char*>(values.data());
-    this->Bytes.insert(this->Bytes.end(), p, p + values.size() * sizeof(T));
-  }
-  void PutString(const std::string& s) { this->PutVector(std::vector<char>(s.begin(), s.end())); }
-  std::vector<char> Bytes;
-};
-
-/// Reads a message back, checking every size against what is left.
-class Reader
-{
-public:
-  explicit Reader(const std::vector<char>& bytes)
-    : Bytes(bytes)
-  {
-  }
-  template<typename T>
-  T Get()
-  {
-    if (this->Bytes.size() - this->Position < sizeof(T))
-    {
-      throw std::runtime_error("FillDepressionsDistributed: a message ends too early");
-    }
-    T value;
-    std::memcpy(&value, this->Bytes.data() + this->Position, sizeof(T));
-    this->Position += sizeof(T);
-    return value;
-  }
-  template<typename T>
-  std::vector<T> GetVector()
-  {
-    const auto n = this->Get<std::uint64_t>();
-    if (n > (this->Bytes.size() - this->Position) / sizeof(T))
-    {
-      throw std::runtime_error("FillDepressionsDistributed: a message announces more values "
-                               "than it holds");
-    }
-    std::vector<T> values(static_cast<std::size_t>(n));
-    if (n > 0) // an empty vector's data() may be null, which memcpy does not take
-    {
-      std::memcpy(values.data(), this->Bytes.data() + this->Position, n * sizeof(T));
-    }
-    this->Position += static_cast<std::size_t>(n * sizeof(T));
-    return values;
-  }
-  std::string GetString()
-  {
-    const std::vector<char> s = this->GetVector<char>();
-    return std::string(s.begin(), s.end());
-  }
-
-private:
-  const std::vector<char>& Bytes;
-  std::size_t Position = 0;
-};
 
 struct PerimeterCell
 {
@@ -149,227 +83,6 @@ struct HigherFirst
   }
 };
 
-/// The tile's geometry in one place: whole-grid and owned-box indices.
-struct Tile
-{
-  const DistributedFillInput& in;
-  int ox;
-  int oy;
-
-  explicit Tile(const DistributedFillInput& input)
-    : in(input)
-    , ox(std::max(0, input.owned.i1 - input.owned.i0 + 1))
-    , oy(std::max(0, input.owned.j1 - input.owned.j0 + 1))
-  {
-  }
-  std::size_t Owned(int gi, int gj) const
-  {
-    return static_cast<std::size_t>(gj - in.owned.j0) * static_cast<std::size_t>(ox) +
-      static_cast<std::size_t>(gi - in.owned.i0);
-  }
-  std::size_t ViewIndex(int gi, int gj) const { return in.view.Index(gi - in.gi0, gj - in.gj0); }
-  bool InWhole(int gi, int gj) const
-  {
-    return gi >= 0 && gj >= 0 && gi < in.wholeNx && gj < in.wholeNy;
-  }
-  bool Data(int gi, int gj) const { return HasData(in.view, this->ViewIndex(gi, gj)); }
-  std::int64_t Global(int gi, int gj) const
-  {
-    return static_cast<std::int64_t>(gj) * in.wholeNx + gi;
-  }
-};
-
-TileBox Grow(const TileBox& b, int r, int nx, int ny)
-{
-  return TileBox{ std::max(0, b.i0 - r),
-    std::min(nx - 1, b.i1 + r),
-    std::max(0, b.j0 - r),
-    std::min(ny - 1, b.j1 + r) };
-}
-
-/// An empty string when the tile holds what it needs, else why not.
-std::string CheckTile(const DistributedFillInput& in)
-{
-  const GridView<float>& v = in.view;
-  if (in.wholeNx < 1 || in.wholeNy < 1 ||
-    static_cast<double>(in.wholeNx) * in.wholeNy > std::numeric_limits<std::int32_t>::max())
-  {
-    return "the whole grid must have 1 to 2^31 - 1 cells";
-  }
-  if (in.reach < 0)
-  {
-    return "the reach must be >= 0";
-  }
-  if (in.owned.Cells() == 0)
-  {
-    return std::string();
-  }
-  if (in.owned.i0 < 0 || in.owned.j0 < 0 || in.owned.i1 >= in.wholeNx || in.owned.j1 >= in.wholeNy)
-  {
-    return "the owned cells reach outside the grid";
-  }
-  if (!v.data || v.nx < 1 || v.ny < 1 ||
-    v.Size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
-  {
-    return "the tile's grid is empty or has more than 2^31 - 1 cells";
-  }
-  const TileBox need = Grow(in.owned, std::max(1, in.reach), in.wholeNx, in.wholeNy);
-  if (need.i0 < in.gi0 || need.j0 < in.gj0 || need.i1 > in.gi0 + v.nx - 1 ||
-    need.j1 > in.gj0 + v.ny - 1)
-  {
-    return "the tile's grid (columns " + std::to_string(in.gi0) + ".." +
-      std::to_string(in.gi0 + v.nx - 1) + ", rows " + std::to_string(in.gj0) + ".." +
-      std::to_string(in.gj0 + v.ny - 1) + ") lacks the ring of " +
-      std::to_string(std::max(1, in.reach)) + " around its owned cells";
-  }
-  return std::string();
-}
-
-/// Rank 0: an empty string when the boxes partition the grid, else why not.
-std::string CheckPartition(const std::vector<TileBox>& boxes, int nx, int ny)
-{
-  long long total = 0;
-  for (std::size_t a = 0; a < boxes.size(); ++a)
-  {
-    total += boxes[a].Cells();
-    for (std::size_t b = 0; b < a && boxes[a].Cells() > 0; ++b)
-    {
-      const TileBox& p = boxes[a];
-      const TileBox& q = boxes[b];
-      if (q.Cells() > 0 && p.i0 <= q.i1 && q.i0 <= p.i1 && p.j0 <= q.j1 && q.j0 <= p.j1)
-      {
-        return "the tiles of ranks " + std::to_string(b) + " and " + std::to_string(a) + " overlap";
-      }
-    }
-  }
-  if (total != static_cast<long long>(nx) * ny)
-  {
-    return "the tiles cover " + std::to_string(total) + " cells of a grid of " +
-      std::to_string(static_cast<long long>(nx) * ny);
-  }
-  return std::string();
-}
-
-/// Union-find with path halving; the smaller index becomes the root.
-struct Groups
-{
-  std::vector<std::int64_t> parent;
-  explicit Groups(std::size_t n)
-    : parent(n)
-  {
-    std::iota(parent.begin(), parent.end(), std::int64_t(0));
-  }
-  std::int64_t Find(std::int64_t x)
-  {
-    while (parent[x] != x)
-    {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void Join(std::int64_t a, std::int64_t b)
-  {
-    a = this->Find(a);
-    b = this->Find(b);
-    if (a != b)
-    {
-      parent[std::max(a, b)] = std::min(a, b);
-    }
-  }
-};
-
-/// Rank 0 fails every rank alike: the reply to each is the status 1 and the reason.
-std::vector<std::vector<char>> FailAll(int ranks, const std::string& why)
-{
-  Writer w;
-  w.Put<std::uint8_t>(1);
-  w.PutString(why);
-  return std::vector<std::vector<char>>(static_cast<std::size_t>(ranks), w.Bytes);
-}
-
-/// Reads the status at the head of a reply; throws on failure.
-void CheckStatus(Reader& r)
-{
-  if (r.Get<std::uint8_t>() != 0)
-  {
-    throw std::invalid_argument("FillDepressionsDistributed: " + r.GetString());
-  }
-}
-
-/// The head of every tile's first message: its status, its tile and what it needs.
-void WriteHead(Writer& w, const std::string& problem, const DistributedFillInput& in)
-{
-  w.Put<std::uint8_t>(problem.empty() ? 0 : 1);
-  w.PutString(problem);
-  w.Put(in.owned);
-  w.Put<std::int32_t>(in.wholeNx);
-  w.Put<std::int32_t>(in.wholeNy);
-  w.Put<std::int32_t>(in.reach);
-}
-
-/// Rank 0 reads the head of tile t's first message into boxes and reaches; returns why it
-/// cannot go on ("" when it can).
-std::string ReadHead(Reader& r,
-  int t,
-  int nx,
-  int ny,
-  std::vector<TileBox>& boxes,
-  std::vector<std::int32_t>& reaches)
-{
-  const bool failed = r.Get<std::uint8_t>() != 0;
-  const std::string message = r.GetString();
-  if (failed)
-  {
-    return "rank " + std::to_string(t) + ": " + message;
-  }
-  boxes.push_back(r.Get<TileBox>());
-  const auto wnx = r.Get<std::int32_t>();
-  const auto wny = r.Get<std::int32_t>();
-  reaches.push_back(r.Get<std::int32_t>());
-  if (wnx != nx || wny != ny)
-  {
-    return "rank " + std::to_string(t) + " sees a grid of " + std::to_string(wnx) + " x " +
-      std::to_string(wny) + ", rank 0 one of " + std::to_string(nx) + " x " + std::to_string(ny);
-  }
-  return std::string();
-}
-
-/// Calls f(i, j) for the cells of `box` grown by `reach` (within the grid) outside `box`, row
-/// by row: the ring whose results a tile's caller wants.
-template<typename F>
-void ForRing(const TileBox& box, int reach, int nx, int ny, F f)
-{
-  const TileBox ring = Grow(box, reach, nx, ny);
-  for (int j = ring.j0; j <= ring.j1 && box.Cells() > 0; ++j)
-  {
-    for (int i = ring.i0; i <= ring.i1; ++i)
-    {
-      if (!box.Contains(i, j))
-      {
-        f(i, j);
-      }
-    }
-  }
-}
-
-/// Calls f(q) for the 8-neighbours of whole-grid cell `cell` that lie in the grid outside
-/// `box` (in other tiles), q their whole-grid index.
-template<typename F>
-void ForOtherTiles(std::int64_t cell, const TileBox& box, int nx, int ny, F f)
-{
-  const int gi = static_cast<int>(cell % nx);
-  const int gj = static_cast<int>(cell / nx);
-  for (int e = 0; e < 8; ++e)
-  {
-    const int ii = gi + detail::kNeighbourDi[e];
-    const int jj = gj + detail::kNeighbourDj[e];
-    if (ii >= 0 && jj >= 0 && ii < nx && jj < ny && !box.Contains(ii, jj))
-    {
-      f(static_cast<std::int64_t>(jj) * nx + ii);
-    }
-  }
-}
 } // namespace
 
 DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
@@ -648,7 +361,7 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
     }
     const std::vector<char> mine = exchange.Scatter(replies);
     Reader r(mine);
-    CheckStatus(r);
+    CheckStatus(r, "FillDepressionsDistributed");
     const auto reachAll = r.Get<std::int32_t>();
     const std::vector<float> spillLevel = r.GetVector<float>();
     if (spillLevel.size() != static_cast<std::size_t>(labels) || reachAll < in.reach)
@@ -719,11 +432,7 @@ DistributedFillResult FillDepressionsDistributed(const DistributedFillInput& in,
       for (int gi = owned.i0; gi <= owned.i1; ++gi)
       {
         const std::size_t o = tile.Owned(gi, gj);
-        const bool near = (owned.i0 > 0 && gi - owned.i0 < reachAll) ||
-          (owned.i1 < nx - 1 && owned.i1 - gi < reachAll) ||
-          (owned.j0 > 0 && gj - owned.j0 < reachAll) ||
-          (owned.j1 < ny - 1 && owned.j1 - gj < reachAll);
-        if (near && label[o] >= 0)
+        if (InBand(owned, gi, gj, reachAll, nx, ny) && label[o] >= 0)
         {
           band.push_back(BandCell{ tile.Global(gi, gj), water[o], flat[o] });
         }
@@ -1055,7 +764,7 @@ DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
   {
     const std::vector<char> got = exchange.Scatter(replies1);
     Reader r(got);
-    CheckStatus(r);
+    CheckStatus(r, "FloodFillSeedsDistributed");
     const auto reachAll = r.Get<std::int32_t>();
     level = r.GetVector<double>();
     if (level.size() != seeds.size() || reachAll < in.reach)
@@ -1078,13 +787,7 @@ DistributedFillResult FloodFillSeedsDistributed(const DistributedFillInput& in,
       const std::size_t k = tile.ViewIndex(gi, gj);
       return HasData(in.view, k) && static_cast<double>(in.view.data[k]) <= l;
     };
-    const auto near = [&](int gi, int gj)
-    {
-      return (owned.i0 > 0 && gi - owned.i0 < reachAll) ||
-        (owned.i1 < nx - 1 && owned.i1 - gi < reachAll) ||
-        (owned.j0 > 0 && gj - owned.j0 < reachAll) ||
-        (owned.j1 < ny - 1 && owned.j1 - gj < reachAll);
-    };
+    const auto near = [&](int gi, int gj) { return InBand(owned, gi, gj, reachAll, nx, ny); };
     std::vector<std::vector<std::int32_t>> component(seeds.size()); // sent index per owned cell
     std::vector<std::vector<WaterBodyStats>> sentStats(seeds.size());
     std::vector<SeedBand> band;

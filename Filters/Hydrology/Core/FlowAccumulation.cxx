@@ -26,7 +26,7 @@ const char* const kFlatsBarnes2014Citation =
 
 namespace
 {
-constexpr std::int8_t kUnset = -3; // working value: no direction yet
+constexpr std::int8_t kUnset = detail::kD8Unset;
 constexpr std::size_t kProgressStep = std::size_t(1) << 20;
 
 /// Lengths of the 8 D8 steps from a cell of row j, metres.
@@ -48,83 +48,6 @@ struct FlatCounts
   std::size_t flatCells = 0;
   std::size_t sinks = 0;
 };
-
-/// Step 1 of D8FlowDirections: every cell with data drains to its neighbour of steepest descent;
-/// an outlet without a lower neighbour inside gets kD8Outlet (counted in `outlets`), the rest
-/// stay kUnset. Returns the number of unset cells.
-std::size_t SteepestDescent(const GridView<float>& view,
-  const float* filled,
-  std::int8_t* direction,
-  const std::function<void(double)>& progress,
-  std::size_t& outlets)
-{
-  const int nx = view.nx;
-  const int ny = view.ny;
-  std::size_t unresolved = 0;
-  std::size_t outletCount = 0;
-  double length[8];
-  for (int j = 0; j < ny; ++j)
-  {
-    StepLengths(view, j, length);
-    for (int i = 0; i < nx; ++i)
-    {
-      const std::size_t k = view.Index(i, j);
-      if (direction[k] == kD8NoData)
-      {
-        continue;
-      }
-      const double h = filled[k];
-      bool outlet = false;
-      int best = -1;
-      double bestSlope = 0.0;
-      for (int e = 0; e < 8; ++e)
-      {
-        const int ii = i + kD8Di[e];
-        const int jj = j + kD8Dj[e];
-        if (ii < 0 || ii >= nx || jj < 0 || jj >= ny)
-        {
-          outlet = true;
-          continue;
-        }
-        const std::size_t kk = view.Index(ii, jj);
-        if (direction[kk] == kD8NoData)
-        {
-          outlet = true;
-          continue;
-        }
-        const double drop = h - static_cast<double>(filled[kk]);
-        if (drop > 0.0)
-        {
-          const double slope = drop / length[e];
-          if (best < 0 || slope > bestSlope)
-          {
-            best = e;
-            bestSlope = slope;
-          }
-        }
-      }
-      if (best >= 0)
-      {
-        direction[k] = static_cast<std::int8_t>(best);
-      }
-      else if (outlet)
-      {
-        direction[k] = kD8Outlet;
-        ++outletCount;
-      }
-      else
-      {
-        ++unresolved;
-      }
-    }
-    if (progress && j % 256 == 255)
-    {
-      progress(0.5 * (j + 1) / ny);
-    }
-  }
-  outlets = outletCount;
-  return unresolved;
-}
 
 /// The draining cells of the flats (a direction, -1 included, and an unset neighbour of exactly
 /// the same W), in index order, at distance 0: the seeds of FlatDistances.
@@ -212,10 +135,8 @@ FlatCounts DrainFlats(const GridView<float>& view,
   const int nx = view.nx;
   const int ny = view.ny;
   FlatCounts counts;
-  double length[8];
   for (int j = 0; j < ny; ++j)
   {
-    StepLengths(view, j, length);
     for (int i = 0; i < nx; ++i)
     {
       const std::size_t k = view.Index(i, j);
@@ -230,30 +151,117 @@ FlatCounts DrainFlats(const GridView<float>& view,
         ++counts.sinks;
         continue;
       }
-      int best = -1;
-      for (int e = 0; e < 8; ++e)
-      {
-        const int ii = i + kD8Di[e];
-        const int jj = j + kD8Dj[e];
-        if (ii < 0 || ii >= nx || jj < 0 || jj >= ny)
-        {
-          continue;
-        }
-        const std::size_t kk = view.Index(ii, jj);
-        if (distance[kk] == distance[k] - 1 && filled[kk] == filled[k] &&
-          (best < 0 || length[e] < length[best]))
-        {
-          best = e;
-        }
-      }
       // A breadth-first distance d > 0 always has a neighbour at d - 1 in the same flat.
-      direction[k] = static_cast<std::int8_t>(best);
+      direction[k] =
+        static_cast<std::int8_t>(detail::D8FlatStep(view, filled, distance.data(), i, j));
       ++counts.flatCells;
     }
   }
   return counts;
 }
 } // namespace
+
+std::size_t detail::D8SteepestDescent(const GridView<float>& view,
+  const float* filled,
+  std::int8_t* direction,
+  const std::function<void(double)>& progress,
+  std::size_t& outlets)
+{
+  const int nx = view.nx;
+  const int ny = view.ny;
+  std::size_t unresolved = 0;
+  std::size_t outletCount = 0;
+  double length[8];
+  for (int j = 0; j < ny; ++j)
+  {
+    StepLengths(view, j, length);
+    for (int i = 0; i < nx; ++i)
+    {
+      const std::size_t k = view.Index(i, j);
+      if (direction[k] == kD8NoData)
+      {
+        continue;
+      }
+      const double h = filled[k];
+      bool outlet = false;
+      int best = -1;
+      double bestSlope = 0.0;
+      for (int e = 0; e < 8; ++e)
+      {
+        const int ii = i + kD8Di[e];
+        const int jj = j + kD8Dj[e];
+        if (ii < 0 || ii >= nx || jj < 0 || jj >= ny)
+        {
+          outlet = true;
+          continue;
+        }
+        const std::size_t kk = view.Index(ii, jj);
+        if (direction[kk] == kD8NoData)
+        {
+          outlet = true;
+          continue;
+        }
+        const double drop = h - static_cast<double>(filled[kk]);
+        if (drop > 0.0)
+        {
+          const double slope = drop / length[e];
+          if (best < 0 || slope > bestSlope)
+          {
+            best = e;
+            bestSlope = slope;
+          }
+        }
+      }
+      if (best >= 0)
+      {
+        direction[k] = static_cast<std::int8_t>(best);
+      }
+      else if (outlet)
+      {
+        direction[k] = kD8Outlet;
+        ++outletCount;
+      }
+      else
+      {
+        ++unresolved;
+      }
+    }
+    if (progress && j % 256 == 255)
+    {
+      progress(0.5 * (j + 1) / ny);
+    }
+  }
+  outlets = outletCount;
+  return unresolved;
+}
+
+int detail::D8FlatStep(const GridView<float>& view,
+  const float* filled,
+  const std::int32_t* distance,
+  int i,
+  int j)
+{
+  double length[8];
+  StepLengths(view, j, length);
+  const std::size_t k = view.Index(i, j);
+  int best = -1;
+  for (int e = 0; e < 8; ++e)
+  {
+    const int ii = i + kD8Di[e];
+    const int jj = j + kD8Dj[e];
+    if (ii < 0 || ii >= view.nx || jj < 0 || jj >= view.ny)
+    {
+      continue;
+    }
+    const std::size_t kk = view.Index(ii, jj);
+    if (distance[kk] == distance[k] - 1 && filled[kk] == filled[k] &&
+      (best < 0 || length[e] < length[best]))
+    {
+      best = e;
+    }
+  }
+  return best;
+}
 
 D8Summary D8FlowDirections(const GridView<float>& view,
   const float* filled,
@@ -271,7 +279,7 @@ D8Summary D8FlowDirections(const GridView<float>& view,
   // 1. Steepest descent; outlets without a lower neighbour inside get -1; the rest stay unset.
   D8Summary summary;
   const std::size_t unresolved =
-    SteepestDescent(view, filled, direction, progress, summary.outlets);
+    detail::D8SteepestDescent(view, filled, direction, progress, summary.outlets);
 
   // 2. Flats: breadth-first distance from their draining cells, through cells of equal W.
   if (unresolved > 0)
@@ -321,7 +329,13 @@ void D8FlowAccumulation(const GridView<float>& view,
     {
       const std::size_t k = view.Index(i, j);
       const int d = direction[k];
-      if (detail::StartCell(d, weight, k, factor, accumulation, i, j, "D8FlowAccumulation"))
+      const bool drains =
+        detail::StartCell(d, weight, k, factor, accumulation, i, j, "D8FlowAccumulation");
+      if (options.inflow && d != kD8NoData)
+      {
+        accumulation[k] += options.inflow[k];
+      }
+      if (drains)
       {
         detail::CountDownstream(view, direction, i, j, d, "D8FlowAccumulation", inDegree.data());
       }

@@ -136,13 +136,39 @@ D8Summary D8FlowDirections(const GridView<float>& view,
 /// How D8FlowAccumulation weighs a cell: w(u) = weight(u) * scale * (cell area if timesCellArea).
 struct AccumulationOptions
 {
-  double scale = 1.0;                   ///< factor on every weight (e.g. 1e-3 for mm -> m)
-  bool timesCellArea = false;           ///< multiply by the cell's area DxAt(j) * DyAt(j), m^2
+  double scale = 1.0;         ///< factor on every weight (e.g. 1e-3 for mm -> m)
+  bool timesCellArea = false; ///< multiply by the cell's area DxAt(j) * DyAt(j), m^2
+  /// Optional, nx*ny amounts added as they are (not scaled) to the weights of the cells with
+  /// data: flow entering from outside the grid (D8FlowAccumulation only; a tile of a
+  /// distributed run receives its neighbours' flow this way).
+  const double* inflow = nullptr;
   std::function<void(double)> progress; ///< optional, fraction done (0..1)
 };
 
 namespace detail
 {
+/// D8FlowDirections' working code: a cell with data and no direction yet.
+constexpr std::int8_t kD8Unset = -3;
+
+/// D8FlowDirections' first step: every cell with data (code kD8Unset on entry; kD8NoData
+/// marks no data) drains to its neighbour of steepest descent; an outlet (on the grid edge or
+/// next to no data) without a lower neighbour inside gets kD8Outlet (counted in `outlets`); the
+/// rest (flat cells) stay kD8Unset. Returns the number of flat cells.
+std::size_t D8SteepestDescent(const GridView<float>& view,
+  const float* filled,
+  std::int8_t* direction,
+  const std::function<void(double)>& progress,
+  std::size_t& outlets);
+
+/// The flat rule of D8FlowDirections for flat cell (i, j) at breadth-first distance
+/// distance[k] > 0: the code of its nearest neighbour of equal W at distance - 1 (smallest step
+/// length, ties to the lowest code), or -1 when there is none.
+int D8FlatStep(const GridView<float>& view,
+  const float* filled,
+  const std::int32_t* distance,
+  int i,
+  int j);
+
 /// An accumulation's first pass at cell k = (i, j) with direction code d: the cell's own weight
 /// into accumulation[k] (NaN for no data, 0 for a NaN weight, else weight x factor). True when
 /// the cell drains (d in 0..7); false for no data and outlets; throws std::invalid_argument

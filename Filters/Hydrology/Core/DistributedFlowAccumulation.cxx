@@ -1,0 +1,590 @@
+#include "DistributedFlowAccumulation.h"
+
+#include "DistributedTiles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace terroir
+{
+namespace hydrology
+{
+
+const char* const kFlowAccumulationBarnes2017Citation =
+  "Barnes, R. (2017). Parallel non-divergent flow accumulation for trillion cell digital "
+  "elevation models on desktops or clusters. Environmental Modelling & Software 92:202-212. "
+  "doi:10.1016/j.envsoft.2017.02.022";
+
+using namespace tiles;
+
+namespace
+{
+constexpr const char* kName = "D8FlowAccumulationDistributed";
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::int64_t kUnknown = -2;
+
+/// A cell's whole-grid column and row from its view index.
+struct Cell
+{
+  int gi;
+  int gj;
+};
+
+Cell GlobalOf(const DistributedFillInput& in, std::size_t k)
+{
+  const auto nx = static_cast<std::size_t>(in.view.nx);
+  return Cell{ in.gi0 + static_cast<int>(k % nx), in.gj0 + static_cast<int>(k / nx) };
+}
+
+/// Calls f(kk, gi, gj) for the 8-neighbours of view cell k that lie in the view.
+template<typename F>
+void ForNeighbours(const DistributedFillInput& in, std::size_t k, F f)
+{
+  const Cell c = GlobalOf(in, k);
+  for (int e = 0; e < 8; ++e)
+  {
+    const int ii = c.gi - in.gi0 + kD8Di[e];
+    const int jj = c.gj - in.gj0 + kD8Dj[e];
+    if (ii >= 0 && jj >= 0 && ii < in.view.nx && jj < in.view.ny)
+    {
+      f(in.view.Index(ii, jj), c.gi + kD8Di[e], c.gj + kD8Dj[e]);
+    }
+  }
+}
+
+/// Calls f(k, gi, gj) for the owned cells, row by row (k the view index).
+template<typename F>
+void ForOwned(const DistributedFillInput& in, F f)
+{
+  const Tile tile(in);
+  for (int gj = in.owned.j0; gj <= in.owned.j1 && in.owned.Cells() > 0; ++gj)
+  {
+    for (int gi = in.owned.i0; gi <= in.owned.i1; ++gi)
+    {
+      f(tile.ViewIndex(gi, gj), gi, gj);
+    }
+  }
+}
+
+/// The flats' breadth-first distances on the owned cells (D8FlowDirections' rule): 0 on the
+/// draining cells next to a flat cell of equal W, and through flat cells of equal W from those
+/// and from the distances `distance` holds on the ring. Owned entries are rewritten.
+void OwnedFlatDistances(const DistributedFillInput& in,
+  const float* w,
+  const std::int8_t* dir,
+  std::int32_t* distance)
+{
+  std::vector<std::pair<std::int32_t, std::size_t>> sources;
+  ForOwned(in, [&](std::size_t k, int, int) { distance[k] = -1; });
+  ForOwned(in,
+    [&](std::size_t k, int, int)
+    {
+      if (dir[k] == kD8NoData)
+      {
+        return;
+      }
+      const bool flat = dir[k] == detail::kD8Unset;
+      std::int32_t best = -1;
+      ForNeighbours(in,
+        k,
+        [&](std::size_t kk, int ii, int jj)
+        {
+          if (w[kk] != w[k])
+          {
+            return;
+          }
+          if (!flat && dir[kk] == detail::kD8Unset)
+          {
+            best = 0; // a draining cell of a flat
+          }
+          else if (flat && !in.owned.Contains(ii, jj) && distance[kk] >= 0 &&
+            (best < 0 || distance[kk] + 1 < best))
+          {
+            best = distance[kk] + 1; // reached from the ring
+          }
+        });
+      if (best >= 0)
+      {
+        sources.emplace_back(best, k);
+      }
+    });
+  std::sort(sources.begin(), sources.end());
+  // Two queues in non-decreasing distance: the sorted sources and the search's FIFO.
+  std::vector<std::pair<std::int32_t, std::size_t>> fifo;
+  std::size_t s = 0;
+  std::size_t head = 0;
+  while (s < sources.size() || head < fifo.size())
+  {
+    const bool fromSources =
+      head == fifo.size() || (s < sources.size() && sources[s].first <= fifo[head].first);
+    const std::pair<std::int32_t, std::size_t> item = fromSources ? sources[s++] : fifo[head++];
+    const std::size_t k = item.second;
+    if (distance[k] >= 0)
+    {
+      continue;
+    }
+    distance[k] = item.first;
+    ForNeighbours(in,
+      k,
+      [&](std::size_t kk, int ii, int jj)
+      {
+        if (in.owned.Contains(ii, jj) && dir[kk] == detail::kD8Unset && distance[kk] < 0 &&
+          w[kk] == w[k])
+        {
+          fifo.emplace_back(item.first + 1, kk);
+        }
+      });
+  }
+}
+
+/// The directions of the owned cells (D8FlowDirections' answer), the flats' distances agreed
+/// with the other tiles; the owned counts in `summary`. Returns the number of exchanges.
+int OwnedDirections(const DistributedFillInput& in,
+  const float* w,
+  std::int8_t* dir,
+  TileExchange& exchange,
+  D8Summary& summary)
+{
+  const std::size_t n = in.view.Size();
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    dir[k] = HasData(in.view, k) && !std::isnan(w[k]) ? detail::kD8Unset : kD8NoData;
+  }
+  std::size_t outlets = 0;
+  detail::D8SteepestDescent(in.view, w, dir, {}, outlets);
+
+  DistributedFillInput perimeter = in;
+  perimeter.reach = 1;
+  std::vector<std::int32_t> distance(n, -1);
+  std::vector<std::int32_t> previous;
+  int exchanges = 0;
+  for (std::uint8_t changed = 1; changed;)
+  {
+    OwnedFlatDistances(in, w, dir, distance.data());
+    std::vector<std::int32_t> band;
+    ForOwned(in,
+      [&](std::size_t k, int gi, int gj)
+      {
+        if (InBand(in.owned, gi, gj, 1, in.wholeNx, in.wholeNy))
+        {
+          band.push_back(distance[k]);
+        }
+      });
+    changed = band != previous ? 1 : 0;
+    previous = std::move(band);
+    ExchangeRing<std::int32_t>(perimeter, 1, distance.data(), -1, exchange, &changed, kName);
+    ++exchanges;
+  }
+
+  ForOwned(in,
+    [&](std::size_t k, int gi, int gj)
+    {
+      if (dir[k] == detail::kD8Unset)
+      {
+        if (distance[k] < 0)
+        {
+          dir[k] = kD8Outlet; // a pit or closed flat: W was not depression-free
+          ++summary.sinks;
+        }
+        else
+        {
+          dir[k] = static_cast<std::int8_t>(
+            detail::D8FlatStep(in.view, w, distance.data(), gi - in.gi0, gj - in.gj0));
+          ++summary.flatCells;
+        }
+      }
+      summary.outlets += dir[k] == kD8Outlet ? 1 : 0;
+    });
+  return exchanges;
+}
+
+/// The tile alone: its owned cells as a grid of their own (spacing of their rows), directions
+/// that leave it turned into outlets.
+struct LocalTile
+{
+  GridView<float> view;
+  std::vector<float> filled;
+  std::vector<std::int8_t> dir;
+  std::vector<float> weight;
+};
+
+LocalTile MakeLocalTile(const DistributedFillInput& in,
+  const float* w,
+  const std::int8_t* dir,
+  const float* weight)
+{
+  const Tile tile(in);
+  LocalTile t;
+  const std::size_t cells = static_cast<std::size_t>(in.owned.Cells());
+  t.filled.resize(cells);
+  t.dir.resize(cells);
+  if (weight)
+  {
+    t.weight.resize(cells);
+  }
+  ForOwned(in,
+    [&](std::size_t k, int gi, int gj)
+    {
+      const std::size_t o = tile.Owned(gi, gj);
+      t.filled[o] = w[k];
+      int d = dir[k];
+      if (d >= 0 && !in.owned.Contains(gi + kD8Di[d], gj + kD8Dj[d]))
+      {
+        d = kD8Outlet;
+      }
+      t.dir[o] = static_cast<std::int8_t>(d);
+      if (weight)
+      {
+        t.weight[o] = weight[k];
+      }
+    });
+  const int row0 = in.owned.j0 - in.gj0;
+  t.view.data = t.filled.data();
+  t.view.nx = tile.ox;
+  t.view.ny = tile.oy;
+  t.view.dx = in.view.dx;
+  t.view.dy = in.view.dy;
+  t.view.rowDx = in.view.rowDx ? in.view.rowDx + row0 : nullptr;
+  t.view.rowDy = in.view.rowDy ? in.view.rowDy + row0 : nullptr;
+  return t;
+}
+
+/// The tile's sums (cells, area, and weighted when weights are given), each owned-sized, with
+/// `inflow` (one owned-sized array per sum, or none) added where flow enters the tile.
+std::vector<std::vector<double>> LocalSums(const LocalTile& t,
+  const DistributedFlowOptions& options,
+  const std::vector<std::vector<double>>* inflow)
+{
+  const std::size_t m = t.weight.empty() ? 2 : 3;
+  std::vector<std::vector<double>> sums(m, std::vector<double>(t.filled.size()));
+  for (std::size_t s = 0; s < m && !t.filled.empty(); ++s)
+  {
+    AccumulationOptions o;
+    o.timesCellArea = s == 1;
+    o.scale = s == 2 ? options.weightScale : 1.0;
+    o.inflow = inflow ? (*inflow)[s].data() : nullptr;
+    D8FlowAccumulation(t.view, t.dir.data(), s == 2 ? t.weight.data() : nullptr, sums[s].data(), o);
+  }
+  return sums;
+}
+
+/// Along the directions from owned cell (gi, gj): the first cell after it that is on the
+/// tile's perimeter or outside the tile (whole-grid index), or -1 when the way ends at an
+/// outlet inside. `memo` (owned-sized, kUnknown at first) keeps the answers of inner cells.
+std::int64_t NextPerimeterCell(const DistributedFillInput& in,
+  const std::int8_t* dir,
+  int gi,
+  int gj,
+  std::vector<std::int64_t>& memo)
+{
+  const Tile tile(in);
+  std::vector<std::size_t> inner;
+  std::int64_t result = -1;
+  while (true)
+  {
+    const int d = dir[tile.ViewIndex(gi, gj)];
+    if (d < 0)
+    {
+      break;
+    }
+    gi += kD8Di[d];
+    gj += kD8Dj[d];
+    if (!in.owned.Contains(gi, gj) || InBand(in.owned, gi, gj, 1, in.wholeNx, in.wholeNy))
+    {
+      result = tile.Global(gi, gj);
+      break;
+    }
+    const std::size_t o = tile.Owned(gi, gj);
+    if (memo[o] != kUnknown)
+    {
+      result = memo[o];
+      break;
+    }
+    inner.push_back(o);
+  }
+  for (std::size_t o : inner)
+  {
+    memo[o] = result;
+  }
+  return result;
+}
+
+/// One tile's part of the perimeter graph.
+struct PerimeterPart
+{
+  TileBox box;
+  std::vector<std::int64_t> cells;
+  std::vector<std::int64_t> next;
+  std::vector<double> sums; ///< m per cell
+};
+
+/// Rank 0: the flow entering each tile from the others, per cell (m sums per cell), by the
+/// perimeter graph in topological order.
+void SolvePerimeterGraph(const std::vector<PerimeterPart>& parts,
+  std::size_t m,
+  std::vector<std::vector<std::int64_t>>& entryCells,
+  std::vector<std::vector<double>>& entryFlow)
+{
+  std::vector<std::size_t> base(parts.size() + 1, 0);
+  std::unordered_map<std::int64_t, std::size_t> node;
+  for (std::size_t t = 0; t < parts.size(); ++t)
+  {
+    const PerimeterPart& p = parts[t];
+    if (p.next.size() != p.cells.size() || p.sums.size() != m * p.cells.size())
+    {
+      throw std::runtime_error("a tile's perimeter does not match its sums");
+    }
+    base[t + 1] = base[t] + p.cells.size();
+    for (std::size_t c = 0; c < p.cells.size(); ++c)
+    {
+      node.emplace(p.cells[c], base[t] + c);
+    }
+  }
+  const std::size_t nodes = base.back();
+  std::vector<std::int64_t> down(nodes, -1);
+  std::vector<std::uint8_t> across(nodes, 0);
+  std::vector<std::uint32_t> upstream(nodes, 0);
+  std::vector<int> tileOf(nodes, 0);
+  for (std::size_t t = 0; t < parts.size(); ++t)
+  {
+    for (std::size_t c = 0; c < parts[t].cells.size(); ++c)
+    {
+      const std::size_t a = base[t] + c;
+      tileOf[a] = static_cast<int>(t);
+      const std::int64_t next = parts[t].next[c];
+      if (next < 0)
+      {
+        continue;
+      }
+      const auto it = node.find(next);
+      if (it == node.end())
+      {
+        throw std::runtime_error("a perimeter cell drains to a cell no tile has on its perimeter");
+      }
+      down[a] = static_cast<std::int64_t>(it->second);
+      across[a] = it->second >= base[t] && it->second < base[t + 1] ? 0 : 1; // another tile
+      ++upstream[it->second];
+    }
+  }
+  // Flow received from outside the tile (carried within it) and what crosses into each cell.
+  std::vector<double> outside(nodes * m, 0.0);
+  std::vector<double> entering(nodes * m, 0.0);
+  std::vector<std::uint8_t> entered(nodes, 0);
+  std::vector<std::size_t> ready;
+  for (std::size_t a = 0; a < nodes; ++a)
+  {
+    if (upstream[a] == 0)
+    {
+      ready.push_back(a);
+    }
+  }
+  std::size_t done = 0;
+  for (std::size_t r = 0; r < ready.size(); ++r)
+  {
+    const std::size_t a = ready[r];
+    ++done;
+    if (down[a] < 0)
+    {
+      continue;
+    }
+    const auto b = static_cast<std::size_t>(down[a]);
+    const std::size_t c = a - base[tileOf[a]];
+    for (std::size_t s = 0; s < m; ++s)
+    {
+      const double carried =
+        outside[a * m + s] + (across[a] ? parts[tileOf[a]].sums[c * m + s] : 0.0);
+      outside[b * m + s] += carried;
+      if (across[a])
+      {
+        entering[b * m + s] += carried;
+      }
+    }
+    entered[b] = static_cast<std::uint8_t>(entered[b] | across[a]);
+    if (--upstream[b] == 0)
+    {
+      ready.push_back(b);
+    }
+  }
+  if (done != nodes)
+  {
+    throw std::runtime_error("the tiles' directions hold a cycle across tile edges");
+  }
+  entryCells.assign(parts.size(), {});
+  entryFlow.assign(parts.size(), {});
+  for (std::size_t a = 0; a < nodes; ++a)
+  {
+    if (entered[a])
+    {
+      const int t = tileOf[a];
+      entryCells[t].push_back(parts[t].cells[a - base[t]]);
+      entryFlow[t].insert(entryFlow[t].end(),
+        entering.begin() + static_cast<std::ptrdiff_t>(a * m),
+        entering.begin() + static_cast<std::ptrdiff_t>((a + 1) * m));
+    }
+  }
+}
+} // namespace
+
+DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& in,
+  const DistributedFlowOptions& options,
+  TileExchange& exchange)
+{
+  const int ranks = exchange.Size();
+  const Tile tile(in);
+  const std::size_t n = in.view.Size();
+  DistributedFlowResult result;
+
+  // ---- 1. The filled surface, one ring beyond the caller's (for the ring's directions).
+  DistributedFillInput wide = in;
+  wide.reach = in.reach + 1;
+  result.filled = FillDepressionsDistributed(wide, DepressionWaterBodyOptions(), exchange).filled;
+  const float* w = result.filled.data();
+
+  // ---- 2, 3. Directions of the owned cells, the flats agreed across tiles.
+  result.direction.resize(n);
+  std::int8_t* dir = result.direction.data();
+  D8Summary mine;
+  result.flatExchanges = OwnedDirections(in, w, dir, exchange, mine);
+
+  // ---- 4. The tile's own sums and its part of the perimeter graph.
+  const LocalTile local = MakeLocalTile(in, w, dir, options.weight);
+  std::vector<std::vector<double>> sums = LocalSums(local, options, nullptr);
+  const std::size_t m = sums.size();
+  PerimeterPart part;
+  part.box = in.owned;
+  std::vector<std::int64_t> memo(local.filled.size(), kUnknown);
+  ForOwned(in,
+    [&](std::size_t, int gi, int gj)
+    {
+      if (InBand(in.owned, gi, gj, 1, in.wholeNx, in.wholeNy))
+      {
+        part.cells.push_back(tile.Global(gi, gj));
+        part.next.push_back(NextPerimeterCell(in, dir, gi, gj, memo));
+        for (std::size_t s = 0; s < m; ++s)
+        {
+          part.sums.push_back(sums[s][tile.Owned(gi, gj)]);
+        }
+      }
+    });
+  Writer w1;
+  WriteHead(w1, std::string(), in);
+  w1.Put<std::uint64_t>(mine.outlets);
+  w1.Put<std::uint64_t>(mine.flatCells);
+  w1.Put<std::uint64_t>(mine.sinks);
+  w1.Put<std::uint64_t>(m);
+  w1.PutVector(part.cells);
+  w1.PutVector(part.next);
+  w1.PutVector(part.sums);
+  const std::vector<std::vector<char>> all = exchange.Gather(w1.Bytes);
+  std::vector<std::vector<char>> replies;
+  if (exchange.Rank() == 0)
+  {
+    try
+    {
+      std::vector<TileBox> boxes;
+      std::vector<std::int32_t> reaches;
+      std::vector<PerimeterPart> parts;
+      D8Summary total;
+      for (int t = 0; t < ranks; ++t)
+      {
+        Reader r(all.at(static_cast<std::size_t>(t)));
+        const std::string why = ReadHead(r, t, in.wholeNx, in.wholeNy, boxes, reaches);
+        if (!why.empty())
+        {
+          throw std::runtime_error(why);
+        }
+        total.outlets += r.Get<std::uint64_t>();
+        total.flatCells += r.Get<std::uint64_t>();
+        total.sinks += r.Get<std::uint64_t>();
+        if (r.Get<std::uint64_t>() != m)
+        {
+          throw std::runtime_error("the tiles disagree on the weights");
+        }
+        PerimeterPart p;
+        p.box = boxes.back();
+        p.cells = r.GetVector<std::int64_t>();
+        p.next = r.GetVector<std::int64_t>();
+        p.sums = r.GetVector<double>();
+        parts.push_back(std::move(p));
+      }
+      std::vector<std::vector<std::int64_t>> entryCells;
+      std::vector<std::vector<double>> entryFlow;
+      SolvePerimeterGraph(parts, m, entryCells, entryFlow);
+      for (int t = 0; t < ranks; ++t)
+      {
+        Writer reply;
+        reply.Put<std::uint8_t>(0);
+        reply.Put<std::int32_t>(*std::max_element(reaches.begin(), reaches.end()));
+        reply.Put<std::uint64_t>(total.outlets);
+        reply.Put<std::uint64_t>(total.flatCells);
+        reply.Put<std::uint64_t>(total.sinks);
+        reply.PutVector(entryCells[t]);
+        reply.PutVector(entryFlow[t]);
+        replies.push_back(std::move(reply.Bytes));
+      }
+    }
+    catch (const std::exception& x)
+    {
+      replies = FailAll(ranks, x.what());
+    }
+  }
+  const std::vector<char> reply = exchange.Scatter(replies);
+  Reader r(reply);
+  CheckStatus(r, kName);
+  const auto reachAll = r.Get<std::int32_t>();
+  result.summary.outlets = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  result.summary.flatCells = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  result.summary.sinks = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  const std::vector<std::int64_t> entryCells = r.GetVector<std::int64_t>();
+  const std::vector<double> entryFlow = r.GetVector<double>();
+  if (entryFlow.size() != m * entryCells.size() || reachAll < in.reach)
+  {
+    throw std::runtime_error(std::string(kName) + ": rank 0's inflows do not match this tile");
+  }
+
+  // ---- The sums again with the flow entering the tile.
+  std::vector<std::vector<double>> inflow(m, std::vector<double>(local.filled.size(), 0.0));
+  for (std::size_t e = 0; e < entryCells.size(); ++e)
+  {
+    const int gi = static_cast<int>(entryCells[e] % in.wholeNx);
+    const int gj = static_cast<int>(entryCells[e] / in.wholeNx);
+    if (!in.owned.Contains(gi, gj))
+    {
+      throw std::runtime_error(std::string(kName) + ": an inflow to a cell of another tile");
+    }
+    for (std::size_t s = 0; s < m; ++s)
+    {
+      inflow[s][tile.Owned(gi, gj)] = entryFlow[e * m + s];
+    }
+  }
+  sums = LocalSums(local, options, &inflow);
+
+  // ---- 5. The view-sized results; the ring's from its owners.
+  std::vector<std::vector<double>*> outputs{ &result.cells, &result.area };
+  if (m == 3)
+  {
+    outputs.push_back(&result.weighted);
+  }
+  for (std::size_t s = 0; s < m; ++s)
+  {
+    std::vector<double>& out = *outputs[s];
+    out.assign(n, kNaN);
+    ForOwned(in, [&](std::size_t k, int gi, int gj) { out[k] = sums[s][tile.Owned(gi, gj)]; });
+    ExchangeRing<double>(in, reachAll, out.data(), kNaN, exchange, nullptr, kName);
+  }
+  std::vector<std::int8_t> owned(n, kD8NoData);
+  ForOwned(in, [&](std::size_t k, int, int) { owned[k] = dir[k]; });
+  ExchangeRing<std::int8_t>(in, reachAll, owned.data(), kD8NoData, exchange, nullptr, kName);
+  result.direction = std::move(owned);
+  return result;
+}
+
+} // namespace hydrology
+} // namespace terroir
