@@ -11,8 +11,8 @@ ctest=$1
 build=$2
 only=${3:-}
 declare -A minimum=(
-  [unit]=315 [pipeline]=197 [gpu]=72 [rendering]=47 [python]=20 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=58 [mpi]=45
+  [unit]=320 [pipeline]=197 [gpu]=72 [rendering]=47 [python]=20 [examples]=16 [fuzz]=5
+  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=66 [mpi]=53
 )
 status=0
 labels=("${!minimum[@]}")
