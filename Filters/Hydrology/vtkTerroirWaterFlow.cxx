@@ -21,6 +21,7 @@
 #include "vtkNew.h"
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
 #include "vtkMultiProcessController.h"
+#include "vtkTerroirControllerTileExchange.h"
 #endif
 #if VTK_MODULE_ENABLE_VTK_ParallelMPI
 #include "vtkMPICommunicator.h"
@@ -28,6 +29,7 @@
 #endif
 
 #include "DepressionWaterBodies.h"
+#include "DistributedPriorityFlood.h"
 #include "PriorityFlood.h"
 #include "RiverValidation.h"
 #include "WaterFlow.h"
@@ -199,6 +201,26 @@ struct vtkTerroirWaterFlowHalo
 #endif
   }
 
+  /// Refreshes the halo cells of an unpadded nx * ny field (the grid's cells) as Exchange does.
+  void ExchangeField(double* field, int nx, int ny)
+  {
+    const std::size_t stride = static_cast<std::size_t>(nx) + 2;
+    std::vector<double> padded(stride * (static_cast<std::size_t>(ny) + 2), 0.0);
+    for (int j = 0; j < ny; ++j)
+    {
+      std::copy(field + static_cast<std::size_t>(j) * nx,
+        field + static_cast<std::size_t>(j + 1) * nx,
+        padded.begin() + static_cast<std::ptrdiff_t>((j + 1) * stride + 1));
+    }
+    this->Exchange(padded);
+    for (int j = 0; j < ny; ++j)
+    {
+      std::copy(padded.begin() + static_cast<std::ptrdiff_t>((j + 1) * stride + 1),
+        padded.begin() + static_cast<std::ptrdiff_t>((j + 1) * stride + 1 + nx),
+        field + static_cast<std::size_t>(j) * nx);
+    }
+  }
+
   /// True when `ok` is true on every process (every process must call it: a process that
   /// failed alone would leave the others waiting in the next exchange).
   bool AllOk(bool ok)
@@ -331,7 +353,7 @@ int vtkTerroirWaterFlow::RequestUpdateExtent(vtkInformation* request,
 {
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
   this->DistributedRun =
-    this->Mode == Pulse && GetDistributedController(outputVector->GetInformationObject(0));
+    this->RunsInPieces() && GetDistributedController(outputVector->GetInformationObject(0));
 #else
   this->DistributedRun = false;
 #endif
@@ -348,7 +370,7 @@ bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
   using SDDP = vtkStreamingDemandDrivenPipeline;
   vtkInformation* outInfo = this->GetOutputInformation(0);
   vtkMultiProcessController* controller =
-    this->Mode == Pulse ? GetDistributedController(outInfo) : nullptr;
+    this->RunsInPieces() ? GetDistributedController(outInfo) : nullptr;
   if (!controller || !outInfo->Has(SDDP::WHOLE_EXTENT()))
   {
     if (old)
@@ -662,6 +684,10 @@ bool vtkTerroirWaterFlow::PrepareWater(vtkImageData* input,
       vtkErrorMacro(<< this->SourcePrefix(input)
                     << "the StandingWater sources need a point array `StandingWater` with 12 "
                        "components (mm, from vtkTerroirSoilHumidity)");
+      if (cache.Halo && this->Mode == Rivers)
+      {
+        cache.Halo->AllOk(false); // the others wait for it before the still water
+      }
       return false;
     }
   }
@@ -671,15 +697,33 @@ bool vtkTerroirWaterFlow::PrepareWater(vtkImageData* input,
   {
     // Still water first: every depression full to its spill level (Priority-Flood), the
     // state rain alone reaches at steady state; the run then only has to form the flow.
-    spill.resize(n);
-    hy::PriorityFloodBarnes2014(v, spill.data());
     // Lakes: the filled depressions and the flat water surfaces (hydro-flattened lakes) of
     // at least LakeArea, as vtkTerroirFloodFill's FillDepressions finds them.
     hy::DepressionWaterBodyOptions lakeOptions;
     lakeOptions.minimumArea = this->LakeArea;
     std::vector<std::int32_t> ids(n, 0);
-    std::vector<float> depth(n, 0.0f);
-    hy::DepressionWaterBodies(v, spill.data(), lakeOptions, ids.data(), depth.data());
+    if (cache.Halo)
+    {
+      // In pieces: Barnes (2016)'s parallel fill and its water bodies on the piece and the
+      // halo the iterations read (every process calls it: none may have failed before).
+      if (!cache.Halo->AllOk(true))
+      {
+        vtkErrorMacro(<< this->SourcePrefix(input)
+                      << "distributed water flow: another process failed to prepare its piece");
+        return false;
+      }
+      if (!this->StillWaterInPieces(input, v, lakeOptions, spill, ids))
+      {
+        return false;
+      }
+    }
+    else
+    {
+      spill.resize(n);
+      hy::PriorityFloodBarnes2014(v, spill.data());
+      std::vector<float> depth(n, 0.0f);
+      hy::DepressionWaterBodies(v, spill.data(), lakeOptions, ids.data(), depth.data());
+    }
     cache.Lake.assign(n, 0);
     for (std::size_t c = 0; c < n; ++c)
     {
@@ -734,6 +778,45 @@ bool vtkTerroirWaterFlow::PrepareWater(vtkImageData* input,
     water[c] = mm / 1000.0;
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::StillWaterInPieces(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  const terroir::hydrology::DepressionWaterBodyOptions& options,
+  std::vector<float>& spill,
+  std::vector<std::int32_t>& ids)
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  vtkInformation* outInfo = this->GetOutputInformation(0);
+  vtkTerroirControllerTileExchange exchange(GetDistributedController(outInfo));
+  hy::DistributedFillInput in = vtkTerroirControllerTileExchange::TileInput(outInfo, input, v);
+  in.reach += 1; // the 2 + g rings whose water every iteration reads (TileInput gives 1 + g)
+  vtkDebugMacro(<< "still water in pieces: " << hy::kPriorityFloodBarnes2016Citation);
+  try
+  {
+    hy::DistributedFillResult r = hy::FillDepressionsDistributed(in, options, exchange);
+    spill = std::move(r.filled);
+    ids = std::move(r.bodyId);
+  }
+  catch (const std::bad_alloc&)
+  {
+    throw;
+  }
+  catch (const std::exception& x)
+  {
+    vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
+    return false;
+  }
+  return true;
+#else
+  (void)v;
+  (void)options;
+  (void)spill;
+  (void)ids;
+  vtkErrorMacro(<< this->SourcePrefix(input) << "built without VTK::ParallelCore");
+  return false;
+#endif
 }
 
 //------------------------------------------------------------------------------
@@ -833,6 +916,14 @@ bool vtkTerroirWaterFlow::NewSimulation(vtkImageData* input,
         cache.Sim->SetRainField(rain.data());
       }
       cache.Sim->SetNetFlux(true);
+      if (cache.Halo)
+      {
+        // The balance rule and the rivers' least rate rest on the whole grid's rain.
+        double totals[2] = { 0.0, 0.0 };
+        cache.Sim->WindowRainTotals(totals[0], totals[1]);
+        cache.Halo->Sum(totals, 2);
+        cache.Sim->SetRainTotals(totals[0], totals[1]);
+      }
     }
   }
   catch (const std::invalid_argument& e)
@@ -1010,6 +1101,10 @@ void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
       static_cast<double>(this->RateIterations) * this->IterationDuration,
       qr,
       dominant.data());
+    if (cache.Halo)
+    {
+      cache.Halo->ExchangeField(qr, v.nx, v.ny); // the owners' rates (see the strength below)
+    }
     strength = vtkSmartPointer<vtkDoubleArray>::New();
     strength->SetName(RiverStrengthName());
     strength->SetNumberOfTuples(static_cast<vtkIdType>(n));
@@ -1019,6 +1114,13 @@ void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
     qv.nx = v.nx;
     qv.ny = v.ny;
     hy::ThinAcrossFlow(qv, dominant.data(), this->ThinningFactor, strength->GetPointer(0));
+    if (cache.Halo)
+    {
+      // The halo's strength from the processes that own those cells: a cell's net flux (its
+      // rate and dominant direction) reads its neighbours' outflows, and the halo's outer
+      // cells lack theirs.
+      cache.Halo->ExchangeField(strength->GetPointer(0), v.nx, v.ny);
+    }
     body = vtkSmartPointer<vtkUnsignedCharArray>::New();
     body->SetName(LakeMaskName());
     body->SetNumberOfTuples(static_cast<vtkIdType>(n));
@@ -1045,6 +1147,10 @@ void vtkTerroirWaterFlow::AddOutputs(vtkImageData* output,
   if (sim.GetNetFlux())
   {
     sim.GetNetDischarge(discharge->GetPointer(0)); // Rivers mode: net flux only
+    if (cache.Halo)
+    {
+      cache.Halo->ExchangeField(discharge->GetPointer(0), v.nx, v.ny);
+    }
   }
   else
   {

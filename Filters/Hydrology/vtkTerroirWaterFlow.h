@@ -78,8 +78,11 @@
  * the iteration's moved, outflow and emptied sums over the cells it owns, added in rank order:
  * every process records the same iteration and stops at the same one (CPU path; no
  * checkpoints). The cells' values are the serial run's bits; the volumes (field data) are the
- * same sums in another order. Rivers mode needs the whole grid (Priority-Flood, warm start) and
- * runs it on every process, as a serial run does (Documentation/ParaView.md).
+ * same sums in another order. Rivers mode runs in pieces too when WarmStart is off: its still
+ * water and lakes from FillDepressionsDistributed (Barnes 2016), the rain's totals summed over
+ * the pieces, the halo's DischargeRate, RiverStrength and net Discharge from their owners; with
+ * WarmStart (coarse levels straddling the pieces) it computes the whole grid on every process,
+ * as a serial run does (Documentation/ParaView.md).
  *
  * Errors (one line, empty output): negative, NaN or infinite water on a cell with data,
  * missing or not 12-component `StandingWater` for the StandingWater sources, parameters out of
@@ -113,6 +116,10 @@ namespace terroir
 {
 template<typename T>
 struct GridView;
+namespace hydrology
+{
+struct DepressionWaterBodyOptions;
+}
 }
 
 class vtkFloatArray;
@@ -355,6 +362,18 @@ private:
     const terroir::GridView<float>& v,
     std::vector<double>& water,
     std::vector<double>& rain);
+  /// Rivers mode in pieces: the filled surface (still water) and the water bodies of this
+  /// piece and the halo the iterations read (FillDepressionsDistributed, Barnes 2016).
+  bool StillWaterInPieces(vtkImageData* input,
+    const terroir::GridView<float>& v,
+    const terroir::hydrology::DepressionWaterBodyOptions& options,
+    std::vector<float>& spill,
+    std::vector<std::int32_t>& ids);
+  /// Pulse mode, and Rivers mode without WarmStart, run in pieces in a distributed run.
+  bool RunsInPieces() const
+  {
+    return this->Mode == Pulse || !this->WarmStart;
+  }
   bool NewSimulation(vtkImageData* input, const terroir::TerrainInput& terrain, int backend);
   bool Simulate(vtkImageData* input,
     const terroir::TerrainInput& terrain,

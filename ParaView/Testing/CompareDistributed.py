@@ -30,7 +30,11 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
 - d8 (flow accumulation, D8 in pieces): FilledElevation, FlowDirection, FlowAccumulation and
   River bit for bit, ContributingArea and ChannelInitiation within D8_RTOL, and a river of the
   serial run crossing every column and row that the pieces share; d8ghost: the same with a
-  slope after it (reader: 3 cells).
+  slope after it (reader: 3 cells);
+- rivers (water flow, Rivers mode without the warm start, in pieces): as flow (every array bit
+  for bit, DischargeRate, RiverStrength and LakeMask included; the same iterations and stop
+  reason, Balanced; the volumes within FLOW_VOLUME_RTOL; a river across every shared line);
+  riversghost: the same with a slope after it (reader: 4 cells).
 Fails (exit 1) with one line per problem."""
 import filecmp
 import json
@@ -48,8 +52,8 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 # Water flow (flow) reads its piece grown by 3: 2 rings refreshed from the neighbours every
 # iteration and 1 more for the heights of no-data cells beside them.
 # The flood fill reads its piece and one ring (its perimeter's neighbours), one more for a slope.
-GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'lakes': 1,
-         'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16, 'd8': 2, 'd8ghost': 3}
+GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'rivers': 3,
+         'riversghost': 4, 'lakes': 1, 'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16, 'd8': 2, 'd8ghost': 3}
 # Water flow: the run's volumes are sums over the cells that each process adds for its own
 # cells before the processes' sums are added in rank order, another order than the serial
 # rows (doubles, ~1e-16 relative per addition, over up to 1e4 iterations).
@@ -92,6 +96,10 @@ def serial(recipe, dem):
               terroir.vtkTerroirInfiltration(), terroir.vtkTerroirSoilHumidity()]
     if recipe in ('flow', 'flowghost'):
         stages = [terroir.vtkTerroirWaterFlow()]
+    if recipe in ('rivers', 'riversghost'):
+        stages = [terroir.vtkTerroirWaterFlow()]
+        stages[0].SetModeToRivers()
+        stages[0].SetWarmStart(0)
     if recipe in ('lakes', 'lakesghost'):
         stages = [terroir.vtkTerroirFloodFill()]
         stages[0].SetModeToFillDepressions()
@@ -115,7 +123,7 @@ def serial(recipe, dem):
         stages = [terroir.vtkTerroirFlowAccumulation()]
     if recipe in ('lakesghost', 'd8ghost'):
         stages.append(terroir.vtkTerroirSlope())
-    if recipe == 'flowghost':
+    if recipe in ('flowghost', 'riversghost'):
         stages.append(terroir.vtkTerroirSlope())
     if recipe in ('zones', 'zonesghost'):
         stages.append(terroir.vtkTerroirKMeans())
@@ -245,7 +253,7 @@ def main():
         problems.append('the pieces do not tile the extent (%d cells covered %s times)' % (
             int((cover != 1).sum()), sorted(set(cover.ravel().tolist()) - {1})))
 
-    if recipe in ('flow', 'flowghost', 'd8', 'd8ghost') and ranks > 1:
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'd8', 'd8ghost') and ranks > 1:
         # A river must cross every line the pieces share (else the halo is not really tested):
         # the serial run's River cells on both sides of each shared column and row.
         dims = expected.GetDimensions()
@@ -258,7 +266,7 @@ def main():
                 if n == 0:
                     problems.append('no river crosses the pieces\' %s %d' % (
                         ('column', 'row')[axis], line))
-    if recipe in ('flow', 'flowghost'):
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost'):
         fy = expected.GetFieldData()
         want = {name: fy.GetArray(name).GetTuple1(0)
                 for name in ('WaterFlowIterations', 'WaterFlowInitialVolume',

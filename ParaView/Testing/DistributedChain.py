@@ -2,13 +2,16 @@
 builds the same pipeline, ParaView's parallel image writer writes one piece per rank (.pvti), and
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
-        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|lakes|lakesghost|seeds|sun|sunhours|
-        d8|d8ghost
+        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|rivers|riversghost|lakes|
+        lakesghost|seeds|sun|sunhours|d8|d8ghost
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
 zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
 flow (Pulse, defaults: a halo exchanged every iteration, the stop rule's sums all-gathered);
-flowghost: flow, then slope (the water flow asked for a ghost layer); lakes: DEM -> flood fill
+flowghost: flow, then slope (the water flow asked for a ghost layer); rivers: DEM -> water flow
+(Rivers mode, WarmStart off: the still water from the parallel fill, the rain's totals summed
+over the pieces, the halo's rates, strengths and net discharge from their owners);
+riversghost: rivers, then slope; lakes: DEM -> flood fill
 (FillDepressions: Barnes 2016's parallel Priority-Flood, the water bodies joined across the
 pieces); lakesghost: lakes, then slope (the flood fill asked for a ghost layer); seeds: DEM ->
 flood fill (Seeds: Independence Lake's cell and a cell in another piece, at the terrain height);
@@ -36,6 +39,13 @@ def main():
     plugin, dem, out_dir, recipe = sys.argv[1:5]
     LoadPlugin(plugin, remote=False, ns=globals())
     reader = TerroirDEMReader(FileName=dem)  # noqa: F821 (the plugin defines them)
+    if recipe in ('rivers', 'riversghost'):
+        # River-forming water flow without the warm start (which runs the whole grid): the
+        # still water from the parallel fill, rain every iteration until the outflow balances.
+        last = TerroirWaterFlow(Input=reader, Mode='Rivers', WarmStart=0)  # noqa: F821
+        if recipe == 'riversghost':
+            last = TerroirSlope(Input=last)  # noqa: F821
+        return write(reader, last, out_dir, recipe)
     if recipe in ('flow', 'flowghost'):
         # Water flow alone (Pulse, its defaults): each rank iterates on its piece and a halo
         # of 3 cells, exchanging 2 rings with its neighbours every iteration.
@@ -84,8 +94,8 @@ def main():
         # that layer, and must still count each point once.
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
-        raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, lakes, '
-                         'lakesghost, seeds, sun, sunhours, d8 or d8ghost, not ' + recipe)
+        raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, rivers, '
+                         'riversghost, lakes, lakesghost, seeds, sun, sunhours, d8 or d8ghost, not ' + recipe)
     return write(reader, last, out_dir, recipe)
 
 
@@ -153,7 +163,7 @@ def write(reader, last, out_dir, recipe):
         'max_rss_kib': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
         'smp_threads': smp_threads(),
     }
-    if recipe in ('flow', 'flowghost'):
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost'):
         # The water flow's run as this rank saw it: every rank must stop at the same iteration.
         fd = local.GetFieldData()
         record['water_flow'] = {

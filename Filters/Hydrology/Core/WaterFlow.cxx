@@ -1446,6 +1446,42 @@ double WaterFlowSimulation::StoredVolume() const
 }
 
 //------------------------------------------------------------------------------
+void WaterFlowSimulation::WindowRainTotals(double& volume, double& area) const
+{
+  const int stride = NX + 2;
+  const bool window = this->Window[0] >= 0;
+  const int r0 = window ? std::max(1, this->Window[2]) : 1;
+  const int r1 = window ? std::min(NY + 1, this->Window[3]) : NY + 1;
+  const int c0 = window ? std::max(1, this->Window[0]) : 1;
+  const int c1 = window ? std::min(NX + 1, this->Window[1]) : NX + 1;
+  volume = 0.0;
+  area = 0.0;
+  for (int r = r0; r < r1; ++r)
+  {
+    double rain = 0.0;
+    double cells = 0.0;
+    for (int pi = c0; pi < c1; ++pi)
+    {
+      const std::size_t c = static_cast<std::size_t>(r) * stride + pi;
+      if (this->IsCell[c])
+      {
+        rain += this->RainField.empty() ? this->Rain : this->RainField[c];
+        cells += 1.0;
+      }
+    }
+    volume += rain * this->Area[r];
+    area += cells * this->Area[r];
+  }
+}
+
+//------------------------------------------------------------------------------
+void WaterFlowSimulation::SetRainTotals(double volume, double area)
+{
+  this->RainVolumeTotal = volume;
+  this->CellAreaTotal = area;
+}
+
+//------------------------------------------------------------------------------
 void WaterFlowSimulation::GetWaterHeight(float* depth) const
 {
   const int stride = NX + 2;

@@ -397,6 +397,17 @@ public:
   bool HasCountWindow() const { return this->Window[0] >= 0; }
 
   /**
+   * Rain volume of one iteration (m^3, SetRain or SetRainField) and cell area (m^2) of the
+   * count window's cells (every cell without a window), added in row order: a distributed run
+   * adds the pieces' and gives the whole grid's to SetRainTotals.
+   */
+  void WindowRainTotals(double& volume, double& area) const;
+  /// Replaces RainVolume() and TotalCellArea() (a distributed run: the whole grid's sums, on
+  /// which the balance rule and the rivers' least discharge rate then rest). Call after the
+  /// rain is set.
+  void SetRainTotals(double volume, double area);
+
+  /**
    * Called by Step after every iteration, once the new state is in place and before the
    * iteration is recorded (histories, totals, stop rules): a distributed run refreshes the
    * halo cells of PaddedWater() from the neighbouring pieces there and replaces the
