@@ -12,7 +12,7 @@ build=$2
 only=${3:-}
 declare -A minimum=(
   [unit]=320 [pipeline]=197 [gpu]=72 [rendering]=47 [python]=20 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=74 [mpi]=61
+  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=77 [mpi]=64
 )
 status=0
 labels=("${!minimum[@]}")

@@ -1,6 +1,6 @@
 """Checks a distributed run of DistributedChain.py (mpirun -np N pvbatch) against the same chain
 run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, package `terroir`):
-    CompareDistributed.py terrain|zones|...|sun|sunhours|d8|d8ghost N DEM OUT_DIR
+    CompareDistributed.py terrain|zones|...|sun|sunhours|d8|d8ghost|full N DEM OUT_DIR
 - the pieces of OUT_DIR/chain.pvti, reassembled by VTK 9.1's vtkXMLPImageDataReader, give the
   serial arrays bit for bit (besides the all-zero vtkGhostType ParaView's writer adds) (the same cores on the same cells in the same order: a piece's
   cells see the same neighbours through their ghost layer); `vtkValidPointMask`, which the
@@ -34,7 +34,10 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
 - rivers (water flow, Rivers mode without the warm start, in pieces): as flow (every array bit
   for bit, DischargeRate, RiverStrength and LakeMask included; the same iterations and stop
   reason, Balanced; the volumes within FLOW_VOLUME_RTOL; a river across every shared line);
-  riversghost: the same with a slope after it (reader: 4 cells).
+  riversghost: the same with a slope after it (reader: 4 cells);
+- full (every distributed stage in one chain, DistributedChain.full_chain): every array bit for
+  bit (D8's sums within D8_RTOL), and the k-means, water-flow, water-body and sun checks above
+  (reader: 72 cells, the sun's halo of 64 and the 8 ghost layers the stages after it ask for).
 Fails (exit 1) with one line per problem."""
 import filecmp
 import json
@@ -53,7 +56,8 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 # iteration and 1 more for the heights of no-data cells beside them.
 # The flood fill reads its piece and one ring (its perimeter's neighbours), one more for a slope.
 GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'rivers': 3,
-         'riversghost': 4, 'lakes': 1, 'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16, 'd8': 2, 'd8ghost': 3}
+         'riversghost': 4, 'lakes': 1, 'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16,
+         'd8': 2, 'd8ghost': 3, 'full': 72}
 # Water flow: the run's volumes are sums over the cells that each process adds for its own
 # cells before the processes' sums are added in rank order, another order than the serial
 # rows (doubles, ~1e-16 relative per addition, over up to 1e4 iterations).
@@ -103,7 +107,7 @@ def serial(recipe, dem):
     if recipe in ('lakes', 'lakesghost'):
         stages = [terroir.vtkTerroirFloodFill()]
         stages[0].SetModeToFillDepressions()
-    if recipe in ('sun', 'sunhours'):
+    if recipe in ('sun', 'sunhours', 'full'):
         sun = terroir.vtkTerroirSolarIllumination()
         if recipe == 'sunhours':
             sun.SetModeToDaily()
@@ -115,6 +119,17 @@ def serial(recipe, dem):
         sun.SetTime(12.0)
         sun.SetUTCOffset(-8.0)
         stages = [sun]
+    if recipe == 'full':
+        # DistributedChain.full_chain's order.
+        flood = terroir.vtkTerroirFloodFill()
+        flood.SetModeToFillDepressions()
+        flow = terroir.vtkTerroirWaterFlow()
+        if os.environ.get('TERROIR_FLOW_ITERATIONS'):
+            flow.SetMaximumIterations(int(os.environ['TERROIR_FLOW_ITERATIONS']))
+            flow.SetAutoStopRatio(0.0)
+        stages = [sun, terroir.vtkTerroirSlope(), terroir.vtkTerroirTemperature(),
+                  terroir.vtkTerroirInfiltration(), terroir.vtkTerroirSoilHumidity(), flood,
+                  terroir.vtkTerroirFlowAccumulation(), flow, terroir.vtkTerroirKMeans()]
     if recipe == 'seeds':
         stages = [terroir.vtkTerroirFloodFill()]
         for x, y in ((215365.0, 4371215.0), (220005.0, 4368475.0)):  # DistributedChain.SEEDS
@@ -132,6 +147,8 @@ def serial(recipe, dem):
     previous = reader
     for stage in stages:
         stage.SetInputConnection(previous.GetOutputPort())
+        if recipe == 'full':
+            previous.ReleaseDataFlagOn()  # as DistributedChain's full chain: less memory
         previous = stage
     previous.Update()
     return previous.GetOutput()
@@ -192,7 +209,8 @@ def main():
                 problems.append('%s: equal to the serial run: the halo was not too small' % name)
             compared += 1
             continue
-        if recipe in ('d8', 'd8ghost') and name in ('ContributingArea', 'ChannelInitiation'):
+        if recipe in ('d8', 'd8ghost', 'full') and name in ('ContributingArea',
+                                                            'ChannelInitiation'):
             close = x.shape == y.shape and np.allclose(x, y, rtol=D8_RTOL, atol=0.0, equal_nan=True)
             print('%s: max relative difference %.3g' % (
                 name, float(np.nanmax(np.abs(x - y) / np.maximum(np.abs(y), 1e-300)))))
@@ -206,7 +224,7 @@ def main():
                     if x.shape == y.shape else float('inf'))
             problems.append('%s: differs from the serial run (max |diff| %g)' % (name, diff))
         compared += 1
-    if recipe in ('zones', 'zonesghost'):
+    if recipe in ('zones', 'zonesghost', 'full'):
         # k-means: the iteration count, stop reason and cluster shares (integer counts over the
         # same number of cells) are exact; the inertia is a sum whose terms each process adds
         # for its own cells before the processes' totals are added, another order than the
@@ -266,7 +284,7 @@ def main():
                 if n == 0:
                     problems.append('no river crosses the pieces\' %s %d' % (
                         ('column', 'row')[axis], line))
-    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost'):
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'full'):
         fy = expected.GetFieldData()
         want = {name: fy.GetArray(name).GetTuple1(0)
                 for name in ('WaterFlowIterations', 'WaterFlowInitialVolume',
@@ -294,7 +312,7 @@ def main():
                 if not ok:
                     problems.append('%s: pieces %r, serial %r' % (name, have, value))
 
-    if recipe in ('lakes', 'lakesghost', 'seeds'):
+    if recipe in ('lakes', 'lakesghost', 'seeds', 'full'):
         fy = expected.GetFieldData()
         want = {name: [fy.GetArray(name).GetTuple1(i)
                        for i in range(fy.GetArray(name).GetNumberOfTuples())]
@@ -329,13 +347,13 @@ def main():
             if spanning == 0:
                 problems.append('no lake crosses a piece boundary')
 
-    if recipe in ('sun', 'sunhours'):
+    if recipe in ('sun', 'sunhours', 'full'):
         for r in range(ranks):
             path = os.path.join(out_dir, 'rank%d.json' % r)
             share = json.load(open(path)).get('sun_halo_uncertain_share') \
                 if os.path.exists(path) else None
             print('rank %d: share of decisions terrain beyond the halo could change: %r' % (r, share))
-            if ranks > 1 and recipe == 'sun' and share != 0.0:
+            if ranks > 1 and recipe in ('sun', 'full') and share != 0.0:
                 problems.append('rank %d: SunHaloUncertainShare %r, expected 0' % (r, share))
             if ranks > 1 and recipe == 'sunhours' and not (share and share > 0.0):
                 problems.append('rank %d: SunHaloUncertainShare %r, expected > 0' % (r, share))

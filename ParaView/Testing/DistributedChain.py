@@ -3,7 +3,7 @@ builds the same pipeline, ParaView's parallel image writer writes one piece per 
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
         PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|rivers|riversghost|lakes|
-        lakesghost|seeds|sun|sunhours|d8|d8ghost
+        lakesghost|seeds|sun|sunhours|d8|d8ghost|full
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
 zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
@@ -11,7 +11,8 @@ flow (Pulse, defaults: a halo exchanged every iteration, the stop rule's sums al
 flowghost: flow, then slope (the water flow asked for a ghost layer); rivers: DEM -> water flow
 (Rivers mode, WarmStart off: the still water from the parallel fill, the rain's totals summed
 over the pieces, the halo's rates, strengths and net discharge from their owners);
-riversghost: rivers, then slope; lakes: DEM -> flood fill
+riversghost: rivers, then slope; full: every distributed stage in one chain (full_chain);
+lakes: DEM -> flood fill
 (FillDepressions: Barnes 2016's parallel Priority-Flood, the water bodies joined across the
 pieces); lakesghost: lakes, then slope (the flood fill asked for a ghost layer); seeds: DEM ->
 flood fill (Seeds: Independence Lake's cell and a cell in another piece, at the terrain height);
@@ -83,6 +84,13 @@ def main():
         if recipe == 'lakesghost':
             last = TerroirSlope(Input=last)  # noqa: F821
         return write(reader, last, out_dir, recipe)
+    if recipe == 'full':
+        last = full_chain(reader)
+        # Each stage's output is freed once the next has read it (a piece's output is a cropped
+        # copy of its input's arrays: kept, every stage would hold its own copy of them all).
+        for proxy in stages(last)[:-1]:
+            proxy.GetClientSideObject().ReleaseDataFlagOn()
+        return write(reader, last, out_dir, recipe)
     slope = TerroirSlope(Input=reader)  # noqa: F821
     temperature = TerroirTemperature(Input=slope)  # noqa: F821
     infiltration = TerroirInfiltration(Input=temperature)  # noqa: F821
@@ -95,8 +103,30 @@ def main():
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
         raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, rivers, '
-                         'riversghost, lakes, lakesghost, seeds, sun, sunhours, d8 or d8ghost, not ' + recipe)
+                         'riversghost, lakes, lakesghost, seeds, sun, sunhours, d8, d8ghost or '
+                         'full, not ' + recipe)
     return write(reader, last, out_dir, recipe)
+
+
+def full_chain(reader):
+    """Every distributed stage in one pipeline, the sun first (its halo then widens only the
+    reader's window): sun (Instant, noon, SUN_HALO) -> slope -> temperature -> infiltration ->
+    soil humidity -> flood fill (FillDepressions) -> flow accumulation (D8) -> water flow
+    (Pulse; TERROIR_FLOW_ITERATIONS iterations when set) -> k-means. Each stage passes its
+    ghost levels upstream: the water flow asks for 3, D8 for 5, the flood fill for 6, the
+    stencils up to 8, the sun for 72 (its halo of 64 on top)."""
+    last = TerroirSolarIllumination(Input=reader, Mode='Instant', Month=6, Day=21,  # noqa: F821
+                                    Time=12.0, UTCOffset=-8.0, DistributedHalo=SUN_HALO)
+    for make in (TerroirSlope, TerroirTemperature, TerroirInfiltration,  # noqa: F821
+                 TerroirSoilHumidity):  # noqa: F821
+        last = make(Input=last)
+    last = TerroirFloodFill(Input=last, Mode='FillDepressions')  # noqa: F821
+    last = TerroirFlowAccumulation(Input=last, Method='D8')  # noqa: F821
+    last = TerroirWaterFlow(Input=last)  # noqa: F821
+    if os.environ.get('TERROIR_FLOW_ITERATIONS'):
+        last.MaximumIterations = int(os.environ['TERROIR_FLOW_ITERATIONS'])
+        last.AutoStopRatio = 0.0
+    return TerroirKMeans(Input=last)  # noqa: F821
 
 
 # Seeds recipe: Independence Lake (cell 138, 474 of the bundled DEM: the lake's flat, 23,531
@@ -163,7 +193,7 @@ def write(reader, last, out_dir, recipe):
         'max_rss_kib': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
         'smp_threads': smp_threads(),
     }
-    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost'):
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'full'):
         # The water flow's run as this rank saw it: every rank must stop at the same iteration.
         fd = local.GetFieldData()
         record['water_flow'] = {
@@ -172,11 +202,11 @@ def write(reader, last, out_dir, recipe):
                          'WaterFlowOutflowVolume', 'WaterFlowMovedVolume')}
         record['water_flow']['WaterFlowStopReason'] = \
             fd.GetAbstractArray('WaterFlowStopReason').GetValue(0)
-    if recipe in ('sun', 'sunhours'):
+    if recipe in ('sun', 'sunhours', 'full'):
         # Only a distributed run (N > 1 pieces) measures it.
         share = local.GetFieldData().GetArray('SunHaloUncertainShare')
         record['sun_halo_uncertain_share'] = share.GetTuple1(0) if share else None
-    if recipe in ('lakes', 'lakesghost', 'seeds'):
+    if recipe in ('lakes', 'lakesghost', 'seeds', 'full'):
         # The water bodies' table (field data): every rank holds the whole grid's.
         fd = local.GetFieldData()
         record['water_bodies'] = {
