@@ -22,7 +22,8 @@
  *
  * References:
  * - H. Long, "Using procedural methods to generate realistic virtual rural worlds", MSc minor
- *   dissertation, University of Cape Town, February 2016, section 2.2.2.1.
+ *   dissertation (Computer Science), supervised by J. Gain and M.-P. Cani, February 2016,
+ *   section 2.2.2.1.
  * - A. Emilien, U. Vimont, M.-P. Cani, P. Poulin, B. Benes, "WorldBrush: interactive
  *   example-based synthesis of procedural virtual worlds", ACM TOG 34(4), 2015,
  *   doi:10.1145/2766975.
@@ -140,6 +141,8 @@ private:
  * dx dy times the bilinear interpolation of c(p, q) = #{allowed cells (i, j) with (i+p, j+q)
  * allowed} at (h_x / dx, h_y / dy) (exact: two cells' overlap is a product of hat functions).
  * Building the table costs O(allowed cells * (2 maxLag/dx + 1) (2 maxLag/dy + 1)).
+ * @correctness TestPointPattern.cxx: RectangleSetCovarianceAndPairMeasureMatchClosedForms,
+ *   FullMaskHasTheRectanglesCovariance, SeparateCellsCovariance.
  */
 class PatternSetCovariance
 {
@@ -147,7 +150,8 @@ public:
   /// @throws std::invalid_argument when maxLag is negative or not finite.
   PatternSetCovariance(const PatternDomain& domain, double maxLag);
 
-  /// gamma_D(hx, hy), m^2 (lags beyond maxLag are not allowed for a cells domain; they give 0).
+  /// gamma_D(hx, hy), m^2. For a cells domain, lags more than one cell beyond maxLag are outside
+  /// the table and give 0.
   double operator()(double hx, double hy) const;
 
   /**
@@ -234,6 +238,9 @@ struct PairCorrelation
  * @brief Estimates the pair-correlation functions of a pattern (see PairCorrelation).
  *
  * Cost O(n + pairs closer than rMax) with a uniform grid of buckets of side >= rMax.
+ * @correctness TestPointPattern.cxx: PairCorrelationOfPoissonIsOne (and OnMask),
+ *   PairCorrelationOfHardCoreIsZeroBelowD0, PairCorrelationOfLatticePeaksAtLatticeDistances
+ *   (exact values by hand), PairCorrelationOfTwoIndependentCategoriesIsOne.
  * @param points the pattern; every point must lie in `domain`
  * @throws std::invalid_argument on rMin < 0, rMax <= rMin, bins outside 1..4096, categories
  *         outside 0..64, a point with a negative or too large category, a non-finite point or
@@ -363,8 +370,9 @@ struct PatternSynthesis
  * so results do not depend on the standard library's distributions.
  *
  * @correctness TestPointPattern.cxx: SynthesisReproducesHardCore, SynthesisReproducesClusters,
- *   SynthesisReproducesCrossInhibition, SynthesisRespectsMask, SynthesisWithoutInteractionIs
- *   Poisson, SynthesisIsDeterministic, PerturbationCostDoesNotGrowWithPoints.
+ *   SynthesisReproducesCrossInhibition, SynthesisRespectsMask,
+ *   SynthesisWithoutInteractionIsPoisson, SynthesisIsDeterministic,
+ *   PerturbationCostDoesNotGrowWithPoints, CategoryWithoutPointsIsNeverPlaced.
  * @throws std::invalid_argument on an inconsistent model (categories outside 1..64, bins
  *         outside 1..4096, rMin < 0, rMax <= rMin, array sizes, a negative or non-finite
  *         density, g or hard core, an asymmetric g or hard core) or parameters (iterations < 0,
