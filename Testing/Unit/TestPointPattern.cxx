@@ -455,6 +455,10 @@ TEST(TerroirPointPattern, LearnedModelHasDensitiesAndSmallestDistances)
   ASSERT_EQ(model.categories, 2);
   EXPECT_DOUBLE_EQ(model.density[0], CountCategory(points, 0) / 1200.0);
   EXPECT_DOUBLE_EQ(model.density[1], CountCategory(points, 1) / 1200.0);
+  // Cross pairs: ~200 x 200 points, smallest distance >= 2 m: independent points would have
+  // had ~200 * 200 * pi * 4 / 1200 ~ 400 pairs closer: a hard core. Same species (0.5 m
+  // minimum, ~200 points): the smallest distance is >= 0.5 and independent points would have
+  // had >= 200 * 199 / 2 * pi * 0.25 / 1200 ~ 13 closer pairs: kept too.
   for (int a = 0; a < 2; ++a)
   {
     for (int b = 0; b < 2; ++b)
@@ -463,9 +467,40 @@ TEST(TerroirPointPattern, LearnedModelHasDensitiesAndSmallestDistances)
     }
   }
   EXPECT_GE(model.HardCore(0, 1), 2.0);
+  EXPECT_GE(model.HardCore(0, 0), 0.5);
   EXPECT_LT(model.HardCore(0, 0), 1.0);
   const auto soft = pp::LearnRadialDistribution(points, d, { 0.0, 4.0, 8, 0 }, false);
   EXPECT_EQ(soft.hardCore, std::vector<double>(4, 0.0));
+}
+
+TEST(TerroirPointPattern, HardCoreNeedsEvidence)
+{
+  // A rare species: 3 points 10 m apart (and > 4 m from the 400 common ones) in 40 m x 30 m. No
+  // pair of them is closer than rMax = 4 m, but 3 pairs of independent points would fall that
+  // close with probability ~ 3 * pi * 16 / 1200 = 0.13, not 3: no hard core for 1-1 (the
+  // smallest distance, capped, would have been 4 m). Uniform common points: the smallest 0-0
+  // distance among 400 is tiny (expected pairs closer ~1), so no hard core for 0-0 either.
+  std::mt19937_64 rng(6);
+  Points points;
+  while (points.size() < 400)
+  {
+    const double x = Uniform(rng) * 40.0;
+    const double y = Uniform(rng) * 30.0;
+    if (y < 20.0 || x < 4.0 || x > 36.0)
+    {
+      points.push_back({ x, y, 0 });
+    }
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    points.push_back({ 10.0 + 10.0 * i, 26.0, 1 });
+  }
+  const auto d = pp::PatternDomain::Rectangle(0, 0, 40, 30);
+  const auto model = pp::LearnRadialDistribution(points, d, { 0.0, 4.0, 8, 0 });
+  EXPECT_EQ(model.HardCore(1, 1), 0.0);
+  EXPECT_EQ(model.HardCore(0, 0), 0.0);
+  EXPECT_EQ(
+    model.HardCore(0, 1), 4.0); // 400 x 3 cross pairs: ~ 1200 * pi * 16 / 1200 ~ 50 expected
 }
 
 // =============================================================================================

@@ -434,7 +434,11 @@ double PatternSetCovariance::PairMeasure(double r1, double r2) const
 namespace
 {
 
-/// The hard cores (smallest a-b distance, capped at rMax) of a pattern, index a * C + b.
+/// A hard core is learned only when independent uniform points would have had at least this
+/// many pairs closer than it (the chance of none is then e^-3, 5 %).
+constexpr double HardCoreEvidence = 3.0;
+
+/// The smallest a-b distances (capped at rMax) of a pattern, index a * C + b.
 std::vector<double> SmallestDistances(const std::vector<PatternPoint>& points,
   const Buckets& buckets,
   int categories,
@@ -569,7 +573,24 @@ RadialDistributionModel LearnRadialDistribution(const std::vector<PatternPoint>&
   if (learnHardCore)
   {
     const Buckets buckets = MakeBuckets(exemplar, domain, parameters.rMax);
-    model.hardCore = SmallestDistances(exemplar, buckets, pcf.categories, parameters.rMax);
+    const std::vector<double> smallest =
+      SmallestDistances(exemplar, buckets, pcf.categories, parameters.rMax);
+    const PatternSetCovariance covariance(domain, parameters.rMax);
+    const double area2 = domain.Area() * domain.Area();
+    for (int a = 0; a < pcf.categories; ++a)
+    {
+      for (int b = a; b < pcf.categories; ++b)
+      {
+        const double h = smallest[static_cast<std::size_t>(a) * pcf.categories + b];
+        const double na = static_cast<double>(pcf.counts[a]);
+        const double nb = static_cast<double>(pcf.counts[b]);
+        const double pairs = a == b ? 0.5 * na * (na - 1.0) : na * nb;
+        const double expected = pairs * covariance.PairMeasure(0.0, h) / area2;
+        const double kept = expected >= HardCoreEvidence ? h : 0.0;
+        model.hardCore[static_cast<std::size_t>(a) * pcf.categories + b] = kept;
+        model.hardCore[static_cast<std::size_t>(b) * pcf.categories + a] = kept;
+      }
+    }
   }
   return model;
 }

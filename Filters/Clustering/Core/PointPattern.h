@@ -266,8 +266,7 @@ struct RadialDistributionModel
   /// g_AB per bin, index (a * categories + b) * bins + k (as PairCorrelation::g); symmetric.
   std::vector<double> g;
   /// Hard-core distances, m, index a * categories + b, symmetric: no a-b pair closer than this.
-  /// Learned as the smallest a-b distance in the exemplar (the maximum-likelihood estimate of a
-  /// hard core), capped at rMax; 0 = none.
+  /// 0 = none. See LearnRadialDistribution.
   std::vector<double> hardCore;
 
   double G(int a, int b, int k) const
@@ -282,8 +281,16 @@ struct RadialDistributionModel
 
 /**
  * @brief Learns a RadialDistributionModel from an exemplar: densities n_c / |D|, g_AB from
- *        EstimatePairCorrelation, and, when `learnHardCore`, the hard cores (smallest a-b
- *        distance, or rMax when no a-b pair is closer than rMax; 0 without it).
+ *        EstimatePairCorrelation, and, when `learnHardCore`, the hard cores.
+ *
+ * The hard core h_AB is the smallest A-B distance in the exemplar (capped at rMax: rMax when no
+ * pair is closer), the maximum-likelihood estimate of a hard-core distance, kept only when it
+ * is evidence of one: when independent uniform points with the exemplar's counts would have
+ * had at least 3 A-B pairs closer than h in its domain (n_A n_B Gamma(0, h) / |D|^2, or
+ * n_A (n_A - 1) Gamma(0, h) / (2 |D|^2) for A = B; none of them happening by chance has
+ * probability e^-3 = 5 %). Otherwise, as for a rare species with a handful of points, h_AB = 0
+ * and only the pair-count energy keeps such pairs as rare as in the exemplar. Without
+ * `learnHardCore` every h_AB is 0.
  * @throws std::invalid_argument as EstimatePairCorrelation
  */
 RadialDistributionModel LearnRadialDistribution(const std::vector<PatternPoint>& exemplar,
