@@ -27,8 +27,8 @@
  * - A. Emilien, U. Vimont, M.-P. Cani, P. Poulin, B. Benes, "WorldBrush: interactive
  *   example-based synthesis of procedural virtual worlds", ACM TOG 34(4), 2015,
  *   doi:10.1145/2766975.
- * - T. Hurtut, P.-E. Landes, J. Thollot, Y. Gousseau, R. Drouillhet, J.-F. Coeurjolly,
- *   "Appearance-guided synthesis of element arrangements by example", NPAR 2009,
+ * - T. Hurtut, P.-E. Landes, J. Thollot, Y. Gousseau, R. Drouilhet, J.-F. Coeurjolly,
+ *   "Appearance-guided synthesis of element arrangements by example", NPAR 2009, pp. 51-60,
  *   doi:10.1145/1572614.1572623.
  * - B. Lane, P. Prusinkiewicz, "Generating spatial distributions for multilevel models of plant
  *   communities", Graphics Interface 2002.
