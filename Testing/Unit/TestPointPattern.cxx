@@ -22,8 +22,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <random>
 #include <stdexcept>
+#include <string>
+#include <thread>
 #include <vector>
 
 namespace
@@ -814,6 +817,102 @@ TEST(TerroirPointPattern, CategoryWithoutPointsIsNeverPlaced)
   EXPECT_EQ(CountCategory(out.points, 1), 0);
   EXPECT_NEAR(CountCategory(out.points, 0), 160, 16);
   EXPECT_NEAR(CountCategory(out.points, 2), 80, 8);
+}
+
+TEST(TerroirPointPattern, ZoneSeedIsSplitMix64)
+{
+  // SplitMix64 from state 0 (Steele, Lea & Flood 2014; the reference code of Vigna's
+  // splitmix64.c) outputs e220a8397b1dcdaf, 6e789e6aa1b965f4, 06c45d188009454f: zones 0, 1, 2
+  // of seed 0 are those draws.
+  EXPECT_EQ(pp::PatternZoneSeed(0, 0), 0xE220A8397B1DCDAFull);
+  EXPECT_EQ(pp::PatternZoneSeed(0, 1), 0x6E789E6AA1B965F4ull);
+  EXPECT_EQ(pp::PatternZoneSeed(0, 2), 0x06C45D188009454Full);
+  EXPECT_NE(pp::PatternZoneSeed(1, 0), pp::PatternZoneSeed(0, 0));
+}
+
+TEST(TerroirPointPattern, ZonesGetTheirOwnPlants)
+{
+  // A 40 x 20 grid of 2 m cells: zone 3 is the left half, zone 5 the right half but a 10 x 10
+  // cell hole of zone 9 (no model). Zone 3 takes a hard-core model, zone 5 a clustered one;
+  // zone 8 has a model but no cell. Every point lies in a cell of its own zone; each zone's
+  // points are those of SynthesizePattern on its cells with PatternZoneSeed; running the zones
+  // on two threads gives the same bits.
+  const int nx = 40;
+  const int ny = 20;
+  std::vector<int> labels(nx * ny);
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      const bool hole = i >= 25 && i < 35 && j >= 5 && j < 15;
+      labels[j * nx + i] = i < 20 ? 3 : (hole ? 9 : 5);
+    }
+  }
+  std::mt19937_64 rng(12);
+  const double d0[4] = { 1.0, 1.0, 1.0, 1.0 };
+  const auto hard = pp::LearnRadialDistribution(DartThrowing(rng, 300, 30.0, 30.0, d0, false),
+    pp::PatternDomain::Rectangle(0, 0, 30, 30),
+    { 0.0, 3.0, 10, 1 });
+  const auto clustered = pp::LearnRadialDistribution(Thomas(rng, 0.02, 8.0, 1.0, 50.0, 50.0),
+    pp::PatternDomain::Rectangle(0, 0, 50, 50),
+    { 0.0, 4.0, 8, 1 });
+  const std::vector<pp::ZoneModel> models = { { 3, hard }, { 5, clustered }, { 8, hard } };
+  pp::SynthesisParameters sp;
+  sp.seed = 2026;
+  const double x0 = 500.0;
+  const double y0 = 1000.0;
+  const auto out = pp::SynthesizeZones(nx, ny, 2.0, 2.0, x0, y0, labels.data(), models, sp);
+  ASSERT_EQ(out.points.size(), out.zones.size());
+  ASSERT_EQ(out.statistics.size(), 3u);
+  EXPECT_EQ(out.statistics[2].iterations, 0);
+  int counts[2] = { 0, 0 };
+  for (std::size_t p = 0; p < out.points.size(); ++p)
+  {
+    const int i = static_cast<int>(std::floor((out.points[p].x - x0) / 2.0));
+    const int j = static_cast<int>(std::floor((out.points[p].y - y0) / 2.0));
+    ASSERT_TRUE(i >= 0 && i < nx && j >= 0 && j < ny);
+    ASSERT_EQ(labels[j * nx + i], out.zones[p]) << p;
+    ++counts[out.zones[p] == 3 ? 0 : 1];
+  }
+  // Zone 3: 40 m x 40 m; zone 5: 1600 - 400 m^2.
+  EXPECT_NEAR(counts[0] / 1600.0, hard.density[0], 0.05 * hard.density[0]);
+  EXPECT_NEAR(counts[1] / 1200.0, clustered.density[0], 0.05 * clustered.density[0]);
+  for (int z = 0; z < 2; ++z)
+  {
+    const int zone = z == 0 ? 3 : 5;
+    pp::SynthesisParameters one = sp;
+    one.seed = pp::PatternZoneSeed(sp.seed, zone);
+    const auto alone = pp::SynthesizePattern(models[z].model,
+      pp::PatternDomain::CellsWithLabel(nx, ny, 2.0, 2.0, x0, y0, labels.data(), zone),
+      one);
+    const std::size_t first = z == 0 ? 0 : static_cast<std::size_t>(counts[0]);
+    ASSERT_EQ(alone.points.size(), static_cast<std::size_t>(counts[z]));
+    for (std::size_t p = 0; p < alone.points.size(); ++p)
+    {
+      ASSERT_EQ(alone.points[p].x, out.points[first + p].x);
+      ASSERT_EQ(alone.points[p].y, out.points[first + p].y);
+    }
+  }
+  const pp::PatternParallelFor twoThreads =
+    [](
+      std::size_t begin, std::size_t end, const std::function<void(std::size_t, std::size_t)>& body)
+  {
+    const std::size_t middle = begin + (end - begin) / 2;
+    std::thread other(body, begin, middle);
+    body(middle, end);
+    other.join();
+  };
+  const auto parallel =
+    pp::SynthesizeZones(nx, ny, 2.0, 2.0, x0, y0, labels.data(), models, sp, twoThreads);
+  ASSERT_EQ(parallel.points.size(), out.points.size());
+  for (std::size_t p = 0; p < out.points.size(); ++p)
+  {
+    ASSERT_EQ(std::memcmp(&parallel.points[p], &out.points[p], sizeof(double) * 2), 0) << p;
+    ASSERT_EQ(parallel.zones[p], out.zones[p]);
+  }
+  const std::vector<pp::ZoneModel> twice = { { 3, hard }, { 3, clustered } };
+  EXPECT_THROW(
+    pp::SynthesizeZones(nx, ny, 2.0, 2.0, x0, y0, labels.data(), twice, sp), std::invalid_argument);
 }
 
 TEST(TerroirPointPattern, BadParametersAreRejected)

@@ -1068,5 +1068,80 @@ PatternSynthesis SynthesizePattern(const RadialDistributionModel& model,
   return synthesizer.Run();
 }
 
+std::uint64_t PatternZoneSeed(std::uint64_t seed, int zone)
+{
+  std::uint64_t z =
+    seed + static_cast<std::uint64_t>(static_cast<std::int64_t>(zone) + 1) * 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+ZonePatterns SynthesizeZones(int nx,
+  int ny,
+  double dx,
+  double dy,
+  double x0,
+  double y0,
+  const int* labels,
+  const std::vector<ZoneModel>& models,
+  const SynthesisParameters& parameters,
+  const PatternParallelFor& parallelFor)
+{
+  Require(nx >= 1 && ny >= 1, "label grid size " + Str(nx) + " x " + Str(ny) + " is empty");
+  Require(labels != nullptr, "labels are null");
+  Require(std::isfinite(dx) && dx > 0.0, "grid spacing dx = " + Str(dx) + " must be > 0");
+  Require(std::isfinite(dy) && dy > 0.0, "grid spacing dy = " + Str(dy) + " must be > 0");
+  for (std::size_t m = 0; m < models.size(); ++m)
+  {
+    CheckModel(models[m].model);
+    for (std::size_t other = 0; other < m; ++other)
+    {
+      Require(
+        models[other].zone != models[m].zone, "zone " + Str(models[m].zone) + " has two models");
+    }
+  }
+  CheckSynthesisParameters(parameters);
+  const std::size_t cells = static_cast<std::size_t>(nx) * ny;
+  std::vector<PatternSynthesis> runs(models.size());
+  auto body = [&](std::size_t begin, std::size_t end)
+  {
+    for (std::size_t m = begin; m < end; ++m)
+    {
+      std::vector<std::uint8_t> allowed(cells);
+      bool any = false;
+      for (std::size_t c = 0; c < cells; ++c)
+      {
+        allowed[c] = labels[c] == models[m].zone ? 1 : 0;
+        any = any || allowed[c];
+      }
+      if (!any)
+      {
+        continue;
+      }
+      const PatternDomain domain = PatternDomain::Cells(nx, ny, dx, dy, x0, y0, std::move(allowed));
+      SynthesisParameters p = parameters;
+      p.seed = PatternZoneSeed(parameters.seed, models[m].zone);
+      runs[m] = SynthesizePattern(models[m].model, domain, p);
+    }
+  };
+  if (parallelFor)
+  {
+    parallelFor(0, models.size(), body);
+  }
+  else
+  {
+    body(0, models.size());
+  }
+  ZonePatterns out;
+  for (std::size_t m = 0; m < models.size(); ++m)
+  {
+    out.points.insert(out.points.end(), runs[m].points.begin(), runs[m].points.end());
+    out.zones.insert(out.zones.end(), runs[m].points.size(), models[m].zone);
+    out.statistics.push_back(runs[m].statistics);
+  }
+  return out;
+}
+
 } // namespace clustering
 } // namespace terroir

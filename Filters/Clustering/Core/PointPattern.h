@@ -44,6 +44,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace terroir
@@ -388,6 +389,58 @@ struct PatternSynthesis
 PatternSynthesis SynthesizePattern(const RadialDistributionModel& model,
   const PatternDomain& domain,
   const SynthesisParameters& parameters = {});
+
+/**
+ * The seed of one zone's run: SplitMix64 (Steele, Lea & Flood 2014) of seed + the zone's
+ * number times the golden-ratio increment, so that neighbouring zones and seeds get unrelated
+ * streams and a zone's points do not depend on which other zones are synthesised.
+ */
+std::uint64_t PatternZoneSeed(std::uint64_t seed, int zone);
+
+/// A model for the cells of one zone (one ClusterId value).
+struct ZoneModel
+{
+  int zone = 0;
+  RadialDistributionModel model;
+};
+
+/// The points of every zone: points[i] belongs to zones[i]; statistics per ZoneModel, in order.
+struct ZonePatterns
+{
+  std::vector<PatternPoint> points;
+  std::vector<int> zones;
+  std::vector<SynthesisStatistics> statistics;
+};
+
+/// Runs body(begin, end) over disjoint ranges covering [begin, end), possibly in parallel.
+/// The default (empty function) runs body(begin, end) once.
+using PatternParallelFor = std::function<void(std::size_t begin,
+  std::size_t end,
+  const std::function<void(std::size_t, std::size_t)>& body)>;
+
+/**
+ * @brief Plants for every zone of a label grid (a ClusterId image): for each ZoneModel, the
+ *        cells with its label form the domain (PatternDomain::CellsWithLabel, so points never
+ *        leave their zone) and SynthesizePattern runs with `parameters` and the seed
+ *        PatternZoneSeed(parameters.seed, zone).
+ *
+ * Zones are independent (plants of neighbouring zones do not interact across the border), so
+ * they may run in parallel through `parallelFor`; the result is gathered in ZoneModel order and
+ * is the same, bit for bit, for any split of the work. A zone with no cell gets no points.
+ * @param labels nx * ny labels, row-major (j * nx + i); the grid as in PatternDomain::Cells
+ * @throws std::invalid_argument as PatternDomain::Cells (except for a zone with no cell) and
+ *         SynthesizePattern, or when a zone appears twice
+ */
+ZonePatterns SynthesizeZones(int nx,
+  int ny,
+  double dx,
+  double dy,
+  double x0,
+  double y0,
+  const int* labels,
+  const std::vector<ZoneModel>& models,
+  const SynthesisParameters& parameters = {},
+  const PatternParallelFor& parallelFor = {});
 
 } // namespace clustering
 } // namespace terroir
