@@ -12,6 +12,8 @@
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkTable.h"
 #include "vtkTerroirDEMReader.h"
@@ -23,6 +25,7 @@
 #include "vtkTerroirInfiltration.h"
 #include "vtkTerroirKMeans.h"
 #include "vtkTerroirMorphometry.h"
+#include "vtkTerroirPlantPlacement.h"
 #include "vtkTerroirPolygonIslandSource.h"
 #include "vtkTerroirRiverLandSource.h"
 #include "vtkTerroirSlope.h"
@@ -72,6 +75,23 @@ Bytes OutputBytes(vtkImageData* image)
     EXPECT_GT(image->GetNumberOfPoints(), 0);
     AddArrays(image->GetPointData(), "point:", out);
     AddArrays(image->GetFieldData(), "field:", out);
+  }
+  return out;
+}
+
+/// A point set's bytes: its points and point and field arrays.
+Bytes PolyBytes(vtkPolyData* poly)
+{
+  Bytes out;
+  EXPECT_NE(poly, nullptr);
+  if (poly && poly->GetPoints())
+  {
+    EXPECT_GT(poly->GetNumberOfPoints(), 0);
+    vtkDataArray* xyz = poly->GetPoints()->GetData();
+    out["points"] = std::string(static_cast<const char*>(xyz->GetVoidPointer(0)),
+      static_cast<std::size_t>(xyz->GetNumberOfValues()) * xyz->GetDataTypeSize());
+    AddArrays(poly->GetPointData(), "point:", out);
+    AddArrays(poly->GetFieldData(), "field:", out);
   }
   return out;
 }
@@ -335,6 +355,25 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         f->SetTolerance(1e-4);
         f->Update();
         return OutputBytes(f->GetOutput());
+      } },
+    { "vtkTerroirPlantPlacement",
+      []
+      {
+        // Plants in the k-means zones of the terrain with holes (zones in parallel).
+        vtkNew<vtkTerroirSlope> slope;
+        slope->SetBackendToCPU();
+        slope->SetInputData(TerrainWithHoles());
+        vtkNew<vtkTerroirKMeans> zones;
+        zones->SetBackendToCPU();
+        zones->SetNumberOfClusters(4);
+        zones->SetInputConnection(slope->GetOutputPort());
+        vtkNew<vtkTerroirPlantPlacement> f;
+        f->SetInputConnection(zones->GetOutputPort());
+        f->SetDensity(0.002);
+        f->SetMinimumDistance(15.0);
+        f->SetSeed(9);
+        f->Update();
+        return PolyBytes(f->GetOutput());
       } },
     // new-filter.sh: cases
   };
