@@ -1,0 +1,1026 @@
+#include "Erosion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace terroir
+{
+namespace terrain
+{
+
+namespace
+{
+
+[[noreturn]] void Bad(const char* name, double value, const char* range)
+{
+  throw std::invalid_argument(
+    std::string("erosion: ") + name + " = " + std::to_string(value) + " is not " + range);
+}
+
+void Require(bool ok, const char* name, double value, const char* range)
+{
+  if (!ok)
+  {
+    Bad(name, value, range);
+  }
+}
+
+/// Runs body over all rows, through parallelFor when given.
+void ForRows(const ErosionParallelFor& parallelFor,
+  int ny,
+  const std::function<void(int, int)>& body)
+{
+  if (parallelFor)
+  {
+    parallelFor(0, ny, body);
+  }
+  else
+  {
+    body(0, ny);
+  }
+}
+
+/// Sum of per-row partial sums in row order (the same total for any row split).
+double SumRows(const std::vector<double>& rows)
+{
+  double total = 0.0;
+  for (double r : rows)
+  {
+    total += r;
+  }
+  return total;
+}
+
+/// Per-row float constants shared by the passes. Pipe k of row j: its length and its
+/// coefficient dt g A / l. A north-south pipe between rows j and j + 1 uses the mean spacing
+/// of the two rows, so both of its directions have the same length.
+struct RowGeometry
+{
+  std::vector<float> lx, ly, area;      ///< spacing and cell area of row j
+  std::vector<float> lNorth;            ///< length of the pipe from row j to j + 1 (ny - 1 used)
+  std::vector<float> lxNorth;           ///< mean east-west spacing of rows j and j + 1
+  std::vector<float> coefEW, coefNorth; ///< dt g A / l of the pipes
+};
+
+RowGeometry MakeGeometry(const ErosionState& st, double dt, double g, double pipeArea)
+{
+  RowGeometry geo;
+  const int ny = st.ny;
+  geo.lx.resize(ny);
+  geo.ly.resize(ny);
+  geo.area.resize(ny);
+  geo.lNorth.assign(ny, 0.0f);
+  geo.lxNorth.assign(ny, 0.0f);
+  geo.coefEW.resize(ny);
+  geo.coefNorth.assign(ny, 0.0f);
+  auto coef = [&](double l) { return dt * g * (pipeArea > 0.0 ? pipeArea / l : l); };
+  for (int j = 0; j < ny; ++j)
+  {
+    geo.lx[j] = static_cast<float>(st.rowDx[j]);
+    geo.ly[j] = static_cast<float>(st.rowDy[j]);
+    geo.area[j] = static_cast<float>(st.CellArea(j));
+    geo.coefEW[j] = static_cast<float>(coef(st.rowDx[j]));
+    if (j + 1 < ny)
+    {
+      const double l = 0.5 * (st.rowDy[j] + st.rowDy[j + 1]);
+      geo.lNorth[j] = static_cast<float>(l);
+      geo.lxNorth[j] = static_cast<float>(0.5 * (st.rowDx[j] + st.rowDx[j + 1]));
+      geo.coefNorth[j] = static_cast<float>(coef(l));
+    }
+  }
+  return geo;
+}
+
+/// Read-only view of the arrays and constants of one hydraulic step.
+struct HydraulicContext
+{
+  const ErosionState& st;
+  const ErosionParams& p;
+  RowGeometry geo;
+  bool sea;
+  float seaLevel, dt, dryDepth;
+
+  HydraulicContext(const ErosionState& state, const ErosionParams& params)
+    : st(state)
+    , p(params)
+    , geo(MakeGeometry(state, params.timeStep, params.gravity, params.pipeArea))
+    , sea(params.boundary == ErosionBoundary::Sea)
+    , seaLevel(static_cast<float>(params.seaLevel))
+    , dt(static_cast<float>(params.timeStep))
+    , dryDepth(static_cast<float>(params.dryDepth))
+  {
+  }
+
+  std::size_t Index(int i, int j) const
+  {
+    return static_cast<std::size_t>(j) * static_cast<std::size_t>(st.nx) +
+      static_cast<std::size_t>(i);
+  }
+  bool Inside(int i, int j) const { return i >= 0 && j >= 0 && i < st.nx && j < st.ny; }
+  /// A sea cell (Sea boundary only): no data, or bed at or below sea level.
+  bool IsSea(std::size_t c) const
+  {
+    return this->sea && (!this->st.IsValid(c) || this->st.terrain[c] <= this->seaLevel);
+  }
+  /// A valid cell that is not sea: it holds water, gives it and erodes.
+  bool IsLand(std::size_t c) const { return this->st.IsValid(c) && !this->IsSea(c); }
+};
+
+/// Water depth after rain, d + dt r (0 on no-data cells).
+inline float RainedDepth(const HydraulicContext& h, const float* rain, std::size_t c)
+{
+  if (!h.st.IsValid(c))
+  {
+    return 0.0f;
+  }
+  return rain ? h.st.water[c] + h.dt * rain[c] : h.st.water[c];
+}
+
+/// The water surface seen through a pipe into cell (i, j); false when the pipe is closed.
+inline bool NeighbourSurface(const HydraulicContext& h,
+  const float* rain,
+  int i,
+  int j,
+  float& level)
+{
+  if (!h.Inside(i, j))
+  {
+    level = h.seaLevel;
+    return h.sea;
+  }
+  const std::size_t c = h.Index(i, j);
+  if (h.IsSea(c))
+  {
+    level = h.seaLevel;
+    return true;
+  }
+  if (!h.st.IsValid(c))
+  {
+    return false;
+  }
+  level = h.st.terrain[c] + RainedDepth(h, rain, c);
+  return true;
+}
+
+/// One pipe's new flux: max(0, f + coef dh), capped by Dunn's soft threshold when enabled.
+inline float PipeFlux(const HydraulicContext& h, float old, float coef, float dh)
+{
+  float f = std::max(0.0f, old + coef * dh);
+  if (h.p.softOutflow)
+  {
+    const float cap = static_cast<float>(h.p.softOutflowMin) +
+      static_cast<float>(h.p.softOutflowScale) * std::fabs(dh);
+    f = std::min(f, cap);
+  }
+  return f;
+}
+
+/// Pass 1 (rain, eq. 10; flux, eq. 11-13) for rows [j0, j1): writes d1 and the new fluxes.
+void FluxRows(const HydraulicContext& h,
+  const float* rain,
+  float* d1,
+  float* fw,
+  float* fe,
+  float* fs,
+  float* fn,
+  std::vector<double>& rowRain,
+  int j0,
+  int j1)
+{
+  const ErosionState& st = h.st;
+  for (int j = j0; j < j1; ++j)
+  {
+    const float area = h.geo.area[j];
+    // North-south pipes: between rows, the mean spacing; through the grid's edge (Sea
+    // boundary), the row's own.
+    const float coefEdge = static_cast<float>(
+      h.p.timeStep * h.p.gravity * (h.p.pipeArea > 0.0 ? h.p.pipeArea / st.rowDy[j] : st.rowDy[j]));
+    const float coef[4] = { h.geo.coefEW[j],
+      h.geo.coefEW[j],
+      j > 0 ? h.geo.coefNorth[j - 1] : coefEdge,
+      j + 1 < st.ny ? h.geo.coefNorth[j] : coefEdge };
+    double rained = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = h.Index(i, j);
+      const float depth = RainedDepth(h, rain, c);
+      d1[c] = depth;
+      if (rain && st.IsValid(c))
+      {
+        rained += static_cast<double>(h.dt * rain[c]) * area;
+      }
+      float f[4] = { 0.0f, 0.0f, 0.0f, 0.0f }; // W, E, S, N
+      if (h.IsLand(c))
+      {
+        const float surface = st.terrain[c] + depth;
+        const int ni[4] = { i - 1, i + 1, i, i };
+        const int nj[4] = { j, j, j - 1, j + 1 };
+        const float old[4] = { st.fluxW[c], st.fluxE[c], st.fluxS[c], st.fluxN[c] };
+        float level = 0.0f;
+        for (int k = 0; k < 4; ++k)
+        {
+          if (NeighbourSurface(h, rain, ni[k], nj[k], level))
+          {
+            f[k] = PipeFlux(h, old[k], coef[k], surface - level);
+          }
+        }
+        const float sum = (f[0] + f[1]) + (f[2] + f[3]);
+        if (sum > 0.0f)
+        {
+          const float scale = std::min(1.0f, depth * area / (sum * h.dt));
+          for (float& v : f)
+          {
+            v *= scale;
+          }
+        }
+      }
+      fw[c] = f[0];
+      fe[c] = f[1];
+      fs[c] = f[2];
+      fn[c] = f[3];
+    }
+    rowRain[j] = rained;
+  }
+}
+
+/// Net flux through cell (i, j) along x (dW_X of Mei et al.): the mean of what crosses its
+/// west and east faces eastwards. Cells outside the grid contribute nothing.
+inline float NetFluxX(const HydraulicContext& h, const float* fw, const float* fe, int i, int j)
+{
+  const std::size_t c = h.Index(i, j);
+  const float inW = i > 0 ? fe[c - 1] : 0.0f;
+  const float outE = i + 1 < h.st.nx ? fw[c + 1] : 0.0f;
+  return 0.5f * ((inW - fw[c]) + (fe[c] - outE));
+}
+
+inline float NetFluxY(const HydraulicContext& h, const float* fs, const float* fn, int i, int j)
+{
+  const std::size_t c = h.Index(i, j);
+  const std::size_t nx = static_cast<std::size_t>(h.st.nx);
+  const float inS = j > 0 ? fn[c - nx] : 0.0f;
+  const float outN = j + 1 < h.st.ny ? fs[c + nx] : 0.0f;
+  return 0.5f * ((inS - fs[c]) + (fn[c] - outN));
+}
+
+/// Water that flows into cell (i, j) from its four neighbours, m^3/s.
+inline float Inflow(const HydraulicContext& h,
+  const float* fw,
+  const float* fe,
+  const float* fs,
+  const float* fn,
+  int i,
+  int j)
+{
+  const std::size_t c = h.Index(i, j);
+  const std::size_t nx = static_cast<std::size_t>(h.st.nx);
+  const float w = i > 0 ? fe[c - 1] : 0.0f;
+  const float e = i + 1 < h.st.nx ? fw[c + 1] : 0.0f;
+  const float s = j > 0 ? fn[c - nx] : 0.0f;
+  const float n = j + 1 < h.st.ny ? fs[c + nx] : 0.0f;
+  return (w + e) + (s + n);
+}
+
+/// Outflow of a land cell through pipes that end outside the grid or in a no-data cell.
+inline float OutflowToOutside(const HydraulicContext& h,
+  const float* fw,
+  const float* fe,
+  const float* fs,
+  const float* fn,
+  int i,
+  int j)
+{
+  const std::size_t c = h.Index(i, j);
+  const std::size_t nx = static_cast<std::size_t>(h.st.nx);
+  float out = 0.0f;
+  out += (i == 0 || !h.st.IsValid(c - 1)) ? fw[c] : 0.0f;
+  out += (i + 1 == h.st.nx || !h.st.IsValid(c + 1)) ? fe[c] : 0.0f;
+  out += (j == 0 || !h.st.IsValid(c - nx)) ? fs[c] : 0.0f;
+  out += (j + 1 == h.st.ny || !h.st.IsValid(c + nx)) ? fn[c] : 0.0f;
+  return out;
+}
+
+struct WaterRowSums
+{
+  std::vector<double> toSea, clamped;
+};
+
+/// Pass 2 (eq. 14-16) for rows [j0, j1): d2 (into state.water), velocity, water to the sea.
+void WaterRows(const HydraulicContext& h,
+  ErosionState& st,
+  const float* d1,
+  const float* fw,
+  const float* fe,
+  const float* fs,
+  const float* fn,
+  WaterRowSums& sums,
+  int j0,
+  int j1)
+{
+  for (int j = j0; j < j1; ++j)
+  {
+    const float area = h.geo.area[j];
+    double toSea = 0.0;
+    double clamped = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = h.Index(i, j);
+      float d2 = 0.0f;
+      float depth = 0.0f; // the depth the velocity divides by
+      if (!st.IsValid(c))
+      {
+        st.water[c] = 0.0f;
+        st.velocityU[c] = 0.0f;
+        st.velocityV[c] = 0.0f;
+        continue;
+      }
+      const float in = Inflow(h, fw, fe, fs, fn, i, j);
+      if (h.IsSea(c))
+      {
+        toSea += static_cast<double>(d1[c]) * area + static_cast<double>(h.dt * in);
+        depth = std::max(h.seaLevel - st.terrain[c], h.dryDepth);
+      }
+      else
+      {
+        const float out = (fw[c] + fe[c]) + (fs[c] + fn[c]);
+        d2 = d1[c] + h.dt * (in - out) / area;
+        if (d2 < 0.0f)
+        {
+          clamped -= static_cast<double>(d2) * area;
+          d2 = 0.0f;
+        }
+        if (h.sea)
+        {
+          toSea += static_cast<double>(h.dt * OutflowToOutside(h, fw, fe, fs, fn, i, j));
+        }
+        depth = 0.5f * (d1[c] + d2);
+      }
+      st.water[c] = d2;
+      float u = 0.0f;
+      float v = 0.0f;
+      if (depth >= h.dryDepth && depth > 0.0f)
+      {
+        u = NetFluxX(h, fw, fe, i, j) / (h.geo.ly[j] * depth);
+        v = NetFluxY(h, fs, fn, i, j) / (h.geo.lx[j] * depth);
+      }
+      st.velocityU[c] = u;
+      st.velocityV[c] = v;
+    }
+    sums.toSea[j] = toSea;
+    sums.clamped[j] = clamped;
+  }
+}
+
+/// sin(alpha) of Weiss eq. 17 over the pipe lengths, clamped to [minTilt, maxTilt].
+inline float Tilt(const HydraulicContext& h, int i, int j)
+{
+  const ErosionState& st = h.st;
+  const std::size_t c = h.Index(i, j);
+  const std::size_t nx = static_cast<std::size_t>(st.nx);
+  const float b = st.terrain[c];
+  float t = 0.0f;
+  if (i > 0 && st.IsValid(c - 1))
+    t = std::max(t, std::fabs(b - st.terrain[c - 1]) / h.geo.lx[j]);
+  if (i + 1 < st.nx && st.IsValid(c + 1))
+    t = std::max(t, std::fabs(b - st.terrain[c + 1]) / h.geo.lx[j]);
+  if (j > 0 && st.IsValid(c - nx))
+    t = std::max(t, std::fabs(b - st.terrain[c - nx]) / h.geo.lNorth[j - 1]);
+  if (j + 1 < st.ny && st.IsValid(c + nx))
+    t = std::max(t, std::fabs(b - st.terrain[c + nx]) / h.geo.lNorth[j]);
+  const float sine = t / std::sqrt(1.0f + t * t);
+  return std::min(std::max(sine, static_cast<float>(h.p.minTilt)), static_cast<float>(h.p.maxTilt));
+}
+
+struct ErodeRowSums
+{
+  std::vector<double> eroded, deposited;
+};
+
+/// Pass 3 (eq. 17-20) for rows [j0, j1): new bed into `bed`, s' into state.sediment, soil in
+/// place (both pointwise).
+void ErodeRows(const HydraulicContext& h,
+  ErosionState& st,
+  float* bed,
+  ErodeRowSums& sums,
+  int j0,
+  int j1)
+{
+  const float kc = static_cast<float>(h.p.capacity);
+  const float ks = static_cast<float>(h.p.dissolving);
+  const float ksRock = static_cast<float>(h.p.dissolvingRock);
+  const float kd = static_cast<float>(h.p.deposition);
+  const float rampDepth = static_cast<float>(h.p.capacityDepth);
+  const bool layered = !st.soil.empty();
+  for (int j = j0; j < j1; ++j)
+  {
+    const float area = h.geo.area[j];
+    double eroded = 0.0;
+    double deposited = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = h.Index(i, j);
+      const float b = st.terrain[c];
+      bed[c] = b;
+      if (!h.IsLand(c))
+      {
+        continue;
+      }
+      const float u = st.velocityU[c];
+      const float v = st.velocityV[c];
+      float capacity = kc * Tilt(h, i, j) * std::sqrt(u * u + v * v);
+      if (rampDepth > 0.0f)
+      {
+        capacity *= std::min(1.0f, st.water[c] / rampDepth);
+      }
+      const float s = st.sediment[c];
+      if (capacity > s)
+      {
+        const float deficit = capacity - s;
+        float take = ks * deficit;
+        if (layered)
+        {
+          const float fromSoil = std::min(st.soil[c], take);
+          float fromRock = 0.0f;
+          if (fromSoil < take)
+          {
+            // The soil is used up: the rest of the deficit is dissolved from rock.
+            const float rest = ks > 0.0f ? deficit - fromSoil / ks : deficit;
+            fromRock = ksRock * std::max(rest, 0.0f);
+          }
+          st.soil[c] -= fromSoil;
+          take = fromSoil + fromRock;
+        }
+        bed[c] = b - take;
+        st.sediment[c] = s + take;
+        eroded += static_cast<double>(take) * area;
+      }
+      else
+      {
+        const float drop = kd * (s - capacity);
+        bed[c] = b + drop;
+        st.sediment[c] = s - drop;
+        if (layered)
+        {
+          st.soil[c] += drop;
+        }
+        deposited += static_cast<double>(drop) * area;
+      }
+    }
+    sums.eroded[j] = eroded;
+    sums.deposited[j] = deposited;
+  }
+}
+
+/// Bilinear sample of s' at (x, y) in cell units, clamped to the grid.
+inline float Sample(const HydraulicContext& h, const float* s, float x, float y)
+{
+  const int nx = h.st.nx;
+  const int ny = h.st.ny;
+  x = std::min(std::max(x, 0.0f), static_cast<float>(nx - 1));
+  y = std::min(std::max(y, 0.0f), static_cast<float>(ny - 1));
+  const int i0 = std::min(static_cast<int>(x), nx - 1);
+  const int j0 = std::min(static_cast<int>(y), ny - 1);
+  const int i1 = std::min(i0 + 1, nx - 1);
+  const int j1 = std::min(j0 + 1, ny - 1);
+  const float fx = x - static_cast<float>(i0);
+  const float fy = y - static_cast<float>(j0);
+  const float south = s[h.Index(i0, j0)] + fx * (s[h.Index(i1, j0)] - s[h.Index(i0, j0)]);
+  const float north = s[h.Index(i0, j1)] + fx * (s[h.Index(i1, j1)] - s[h.Index(i0, j1)]);
+  return south + fy * (north - south);
+}
+
+struct AdvectRowSums
+{
+  std::vector<double> before, after;
+};
+
+/// Pass 4 (eq. 21) for rows [j0, j1): back-traced sediment into `moved`, area-weighted sums.
+void AdvectRows(const HydraulicContext& h,
+  const float* s,
+  float* moved,
+  AdvectRowSums& sums,
+  int j0,
+  int j1)
+{
+  const ErosionState& st = h.st;
+  for (int j = j0; j < j1; ++j)
+  {
+    const float area = h.geo.area[j];
+    double before = 0.0;
+    double after = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = h.Index(i, j);
+      if (!st.IsValid(c))
+      {
+        moved[c] = 0.0f;
+        continue;
+      }
+      float di = st.velocityU[c] * h.dt / h.geo.lx[j];
+      float dj = st.velocityV[c] * h.dt / h.geo.ly[j];
+      if (h.IsSea(c))
+      {
+        di = std::min(std::max(di, -1.0f), 1.0f);
+        dj = std::min(std::max(dj, -1.0f), 1.0f);
+      }
+      moved[c] = Sample(h, s, static_cast<float>(i) - di, static_cast<float>(j) - dj);
+      before += static_cast<double>(s[c]) * area;
+      after += static_cast<double>(moved[c]) * area;
+    }
+    sums.before[j] = before;
+    sums.after[j] = after;
+  }
+}
+
+struct FinishRowSums
+{
+  std::vector<double> evaporated, deposited;
+};
+
+/// Pass 5 (Dunn's rescaling; eq. 22-23; dry and sea cells settle) for rows [j0, j1).
+void FinishRows(const HydraulicContext& h,
+  ErosionState& st,
+  const float* bed,
+  const float* moved,
+  double k,
+  const float* evaporationFactor,
+  FinishRowSums& sums,
+  int j0,
+  int j1)
+{
+  const float ke = static_cast<float>(h.p.evaporation) * h.dt;
+  const bool layered = !st.soil.empty();
+  for (int j = j0; j < j1; ++j)
+  {
+    const float area = h.geo.area[j];
+    double evaporated = 0.0;
+    double deposited = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = h.Index(i, j);
+      const bool seaCell = h.IsSea(c); // before the bed changes, as in the other passes
+      st.terrain[c] = bed[c];
+      if (!st.IsValid(c))
+      {
+        st.sediment[c] = 0.0f;
+        continue;
+      }
+      const float s = static_cast<float>(static_cast<double>(moved[c]) * k);
+      const float d2 = st.water[c];
+      const float factor = evaporationFactor ? std::max(evaporationFactor[c], 0.0f) : 1.0f;
+      const float d3 = d2 * std::max(0.0f, 1.0f - ke * factor);
+      evaporated += static_cast<double>(d2 - d3) * area;
+      st.water[c] = d3;
+      if (seaCell || d3 < h.dryDepth)
+      {
+        st.terrain[c] = bed[c] + s;
+        if (layered)
+        {
+          st.soil[c] += s;
+        }
+        st.sediment[c] = 0.0f;
+        deposited += static_cast<double>(s) * area;
+      }
+      else
+      {
+        st.sediment[c] = s;
+      }
+    }
+    sums.evaporated[j] = evaporated;
+    sums.deposited[j] = deposited;
+  }
+}
+
+/// Thermal erosion: the height a giver sends one neighbour, rate/16 times its excess over the
+/// talus. Called with the same arguments by the giver and the receiver (same bits).
+inline float SlipHeight(float giver, float receiver, float tanTalus, float distance, float rate16)
+{
+  const float excess = (giver - receiver) - tanTalus * distance;
+  return excess > 0.0f ? excess * rate16 : 0.0f;
+}
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+/// The eight neighbours: offsets (E, NE, N, NW, W, SW, S, SE).
+constexpr int kDi[8] = { 1, 1, 0, -1, -1, -1, 0, 1 };
+constexpr int kDj[8] = { 0, 1, 1, 1, 0, -1, -1, -1 };
+
+struct ThermalContext
+{
+  const ErosionState& st;
+  std::vector<float> lx, area, lNorth, diagNorth; ///< per row; *North: rows j and j + 1
+  float tanSoil, tanRock, rate16;
+  bool layered;
+
+  ThermalContext(const ErosionState& state, const ThermalParams& p)
+    : st(state)
+    , tanSoil(static_cast<float>(std::tan(p.talusSoilDeg * kDegree)))
+    , tanRock(static_cast<float>(std::tan(p.talusRockDeg * kDegree)))
+    , rate16(static_cast<float>(p.rate / 16.0))
+    , layered(!state.soil.empty())
+  {
+    const int ny = st.ny;
+    lx.resize(ny);
+    area.resize(ny);
+    lNorth.assign(ny, 0.0f);
+    diagNorth.assign(ny, 0.0f);
+    for (int j = 0; j < ny; ++j)
+    {
+      lx[j] = static_cast<float>(st.rowDx[j]);
+      area[j] = static_cast<float>(st.CellArea(j));
+      if (j + 1 < ny)
+      {
+        const double ly = 0.5 * (st.rowDy[j] + st.rowDy[j + 1]);
+        const double mx = 0.5 * (st.rowDx[j] + st.rowDx[j + 1]);
+        lNorth[j] = static_cast<float>(ly);
+        diagNorth[j] = static_cast<float>(std::sqrt(ly * ly + mx * mx));
+      }
+    }
+  }
+
+  /// Distance from a cell of row j to its neighbour k.
+  float Distance(int j, int k) const
+  {
+    const int dj = kDj[k];
+    if (dj == 0)
+    {
+      return lx[j];
+    }
+    const int lower = dj > 0 ? j : j - 1;
+    return kDi[k] == 0 ? lNorth[lower] : diagNorth[lower];
+  }
+  bool Neighbour(int i, int j, int k, std::size_t& n) const
+  {
+    const int ii = i + kDi[k];
+    const int jj = j + kDj[k];
+    if (ii < 0 || jj < 0 || ii >= st.nx || jj >= st.ny)
+    {
+      return false;
+    }
+    n =
+      static_cast<std::size_t>(jj) * static_cast<std::size_t>(st.nx) + static_cast<std::size_t>(ii);
+    return st.IsValid(n);
+  }
+  float TanTalus(std::size_t c) const
+  {
+    return (!layered || st.soil[c] > 0.0f) ? tanSoil : tanRock;
+  }
+};
+
+/// Thermal pass 1 for rows [j0, j1): each giver's scale (soil limit) and the largest excess.
+void SlipScaleRows(const ThermalContext& t,
+  float* scale,
+  std::vector<double>& rowExcess,
+  int j0,
+  int j1)
+{
+  const ErosionState& st = t.st;
+  for (int j = j0; j < j1; ++j)
+  {
+    double excess = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
+      scale[c] = 0.0f;
+      if (!st.IsValid(c))
+      {
+        continue;
+      }
+      const float tanTalus = t.TanTalus(c);
+      float total = 0.0f;
+      for (int k = 0; k < 8; ++k)
+      {
+        std::size_t n = 0;
+        if (t.Neighbour(i, j, k, n))
+        {
+          const float d = t.Distance(j, k);
+          total += SlipHeight(st.terrain[c], st.terrain[n], tanTalus, d, t.rate16);
+          excess =
+            std::max(excess, static_cast<double>((st.terrain[c] - st.terrain[n]) - tanTalus * d));
+        }
+      }
+      float sc = 1.0f;
+      if (t.layered && st.soil[c] > 0.0f && total > st.soil[c])
+      {
+        sc = st.soil[c] / total;
+      }
+      scale[c] = sc;
+    }
+    rowExcess[j] = excess;
+  }
+}
+
+/// Thermal pass 2 for rows [j0, j1): the new bed (and soil) from what each cell gives and gets.
+void SlipRows(const ThermalContext& t,
+  const float* scale,
+  float* bed,
+  float* soil,
+  std::vector<double>& rowMoved,
+  int j0,
+  int j1)
+{
+  const ErosionState& st = t.st;
+  for (int j = j0; j < j1; ++j)
+  {
+    double moved = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
+      bed[c] = st.terrain[c];
+      if (t.layered)
+      {
+        soil[c] = st.soil[c];
+      }
+      if (!st.IsValid(c))
+      {
+        continue;
+      }
+      const float tanTalus = t.TanTalus(c);
+      float out = 0.0f;
+      float in = 0.0f;
+      for (int k = 0; k < 8; ++k)
+      {
+        std::size_t n = 0;
+        if (!t.Neighbour(i, j, k, n))
+        {
+          continue;
+        }
+        const float d = t.Distance(j, k);
+        out += SlipHeight(st.terrain[c], st.terrain[n], tanTalus, d, t.rate16);
+        const int jn = j + kDj[k];
+        const float got =
+          scale[n] * SlipHeight(st.terrain[n], st.terrain[c], t.TanTalus(n), d, t.rate16);
+        in += got * (t.area[jn] / t.area[j]);
+      }
+      out *= scale[c];
+      bed[c] = (st.terrain[c] - out) + in;
+      if (t.layered)
+      {
+        const float fromSoil = st.soil[c] > 0.0f ? std::min(out, st.soil[c]) : 0.0f;
+        soil[c] = (st.soil[c] - fromSoil) + in;
+      }
+      moved += static_cast<double>(out) * t.area[j];
+    }
+    rowMoved[j] = moved;
+  }
+}
+
+} // namespace
+
+void CheckErosionParams(const ErosionParams& p)
+{
+  Require(std::isfinite(p.timeStep) && p.timeStep > 0.0, "timeStep", p.timeStep, "> 0");
+  Require(std::isfinite(p.gravity) && p.gravity > 0.0, "gravity", p.gravity, "> 0");
+  Require(std::isfinite(p.pipeArea) && p.pipeArea >= 0.0, "pipeArea", p.pipeArea, ">= 0");
+  Require(std::isfinite(p.capacity) && p.capacity >= 0.0, "capacity", p.capacity, ">= 0");
+  Require(p.dissolving >= 0.0 && p.dissolving <= 1.0, "dissolving", p.dissolving, "in [0, 1]");
+  Require(p.dissolvingRock >= 0.0 && p.dissolvingRock <= 1.0,
+    "dissolvingRock",
+    p.dissolvingRock,
+    "in [0, 1]");
+  Require(p.deposition >= 0.0 && p.deposition <= 1.0, "deposition", p.deposition, "in [0, 1]");
+  Require(std::isfinite(p.evaporation) && p.evaporation >= 0.0 && p.evaporation * p.timeStep <= 1.0,
+    "evaporation",
+    p.evaporation,
+    ">= 0 with evaporation * timeStep <= 1");
+  Require(p.minTilt >= 0.0 && p.minTilt <= 1.0, "minTilt", p.minTilt, "in [0, 1]");
+  Require(p.maxTilt >= p.minTilt && p.maxTilt <= 1.0, "maxTilt", p.maxTilt, "in [minTilt, 1]");
+  Require(std::isfinite(p.capacityDepth) && p.capacityDepth >= 0.0,
+    "capacityDepth",
+    p.capacityDepth,
+    ">= 0");
+  Require(std::isfinite(p.dryDepth) && p.dryDepth >= 0.0, "dryDepth", p.dryDepth, ">= 0");
+  Require(std::isfinite(p.softOutflowMin) && p.softOutflowMin >= 0.0,
+    "softOutflowMin",
+    p.softOutflowMin,
+    ">= 0");
+  Require(std::isfinite(p.softOutflowScale) && p.softOutflowScale >= 0.0,
+    "softOutflowScale",
+    p.softOutflowScale,
+    ">= 0");
+  Require(p.boundary == ErosionBoundary::Closed || p.boundary == ErosionBoundary::Sea,
+    "boundary",
+    static_cast<double>(p.boundary),
+    "Closed (0) or Sea (1)");
+  Require(std::isfinite(p.seaLevel), "seaLevel", p.seaLevel, "finite");
+}
+
+void CheckThermalParams(const ThermalParams& p)
+{
+  Require(p.talusSoilDeg > 0.0 && p.talusSoilDeg < 90.0,
+    "talusSoilDeg",
+    p.talusSoilDeg,
+    "in (0, 90) degrees");
+  Require(p.talusRockDeg > 0.0 && p.talusRockDeg < 90.0,
+    "talusRockDeg",
+    p.talusRockDeg,
+    "in (0, 90) degrees");
+  Require(p.rate > 0.0 && p.rate <= 1.0, "rate", p.rate, "in (0, 1]");
+}
+
+ErosionState MakeErosionState(const GridView<float>& terrain, const float* soil)
+{
+  Require(terrain.nx > 0, "nx", terrain.nx, "> 0");
+  Require(terrain.ny > 0, "ny", terrain.ny, "> 0");
+  Require(terrain.data != nullptr, "terrain data", 0.0, "given");
+  ErosionState st;
+  st.nx = terrain.nx;
+  st.ny = terrain.ny;
+  st.rowDx.resize(st.ny);
+  st.rowDy.resize(st.ny);
+  for (int j = 0; j < st.ny; ++j)
+  {
+    st.rowDx[j] = terrain.DxAt(j);
+    st.rowDy[j] = terrain.DyAt(j);
+    Require(std::isfinite(st.rowDx[j]) && st.rowDx[j] > 0.0, "dx", st.rowDx[j], "> 0");
+    Require(std::isfinite(st.rowDy[j]) && st.rowDy[j] > 0.0, "dy", st.rowDy[j], "> 0");
+  }
+  const std::size_t n = st.Size();
+  if (terrain.valid)
+  {
+    st.valid.assign(terrain.valid, terrain.valid + n);
+  }
+  st.terrain.assign(terrain.data, terrain.data + n);
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    if (!st.IsValid(c))
+    {
+      st.terrain[c] = 0.0f;
+      continue;
+    }
+    Require(std::isfinite(st.terrain[c]), "terrain height", st.terrain[c], "finite");
+  }
+  if (soil)
+  {
+    st.soil.assign(soil, soil + n);
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      if (!st.IsValid(c))
+      {
+        st.soil[c] = 0.0f;
+      }
+      Require(st.soil[c] >= 0.0f, "soil thickness", st.soil[c], ">= 0");
+    }
+  }
+  for (std::vector<float>* a : { &st.water,
+         &st.sediment,
+         &st.fluxW,
+         &st.fluxE,
+         &st.fluxS,
+         &st.fluxN,
+         &st.velocityU,
+         &st.velocityV })
+  {
+    a->assign(n, 0.0f);
+  }
+  for (std::vector<float>& a : st.scratch)
+  {
+    a.assign(n, 0.0f);
+  }
+  return st;
+}
+
+ErosionStepStats ErosionHydraulicStep(ErosionState& st,
+  const ErosionParams& params,
+  const float* rain,
+  const float* evaporationFactor,
+  const ErosionParallelFor& parallelFor)
+{
+  CheckErosionParams(params);
+  const HydraulicContext h(st, params);
+  const int ny = st.ny;
+  ErosionStepStats stats;
+  std::vector<float>* sc = st.scratch;
+
+  // 1. Rain and flux: the new fluxes into scratch 0-3, then swapped into the state.
+  std::vector<double> rowRain(ny, 0.0);
+  float* d1 = sc[4].data();
+  ForRows(parallelFor,
+    ny,
+    [&](int j0, int j1)
+    {
+      FluxRows(
+        h, rain, d1, sc[0].data(), sc[1].data(), sc[2].data(), sc[3].data(), rowRain, j0, j1);
+    });
+  std::swap(st.fluxW, sc[0]);
+  std::swap(st.fluxE, sc[1]);
+  std::swap(st.fluxS, sc[2]);
+  std::swap(st.fluxN, sc[3]);
+  stats.rain = SumRows(rowRain);
+
+  // 2. Water height and velocity.
+  WaterRowSums water{ std::vector<double>(ny, 0.0), std::vector<double>(ny, 0.0) };
+  ForRows(parallelFor,
+    ny,
+    [&](int j0, int j1)
+    {
+      WaterRows(h,
+        st,
+        d1,
+        st.fluxW.data(),
+        st.fluxE.data(),
+        st.fluxS.data(),
+        st.fluxN.data(),
+        water,
+        j0,
+        j1);
+    });
+  stats.waterToSea = SumRows(water.toSea);
+  stats.waterClamped = SumRows(water.clamped);
+
+  // 3. Erosion and deposition: the new bed into scratch 0, s' in place.
+  float* bed = sc[0].data();
+  ErodeRowSums erode{ std::vector<double>(ny, 0.0), std::vector<double>(ny, 0.0) };
+  ForRows(parallelFor, ny, [&](int j0, int j1) { ErodeRows(h, st, bed, erode, j0, j1); });
+  stats.eroded = SumRows(erode.eroded);
+
+  // 4. Transport: the back-traced field into scratch 1; Dunn's k from the two totals.
+  float* moved = sc[1].data();
+  AdvectRowSums advect{ std::vector<double>(ny, 0.0), std::vector<double>(ny, 0.0) };
+  ForRows(parallelFor,
+    ny,
+    [&](int j0, int j1) { AdvectRows(h, st.sediment.data(), moved, advect, j0, j1); });
+  const double before = SumRows(advect.before);
+  const double after = SumRows(advect.after);
+  double k = 1.0;
+  if (after > 0.0)
+  {
+    k = before / after;
+  }
+  else
+  {
+    moved = st.sediment.data(); // nothing to rescale: keep s' where it is
+  }
+  stats.sedimentScale = k;
+
+  // 5. Rescale, evaporate, settle on dry and sea cells.
+  FinishRowSums finish{ std::vector<double>(ny, 0.0), std::vector<double>(ny, 0.0) };
+  ForRows(parallelFor,
+    ny,
+    [&](int j0, int j1) { FinishRows(h, st, bed, moved, k, evaporationFactor, finish, j0, j1); });
+  stats.evaporated = SumRows(finish.evaporated);
+  stats.deposited = SumRows(erode.deposited) + SumRows(finish.deposited);
+  return stats;
+}
+
+ThermalStepStats ErosionThermalStep(ErosionState& st,
+  const ThermalParams& params,
+  const ErosionParallelFor& parallelFor)
+{
+  CheckThermalParams(params);
+  const ThermalContext t(st, params);
+  const int ny = st.ny;
+  std::vector<double> rowExcess(ny, 0.0);
+  std::vector<double> rowMoved(ny, 0.0);
+  float* scale = st.scratch[0].data();
+  ForRows(parallelFor, ny, [&](int j0, int j1) { SlipScaleRows(t, scale, rowExcess, j0, j1); });
+  float* bed = st.scratch[1].data();
+  float* soil = t.layered ? st.scratch[2].data() : nullptr;
+  ForRows(
+    parallelFor, ny, [&](int j0, int j1) { SlipRows(t, scale, bed, soil, rowMoved, j0, j1); });
+  std::swap(st.terrain, st.scratch[1]);
+  if (t.layered)
+  {
+    std::swap(st.soil, st.scratch[2]);
+  }
+  ThermalStepStats stats;
+  stats.moved = SumRows(rowMoved);
+  for (double e : rowExcess)
+  {
+    stats.maxExcess = std::max(stats.maxExcess, e);
+  }
+  return stats;
+}
+
+ErosionTotals ErosionMeasure(const ErosionState& st)
+{
+  ErosionTotals t;
+  for (int j = 0; j < st.ny; ++j)
+  {
+    const double area = st.CellArea(j);
+    double b = 0.0, soil = 0.0, d = 0.0, s = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
+      if (!st.IsValid(c))
+      {
+        continue;
+      }
+      b += st.terrain[c];
+      soil += st.soil.empty() ? 0.0 : st.soil[c];
+      d += st.water[c];
+      s += st.sediment[c];
+    }
+    t.terrain += b * area;
+    t.soil += soil * area;
+    t.water += d * area;
+    t.sediment += s * area;
+  }
+  return t;
+}
+
+} // namespace terrain
+} // namespace terroir
