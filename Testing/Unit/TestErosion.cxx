@@ -348,6 +348,46 @@ TEST(TerroirErosionCore, SoilGoesFirstThenRockAtItsOwnRate)
   }
 }
 
+TEST(TerroirErosionCore, ErosionConstantsFollowTheErodedDepth)
+{
+  // Weiss's eq. 24 and his bound on the change, on the uniform flow above (deficit or excess
+  // C / 2 = 0.0049937617 or C = 0.0099875234).
+  const double capacity = 0.0099875234;
+  struct Case
+  {
+    double s0, alreadyEroded, fs, fd, maxChange, bedDelta;
+  };
+  const Case cases[] = {
+    // 0.2 m eroded, f_s = 0.2 m: K_s = 0.1 * 2^-1 = 0.05, bed -0.05 * 0.0049937617.
+    { capacity / 2, 0.2, 0.2, 0.0, 0.0, -0.00024968809 },
+    // 0.2 m eroded, f_d = 0.1 m: K_d = 0.1 * 2^2 = 0.4, bed +0.4 * 0.0099875234.
+    { 2 * capacity, 0.2, 0.0, 0.1, 0.0, 0.0039950094 },
+    // 0.1 mm eroded, bound 0.3 mm: only 0.2 mm more may go (K_s alone would take 0.5 mm).
+    { capacity / 2, 0.0001, 0.0, 0.0, 0.0003, -0.0002 },
+    // 0.1 mm deposited (eroded -0.0001), bound 0.3 mm: the deposit K_d C = 1 mm is cut to 0.2 mm.
+    { 2 * capacity, -0.0001, 0.0, 0.0, 0.0003, 0.0002 },
+  };
+  for (const Case& k : cases)
+  {
+    tr::ErosionState st = UniformFlow(static_cast<float>(k.s0));
+    for (std::size_t c = 0; c < st.Size(); ++c)
+    {
+      st.original[c] = st.terrain[c] + static_cast<float>(k.alreadyEroded);
+    }
+    const std::vector<float> bed = st.terrain;
+    tr::ErosionParams p;
+    p.halvingDepthErosion = k.fs;
+    p.halvingDepthDeposition = k.fd;
+    p.maxBedChange = k.maxChange;
+    tr::ErosionHydraulicStep(st, p);
+    for (int i = 3; i < st.nx - 3; ++i)
+    {
+      const std::size_t c = Idx(st, i, 3);
+      EXPECT_NEAR(st.terrain[c] - bed[c], k.bedDelta, 2e-6) << "case s0 " << k.s0 << " cell " << i;
+    }
+  }
+}
+
 TEST(TerroirErosionCore, DryAndSeaCellsSettleTheirSediment)
 {
   // A dry flat cell holding 0.01 m of suspended sediment: no velocity, C = 0, K_d settles

@@ -399,8 +399,57 @@ struct ErodeRowSums
   std::vector<double> eroded, deposited;
 };
 
-/// Pass 3 (eq. 17-20) for rows [j0, j1): new bed into `bed`, s' into state.sediment, soil in
-/// place (both pointwise).
+/// K_s, K_s,rock and K_d of one cell: the constants, or Weiss's eq. 24 when the halving depths
+/// are set: K_s 2^(-db / f_s), K_d 2^(db / f_d) with db = b_original - b (clamped to 1).
+struct CellRates
+{
+  float ks, ksRock, kd;
+};
+
+inline CellRates RatesAt(const HydraulicContext& h, float eroded)
+{
+  CellRates r{ static_cast<float>(h.p.dissolving),
+    static_cast<float>(h.p.dissolvingRock),
+    static_cast<float>(h.p.deposition) };
+  if (h.p.halvingDepthErosion > 0.0)
+  {
+    const float f = std::exp2(-eroded / static_cast<float>(h.p.halvingDepthErosion));
+    r.ks = std::min(1.0f, r.ks * f);
+    r.ksRock = std::min(1.0f, r.ksRock * f);
+  }
+  if (h.p.halvingDepthDeposition > 0.0)
+  {
+    r.kd =
+      std::min(1.0f, r.kd * std::exp2(eroded / static_cast<float>(h.p.halvingDepthDeposition)));
+  }
+  return r;
+}
+
+/// Bed taken into suspension for a capacity deficit (eq. 19): soil first at K_s, then rock at
+/// K_s,rock for the part of the deficit the soil could not cover; at most `limit`. Updates soil.
+inline float Dissolve(const CellRates& r, float deficit, float* soil, float limit)
+{
+  float take = r.ks * deficit;
+  if (!soil)
+  {
+    return std::min(take, limit);
+  }
+  float fromSoil = std::min(*soil, take);
+  float fromRock = 0.0f;
+  if (fromSoil < take)
+  {
+    // The soil is used up: the rest of the deficit is dissolved from rock.
+    const float rest = r.ks > 0.0f ? deficit - fromSoil / r.ks : deficit;
+    fromRock = r.ksRock * std::max(rest, 0.0f);
+  }
+  fromSoil = std::min(fromSoil, limit);
+  fromRock = std::min(fromRock, limit - fromSoil);
+  *soil -= fromSoil;
+  return fromSoil + fromRock;
+}
+
+/// Pass 3 (eq. 17-20, 24) for rows [j0, j1): new bed into `bed`, s' into state.sediment, soil
+/// in place (both pointwise).
 void ErodeRows(const HydraulicContext& h,
   ErosionState& st,
   float* bed,
@@ -409,10 +458,9 @@ void ErodeRows(const HydraulicContext& h,
   int j1)
 {
   const float kc = static_cast<float>(h.p.capacity);
-  const float ks = static_cast<float>(h.p.dissolving);
-  const float ksRock = static_cast<float>(h.p.dissolvingRock);
-  const float kd = static_cast<float>(h.p.deposition);
   const float rampDepth = static_cast<float>(h.p.capacityDepth);
+  const float maxChange = h.p.maxBedChange > 0.0 ? static_cast<float>(h.p.maxBedChange)
+                                                 : std::numeric_limits<float>::infinity();
   const bool layered = !st.soil.empty();
   for (int j = j0; j < j1; ++j)
   {
@@ -435,31 +483,22 @@ void ErodeRows(const HydraulicContext& h,
       {
         capacity *= std::min(1.0f, st.water[c] / rampDepth);
       }
+      const float original = st.original[c];
+      const CellRates r = RatesAt(h, original - b);
       const float s = st.sediment[c];
       if (capacity > s)
       {
-        const float deficit = capacity - s;
-        float take = ks * deficit;
-        if (layered)
-        {
-          const float fromSoil = std::min(st.soil[c], take);
-          float fromRock = 0.0f;
-          if (fromSoil < take)
-          {
-            // The soil is used up: the rest of the deficit is dissolved from rock.
-            const float rest = ks > 0.0f ? deficit - fromSoil / ks : deficit;
-            fromRock = ksRock * std::max(rest, 0.0f);
-          }
-          st.soil[c] -= fromSoil;
-          take = fromSoil + fromRock;
-        }
+        // Weiss's cap on the total change: the bed stays above original - maxBedChange.
+        const float limit = std::max(0.0f, b - (original - maxChange));
+        const float take = Dissolve(r, capacity - s, layered ? &st.soil[c] : nullptr, limit);
         bed[c] = b - take;
         st.sediment[c] = s + take;
         eroded += static_cast<double>(take) * area;
       }
       else
       {
-        const float drop = kd * (s - capacity);
+        const float limit = std::max(0.0f, (original + maxChange) - b);
+        const float drop = std::min(r.kd * (s - capacity), limit);
         bed[c] = b + drop;
         st.sediment[c] = s - drop;
         if (layered)
@@ -792,6 +831,16 @@ void CheckErosionParams(const ErosionParams& p)
     "capacityDepth",
     p.capacityDepth,
     ">= 0");
+  Require(std::isfinite(p.halvingDepthErosion) && p.halvingDepthErosion >= 0.0,
+    "halvingDepthErosion",
+    p.halvingDepthErosion,
+    ">= 0");
+  Require(std::isfinite(p.halvingDepthDeposition) && p.halvingDepthDeposition >= 0.0,
+    "halvingDepthDeposition",
+    p.halvingDepthDeposition,
+    ">= 0");
+  Require(
+    std::isfinite(p.maxBedChange) && p.maxBedChange >= 0.0, "maxBedChange", p.maxBedChange, ">= 0");
   Require(std::isfinite(p.dryDepth) && p.dryDepth >= 0.0, "dryDepth", p.dryDepth, ">= 0");
   Require(std::isfinite(p.softOutflowMin) && p.softOutflowMin >= 0.0,
     "softOutflowMin",
@@ -853,6 +902,7 @@ ErosionState MakeErosionState(const GridView<float>& terrain, const float* soil)
     }
     Require(std::isfinite(st.terrain[c]), "terrain height", st.terrain[c], "finite");
   }
+  st.original = st.terrain;
   if (soil)
   {
     st.soil.assign(soil, soil + n);

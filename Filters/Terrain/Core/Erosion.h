@@ -29,7 +29,9 @@
  *    the bed gives K_s (C - s) to the suspended sediment, else K_d (s - C) settles on the bed
  *    (K_s, K_d act per step, as in both sources). With a soil layer (ours, after Weiss section
  *    VI-B2: soil erodes more easily than rock), soil goes first at K_s; once it is used up,
- *    the rest of the deficit is taken from rock at K_s,rock; deposits become soil.
+ *    the rest of the deficit is taken from rock at K_s,rock; deposits become soil. Options
+ *    from Weiss section VI-B2: K_s and K_d varying with the depth eroded since the start
+ *    (his eq. 24) and a bound on the bed's total change.
  * 5. Sediment transport (Weiss eq. 21): s = s'(i - u dt / lx, j - v dt / ly), bilinear,
  *    positions clamped to the grid; then Dunn's (section 3.3) mass rescaling: the transported
  *    field is multiplied by k = m1 / m2, the area-weighted totals before and after transport
@@ -102,17 +104,24 @@ enum class ErosionBoundary
  */
 struct ErosionParams
 {
-  double timeStep = 0.01;        ///< dt, seconds (> 0)
-  double gravity = 10.0;         ///< g, m/s^2 (> 0)
-  double pipeArea = 0.0;         ///< A, m^2 (>= 0); 0: each pipe's length squared (Weiss: 1 cell)
-  double capacity = 0.5;         ///< K_c, sediment capacity constant (>= 0)
-  double dissolving = 0.1;       ///< K_s of soil (or of the single material), per step, [0, 1]
-  double dissolvingRock = 0.1;   ///< K_s of rock under the soil layer, per step, [0, 1]
-  double deposition = 0.1;       ///< K_d, per step, [0, 1]
-  double evaporation = 0.005;    ///< K_e, 1/s (>= 0, K_e dt <= 1)
-  double capacityDepth = 0.0;    ///< m (>= 0): C is scaled by min(1, d / capacityDepth); 0: off
-  double minTilt = 0.005;        ///< lower clamp of sin(alpha), [0, 1]
-  double maxTilt = 0.1;          ///< upper clamp of sin(alpha), [minTilt, 1]
+  double timeStep = 0.01;      ///< dt, seconds (> 0)
+  double gravity = 10.0;       ///< g, m/s^2 (> 0)
+  double pipeArea = 0.0;       ///< A, m^2 (>= 0); 0: each pipe's length squared (Weiss: 1 cell)
+  double capacity = 0.5;       ///< K_c, sediment capacity constant (>= 0)
+  double dissolving = 0.1;     ///< K_s of soil (or of the single material), per step, [0, 1]
+  double dissolvingRock = 0.1; ///< K_s of rock under the soil layer, per step, [0, 1]
+  double deposition = 0.1;     ///< K_d, per step, [0, 1]
+  double evaporation = 0.005;  ///< K_e, 1/s (>= 0, K_e dt <= 1)
+  double capacityDepth = 0.0;  ///< m (>= 0): C is scaled by min(1, d / capacityDepth); 0: off
+  double minTilt = 0.005;      ///< lower clamp of sin(alpha), [0, 1]
+  double maxTilt = 0.1;        ///< upper clamp of sin(alpha), [minTilt, 1]
+  /// Weiss's eq. 24: K_s 2^(-db / f_s) and K_d 2^(db / f_d), db = original - b (m eroded
+  /// since the start), each clamped to 1; f_s, f_d in m (>= 0), 0: constant (the default).
+  double halvingDepthErosion = 0.0;
+  double halvingDepthDeposition = 0.0;
+  /// Weiss's bound on the total change of the bed by erosion and deposition, |b - original|
+  /// <= maxBedChange, m (>= 0); 0: none. Dry and sea cells still settle all their sediment.
+  double maxBedChange = 0.0;
   double dryDepth = 1e-5;        ///< m (>= 0): below it no velocity, and sediment settles
   bool softOutflow = false;      ///< cap each pipe at O_min + s_O |dh| (Dunn eq. 3.1)
   double softOutflowMin = 0.0;   ///< O_min, m^3/s (>= 0)
@@ -141,6 +150,7 @@ struct ErosionState
   std::vector<double> rowDy;       ///< ny north-south spacings, metres
   std::vector<std::uint8_t> valid; ///< nx*ny, 1 valid, 0 no data (empty: all valid)
   std::vector<float> terrain;      ///< b: bed height (rock + soil), m
+  std::vector<float> original;     ///< the bed at the start (Weiss eq. 24 and his cap), m
   std::vector<float> soil;         ///< soil thickness over rock, m (empty: one material)
   std::vector<float> water;        ///< d: water depth, m
   std::vector<float> sediment;     ///< s: suspended sediment, m (height of bed it would make)
