@@ -388,6 +388,64 @@ TEST(TerroirErosionCore, ErosionConstantsFollowTheErodedDepth)
   }
 }
 
+TEST(TerroirErosionCore, NoDataCellsAreWallsOrSea)
+{
+  // A 10 x 5 flat grid whose column i = 5 has no data; 1 m of water west of it, none east.
+  const int nx = 10, ny = 5;
+  std::vector<float> heights(static_cast<std::size_t>(nx) * ny, 0.0f);
+  std::vector<std::uint8_t> valid(heights.size(), 1);
+  for (int j = 0; j < ny; ++j)
+  {
+    valid[static_cast<std::size_t>(j) * nx + 5] = 0;
+  }
+  GridView<float> view;
+  view.data = heights.data();
+  view.nx = nx;
+  view.ny = ny;
+  view.valid = valid.data();
+  for (tr::ErosionBoundary boundary : { tr::ErosionBoundary::Closed, tr::ErosionBoundary::Sea })
+  {
+    tr::ErosionState st = tr::MakeErosionState(view);
+    for (int j = 0; j < ny; ++j)
+    {
+      for (int i = 0; i < 5; ++i)
+      {
+        st.water[Idx(st, i, j)] = 1.0f;
+      }
+    }
+    tr::ErosionParams p;
+    p.boundary = boundary;
+    p.seaLevel = -10.0; // only the edge and the no-data column are sea
+    p.evaporation = 0.0;
+    const double v0 = tr::ErosionMeasure(st).water;
+    double toSea = 0.0;
+    for (int n = 0; n < 300; ++n)
+    {
+      toSea += tr::ErosionHydraulicStep(st, p).waterToSea;
+    }
+    for (int j = 0; j < ny; ++j)
+    {
+      for (int i = 5; i < nx; ++i)
+      {
+        // Neither a wall nor the sea passes water on: the east side stays dry.
+        ASSERT_EQ(st.water[Idx(st, i, j)], 0.0f) << i << "," << j;
+        ASSERT_EQ(st.sediment[Idx(st, i, j)], 0.0f) << i << "," << j;
+      }
+    }
+    const double v1 = tr::ErosionMeasure(st).water;
+    if (boundary == tr::ErosionBoundary::Closed)
+    {
+      EXPECT_NEAR(v1, v0, 1e-6 * v0);
+      EXPECT_EQ(toSea, 0.0);
+    }
+    else
+    {
+      EXPECT_LT(v1, 0.5 * v0); // drained into the edge and the no-data column
+      EXPECT_NEAR(v1 + toSea, v0, 1e-6 * v0);
+    }
+  }
+}
+
 TEST(TerroirErosionCore, DryAndSeaCellsSettleTheirSediment)
 {
   // A dry flat cell holding 0.01 m of suspended sediment: no velocity, C = 0, K_d settles

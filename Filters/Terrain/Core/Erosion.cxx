@@ -95,6 +95,14 @@ RowGeometry MakeGeometry(const ErosionState& st, double dt, double g, double pip
   return geo;
 }
 
+/// What a cell is during one hydraulic step (fixed at the step's start).
+enum CellKind : std::uint8_t
+{
+  kWall = 0, ///< no data, Closed boundary: its pipes are closed
+  kSea = 1,  ///< Sea boundary: no data, or b <= seaLevel
+  kLand = 2  ///< holds water, gives it, erodes
+};
+
 /// Read-only view of the arrays and constants of one hydraulic step.
 struct HydraulicContext
 {
@@ -103,6 +111,7 @@ struct HydraulicContext
   RowGeometry geo;
   bool sea;
   float seaLevel, dt, dryDepth;
+  const std::uint8_t* kind; ///< CellKind of every cell, written by pass 1a (SurfaceRows)
 
   HydraulicContext(const ErosionState& state, const ErosionParams& params)
     : st(state)
@@ -112,6 +121,7 @@ struct HydraulicContext
     , seaLevel(static_cast<float>(params.seaLevel))
     , dt(static_cast<float>(params.timeStep))
     , dryDepth(static_cast<float>(params.dryDepth))
+    , kind(state.scratchKind.data())
   {
   }
 
@@ -120,78 +130,88 @@ struct HydraulicContext
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(st.nx) +
       static_cast<std::size_t>(i);
   }
-  bool Inside(int i, int j) const { return i >= 0 && j >= 0 && i < st.nx && j < st.ny; }
-  /// A sea cell (Sea boundary only): no data, or bed at or below sea level.
-  bool IsSea(std::size_t c) const
-  {
-    return this->sea && (!this->st.IsValid(c) || this->st.terrain[c] <= this->seaLevel);
-  }
+  /// A sea cell (Sea boundary only): no data, or bed at or below sea level at the step's start.
+  bool IsSea(std::size_t c) const { return this->kind[c] == kSea; }
   /// A valid cell that is not sea: it holds water, gives it and erodes.
-  bool IsLand(std::size_t c) const { return this->st.IsValid(c) && !this->IsSea(c); }
+  bool IsLand(std::size_t c) const { return this->kind[c] == kLand; }
 };
 
-/// Water depth after rain, d + dt r (0 on no-data cells).
-inline float RainedDepth(const HydraulicContext& h, const float* rain, std::size_t c)
+/// Dunn's soft outflow threshold (eq. 3.1): O_min and s_O, or off.
+struct SoftThreshold
 {
-  if (!h.st.IsValid(c))
-  {
-    return 0.0f;
-  }
-  return rain ? h.st.water[c] + h.dt * rain[c] : h.st.water[c];
-}
+  bool on;
+  float min, scale;
+};
 
-/// The water surface seen through a pipe into cell (i, j); false when the pipe is closed.
-inline bool NeighbourSurface(const HydraulicContext& h,
-  const float* rain,
-  int i,
-  int j,
-  float& level)
-{
-  if (!h.Inside(i, j))
-  {
-    level = h.seaLevel;
-    return h.sea;
-  }
-  const std::size_t c = h.Index(i, j);
-  if (h.IsSea(c))
-  {
-    level = h.seaLevel;
-    return true;
-  }
-  if (!h.st.IsValid(c))
-  {
-    return false;
-  }
-  level = h.st.terrain[c] + RainedDepth(h, rain, c);
-  return true;
-}
-
-/// One pipe's new flux: max(0, f + coef dh), capped by Dunn's soft threshold when enabled.
-inline float PipeFlux(const HydraulicContext& h, float old, float coef, float dh)
+/// One pipe's new flux: max(0, f + coef dh), capped at O_min + s_O |dh| when enabled.
+inline float PipeFlux(const SoftThreshold& soft, float old, float coef, float dh)
 {
   float f = std::max(0.0f, old + coef * dh);
-  if (h.p.softOutflow)
+  if (soft.on)
   {
-    const float cap = static_cast<float>(h.p.softOutflowMin) +
-      static_cast<float>(h.p.softOutflowScale) * std::fabs(dh);
-    f = std::min(f, cap);
+    f = std::min(f, soft.min + soft.scale * std::fabs(dh));
   }
   return f;
 }
 
-/// Pass 1 (rain, eq. 10; flux, eq. 11-13) for rows [j0, j1): writes d1 and the new fluxes.
-void FluxRows(const HydraulicContext& h,
+/// Pass 1a (rain, eq. 10) for rows [j0, j1): each cell's kind, d1 and water surface (b + d1
+/// on land, seaLevel on sea).
+void SurfaceRows(const HydraulicContext& h,
   const float* rain,
+  std::uint8_t* kind,
   float* d1,
-  float* fw,
-  float* fe,
-  float* fs,
-  float* fn,
+  float* surface,
   std::vector<double>& rowRain,
   int j0,
   int j1)
 {
   const ErosionState& st = h.st;
+  for (int j = j0; j < j1; ++j)
+  {
+    const float area = h.geo.area[j];
+    double rained = 0.0;
+    for (int i = 0; i < st.nx; ++i)
+    {
+      const std::size_t c = h.Index(i, j);
+      if (!st.IsValid(c))
+      {
+        kind[c] = h.sea ? kSea : kWall;
+        d1[c] = 0.0f;
+        surface[c] = h.seaLevel;
+        continue;
+      }
+      const float depth = rain ? st.water[c] + h.dt * rain[c] : st.water[c];
+      if (rain)
+      {
+        rained += static_cast<double>(h.dt * rain[c]) * area;
+      }
+      const bool sea = h.sea && st.terrain[c] <= h.seaLevel;
+      kind[c] = sea ? kSea : kLand;
+      d1[c] = depth;
+      surface[c] = sea ? h.seaLevel : st.terrain[c] + depth;
+    }
+    rowRain[j] = rained;
+  }
+}
+
+/// Pass 1b (flux, eq. 11-13) for rows [j0, j1): the new fluxes of land cells (0 elsewhere).
+/// A pipe is open towards any cell but a wall; through the grid's edge only with the Sea
+/// boundary, where it sees seaLevel.
+void FluxRows(const HydraulicContext& h,
+  const float* d1,
+  const float* surface,
+  float* fw,
+  float* fe,
+  float* fs,
+  float* fn,
+  int j0,
+  int j1)
+{
+  const ErosionState& st = h.st;
+  const std::size_t nx = static_cast<std::size_t>(st.nx);
+  const SoftThreshold soft{ h.p.softOutflow,
+    static_cast<float>(h.p.softOutflowMin),
+    static_cast<float>(h.p.softOutflowScale) };
   for (int j = j0; j < j1; ++j)
   {
     const float area = h.geo.area[j];
@@ -203,35 +223,28 @@ void FluxRows(const HydraulicContext& h,
       h.geo.coefEW[j],
       j > 0 ? h.geo.coefNorth[j - 1] : coefEdge,
       j + 1 < st.ny ? h.geo.coefNorth[j] : coefEdge };
-    double rained = 0.0;
     for (int i = 0; i < st.nx; ++i)
     {
       const std::size_t c = h.Index(i, j);
-      const float depth = RainedDepth(h, rain, c);
-      d1[c] = depth;
-      if (rain && st.IsValid(c))
-      {
-        rained += static_cast<double>(h.dt * rain[c]) * area;
-      }
       float f[4] = { 0.0f, 0.0f, 0.0f, 0.0f }; // W, E, S, N
-      if (h.IsLand(c))
+      if (h.kind[c] == kLand)
       {
-        const float surface = st.terrain[c] + depth;
-        const int ni[4] = { i - 1, i + 1, i, i };
-        const int nj[4] = { j, j, j - 1, j + 1 };
+        const bool inside[4] = { i > 0, i + 1 < st.nx, j > 0, j + 1 < st.ny };
+        const std::size_t n[4] = { c - 1, c + 1, c - nx, c + nx };
         const float old[4] = { st.fluxW[c], st.fluxE[c], st.fluxS[c], st.fluxN[c] };
-        float level = 0.0f;
         for (int k = 0; k < 4; ++k)
         {
-          if (NeighbourSurface(h, rain, ni[k], nj[k], level))
+          const bool open = inside[k] ? h.kind[n[k]] != kWall : h.sea;
+          if (open)
           {
-            f[k] = PipeFlux(h, old[k], coef[k], surface - level);
+            const float level = inside[k] ? surface[n[k]] : h.seaLevel;
+            f[k] = PipeFlux(soft, old[k], coef[k], surface[c] - level);
           }
         }
         const float sum = (f[0] + f[1]) + (f[2] + f[3]);
         if (sum > 0.0f)
         {
-          const float scale = std::min(1.0f, depth * area / (sum * h.dt));
+          const float scale = std::min(1.0f, d1[c] * area / (sum * h.dt));
           for (float& v : f)
           {
             v *= scale;
@@ -243,7 +256,6 @@ void FluxRows(const HydraulicContext& h,
       fs[c] = f[2];
       fn[c] = f[3];
     }
-    rowRain[j] = rained;
   }
 }
 
@@ -930,6 +942,7 @@ ErosionState MakeErosionState(const GridView<float>& terrain, const float* soil)
   {
     a.assign(n, 0.0f);
   }
+  st.scratchKind.assign(n, 0);
   return st;
 }
 
@@ -945,16 +958,19 @@ ErosionStepStats ErosionHydraulicStep(ErosionState& st,
   ErosionStepStats stats;
   std::vector<float>* sc = st.scratch;
 
-  // 1. Rain and flux: the new fluxes into scratch 0-3, then swapped into the state.
+  // 1. Rain, cell kinds and surfaces (scratch 4, 5); the new fluxes into scratch 0-3, then
+  // swapped into the state.
   std::vector<double> rowRain(ny, 0.0);
   float* d1 = sc[4].data();
+  float* surface = sc[5].data();
   ForRows(parallelFor,
     ny,
     [&](int j0, int j1)
-    {
-      FluxRows(
-        h, rain, d1, sc[0].data(), sc[1].data(), sc[2].data(), sc[3].data(), rowRain, j0, j1);
-    });
+    { SurfaceRows(h, rain, st.scratchKind.data(), d1, surface, rowRain, j0, j1); });
+  ForRows(parallelFor,
+    ny,
+    [&](int j0, int j1)
+    { FluxRows(h, d1, surface, sc[0].data(), sc[1].data(), sc[2].data(), sc[3].data(), j0, j1); });
   std::swap(st.fluxW, sc[0]);
   std::swap(st.fluxE, sc[1]);
   std::swap(st.fluxS, sc[2]);

@@ -146,19 +146,20 @@ struct ErosionState
 {
   int nx = 0;
   int ny = 0;
-  std::vector<double> rowDx;       ///< ny east-west spacings, metres
-  std::vector<double> rowDy;       ///< ny north-south spacings, metres
-  std::vector<std::uint8_t> valid; ///< nx*ny, 1 valid, 0 no data (empty: all valid)
-  std::vector<float> terrain;      ///< b: bed height (rock + soil), m
-  std::vector<float> original;     ///< the bed at the start (Weiss eq. 24 and his cap), m
-  std::vector<float> soil;         ///< soil thickness over rock, m (empty: one material)
-  std::vector<float> water;        ///< d: water depth, m
-  std::vector<float> sediment;     ///< s: suspended sediment, m (height of bed it would make)
-  std::vector<float> fluxW, fluxE; ///< outflow to the west (Weiss f^L) and east (f^R), m^3/s
-  std::vector<float> fluxS, fluxN; ///< outflow to the south (f^B) and north (f^T), m^3/s
-  std::vector<float> velocityU;    ///< u, east, m/s
-  std::vector<float> velocityV;    ///< v, north, m/s
-  std::vector<float> scratch[5];   ///< ping-pong buffers of the passes (contents undefined)
+  std::vector<double> rowDx;             ///< ny east-west spacings, metres
+  std::vector<double> rowDy;             ///< ny north-south spacings, metres
+  std::vector<std::uint8_t> valid;       ///< nx*ny, 1 valid, 0 no data (empty: all valid)
+  std::vector<float> terrain;            ///< b: bed height (rock + soil), m
+  std::vector<float> original;           ///< the bed at the start (Weiss eq. 24 and his cap), m
+  std::vector<float> soil;               ///< soil thickness over rock, m (empty: one material)
+  std::vector<float> water;              ///< d: water depth, m
+  std::vector<float> sediment;           ///< s: suspended sediment, m (height of bed it would make)
+  std::vector<float> fluxW, fluxE;       ///< outflow to the west (Weiss f^L) and east (f^R), m^3/s
+  std::vector<float> fluxS, fluxN;       ///< outflow to the south (f^B) and north (f^T), m^3/s
+  std::vector<float> velocityU;          ///< u, east, m/s
+  std::vector<float> velocityV;          ///< v, north, m/s
+  std::vector<float> scratch[6];         ///< ping-pong buffers of the passes (contents undefined)
+  std::vector<std::uint8_t> scratchKind; ///< per-cell kind during a step (contents undefined)
 
   std::size_t Size() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
   bool IsValid(std::size_t c) const { return valid.empty() || valid[c] != 0; }
