@@ -29,6 +29,19 @@ void Require(bool ok, const char* name, double value, const char* range)
   }
 }
 
+/// hi + lo += delta with the rounding error kept in lo (Knuth's TwoSum on hi and delta + lo):
+/// a float value carried with about twice float's precision, so that many small changes to a
+/// large value (a millimetre of erosion on a 1000 m bed, a slow leak between two full cells)
+/// are not lost to rounding. Plain float operations: a shader can do the same (`precise`).
+inline void AddCompensated(float& hi, float& lo, float delta)
+{
+  const float t = delta + lo;
+  const float sum = hi + t;
+  const float back = sum - hi;
+  lo = (hi - (sum - back)) + (t - back);
+  hi = sum;
+}
+
 /// Runs body over all rows, through parallelFor when given.
 void ForRows(const ErosionParallelFor& parallelFor,
   int ny,
@@ -154,10 +167,11 @@ inline float PipeFlux(const SoftThreshold& soft, float old, float coef, float dh
   return f;
 }
 
-/// Pass 1a (rain, eq. 10) for rows [j0, j1): each cell's kind, d1 and water surface (b + d1
-/// on land, seaLevel on sea).
+/// Pass 1a (rain, eq. 10) for rows [j0, j1): each cell's kind, d1 (its residue in place) and
+/// water surface (b + d1 on land, seaLevel on sea).
 void SurfaceRows(const HydraulicContext& h,
   const float* rain,
+  float* waterLo,
   std::uint8_t* kind,
   float* d1,
   float* surface,
@@ -177,13 +191,16 @@ void SurfaceRows(const HydraulicContext& h,
       {
         kind[c] = h.sea ? kSea : kWall;
         d1[c] = 0.0f;
+        waterLo[c] = 0.0f;
         surface[c] = h.seaLevel;
         continue;
       }
-      const float depth = rain ? st.water[c] + h.dt * rain[c] : st.water[c];
+      float depth = st.water[c];
       if (rain)
       {
-        rained += static_cast<double>(h.dt * rain[c]) * area;
+        const float added = h.dt * rain[c];
+        AddCompensated(depth, waterLo[c], added);
+        rained += static_cast<double>(added) * area;
       }
       const bool sea = h.sea && st.terrain[c] <= h.seaLevel;
       kind[c] = sea ? kSea : kLand;
@@ -345,6 +362,7 @@ void WaterRows(const HydraulicContext& h,
       if (!st.IsValid(c))
       {
         st.water[c] = 0.0f;
+        st.waterResidue[c] = 0.0f;
         st.velocityU[c] = 0.0f;
         st.velocityV[c] = 0.0f;
         continue;
@@ -352,17 +370,22 @@ void WaterRows(const HydraulicContext& h,
       const float in = Inflow(h, fw, fe, fs, fn, i, j);
       if (h.IsSea(c))
       {
-        toSea += static_cast<double>(d1[c]) * area + static_cast<double>(h.dt * in);
+        toSea +=
+          (static_cast<double>(d1[c]) + st.waterResidue[c]) * area + static_cast<double>(h.dt * in);
+        st.waterResidue[c] = 0.0f;
         depth = std::max(h.seaLevel - st.terrain[c], h.dryDepth);
       }
       else
       {
         const float out = (fw[c] + fe[c]) + (fs[c] + fn[c]);
-        d2 = d1[c] + h.dt * (in - out) / area;
-        if (d2 < 0.0f)
+        d2 = d1[c];
+        AddCompensated(d2, st.waterResidue[c], h.dt * (in - out) / area);
+        const double total = static_cast<double>(d2) + st.waterResidue[c];
+        if (total < 0.0 || d2 < 0.0f)
         {
-          clamped -= static_cast<double>(d2) * area;
+          clamped -= total * area;
           d2 = 0.0f;
+          st.waterResidue[c] = 0.0f;
         }
         if (h.sea)
         {
@@ -503,7 +526,8 @@ void ErodeRows(const HydraulicContext& h,
         // Weiss's cap on the total change: the bed stays above original - maxBedChange.
         const float limit = std::max(0.0f, b - (original - maxChange));
         const float take = Dissolve(r, capacity - s, layered ? &st.soil[c] : nullptr, limit);
-        bed[c] = b - take;
+        bed[c] = b;
+        AddCompensated(bed[c], st.terrainResidue[c], -take);
         st.sediment[c] = s + take;
         eroded += static_cast<double>(take) * area;
       }
@@ -511,7 +535,8 @@ void ErodeRows(const HydraulicContext& h,
       {
         const float limit = std::max(0.0f, (original + maxChange) - b);
         const float drop = std::min(r.kd * (s - capacity), limit);
-        bed[c] = b + drop;
+        bed[c] = b;
+        AddCompensated(bed[c], st.terrainResidue[c], drop);
         st.sediment[c] = s - drop;
         if (layered)
         {
@@ -621,13 +646,17 @@ void FinishRows(const HydraulicContext& h,
       }
       const float s = static_cast<float>(static_cast<double>(moved[c]) * k);
       const float d2 = st.water[c];
+      const float lo2 = st.waterResidue[c];
       const float factor = evaporationFactor ? std::max(evaporationFactor[c], 0.0f) : 1.0f;
-      const float d3 = d2 * std::max(0.0f, 1.0f - ke * factor);
-      evaporated += static_cast<double>(d2 - d3) * area;
+      const float keep = std::max(0.0f, 1.0f - ke * factor);
+      const float d3 = d2 * keep;
+      const float lo3 = lo2 * keep;
+      evaporated += ((static_cast<double>(d2) + lo2) - (static_cast<double>(d3) + lo3)) * area;
       st.water[c] = d3;
+      st.waterResidue[c] = lo3;
       if (seaCell || d3 < h.dryDepth)
       {
-        st.terrain[c] = bed[c] + s;
+        AddCompensated(st.terrain[c], st.terrainResidue[c], s);
         if (layered)
         {
           st.soil[c] += s;
@@ -768,6 +797,7 @@ void SlipScaleRows(const ThermalContext& t,
 void SlipRows(const ThermalContext& t,
   const float* scale,
   float* bed,
+  float* bedLo,
   float* soil,
   std::vector<double>& rowMoved,
   int j0,
@@ -807,7 +837,8 @@ void SlipRows(const ThermalContext& t,
         in += got * (t.area[jn] / t.area[j]);
       }
       out *= scale[c];
-      bed[c] = (st.terrain[c] - out) + in;
+      bed[c] = st.terrain[c];
+      AddCompensated(bed[c], bedLo[c], in - out);
       if (t.layered)
       {
         const float fromSoil = st.soil[c] > 0.0f ? std::min(out, st.soil[c]) : 0.0f;
@@ -927,7 +958,9 @@ ErosionState MakeErosionState(const GridView<float>& terrain, const float* soil)
       Require(st.soil[c] >= 0.0f, "soil thickness", st.soil[c], ">= 0");
     }
   }
-  for (std::vector<float>* a : { &st.water,
+  for (std::vector<float>* a : { &st.terrainResidue,
+         &st.waterResidue,
+         &st.water,
          &st.sediment,
          &st.fluxW,
          &st.fluxE,
@@ -966,7 +999,10 @@ ErosionStepStats ErosionHydraulicStep(ErosionState& st,
   ForRows(parallelFor,
     ny,
     [&](int j0, int j1)
-    { SurfaceRows(h, rain, st.scratchKind.data(), d1, surface, rowRain, j0, j1); });
+    {
+      SurfaceRows(
+        h, rain, st.waterResidue.data(), st.scratchKind.data(), d1, surface, rowRain, j0, j1);
+    });
   ForRows(parallelFor,
     ny,
     [&](int j0, int j1)
@@ -1045,8 +1081,10 @@ ThermalStepStats ErosionThermalStep(ErosionState& st,
   ForRows(parallelFor, ny, [&](int j0, int j1) { SlipScaleRows(t, scale, rowExcess, j0, j1); });
   float* bed = st.scratch[1].data();
   float* soil = t.layered ? st.scratch[2].data() : nullptr;
-  ForRows(
-    parallelFor, ny, [&](int j0, int j1) { SlipRows(t, scale, bed, soil, rowMoved, j0, j1); });
+  ForRows(parallelFor,
+    ny,
+    [&](int j0, int j1)
+    { SlipRows(t, scale, bed, st.terrainResidue.data(), soil, rowMoved, j0, j1); });
   std::swap(st.terrain, st.scratch[1]);
   if (t.layered)
   {
@@ -1075,9 +1113,9 @@ ErosionTotals ErosionMeasure(const ErosionState& st)
       {
         continue;
       }
-      b += st.terrain[c];
+      b += static_cast<double>(st.terrain[c]) + st.terrainResidue[c];
       soil += st.soil.empty() ? 0.0 : st.soil[c];
-      d += st.water[c];
+      d += static_cast<double>(st.water[c]) + st.waterResidue[c];
       s += st.sediment[c];
     }
     t.terrain += b * area;

@@ -59,8 +59,11 @@
  * scaled down together); what moves becomes soil at the receiver. Volume is conserved.
  *
  * Arithmetic: float state and float operations (no fused multiply-add, the library is built
- * with -ffp-contract=off), totals in double; every cell and every reduction in a fixed order,
- * so the same bits on every run and for any ParallelFor split.
+ * with -ffp-contract=off), totals in double. The bed and the water carry their rounding error
+ * in a second float (TwoSum compensation): a float bed of 1000 m has a 61 micrometre spacing,
+ * larger than many steps' erosion, and a full cell's slow leak to its neighbour is below half
+ * its spacing; plain float would lose both, compensated they add up. Every cell and every
+ * reduction in a fixed order, so the same bits on every run and for any ParallelFor split.
  *
  * @par Correctness
  * Testing/Unit/TestErosion.cxx (suite TerroirErosionCore): a hand-worked 3x3 flux step; dam
@@ -146,11 +149,15 @@ struct ErosionState
 {
   int nx = 0;
   int ny = 0;
-  std::vector<double> rowDx;             ///< ny east-west spacings, metres
-  std::vector<double> rowDy;             ///< ny north-south spacings, metres
-  std::vector<std::uint8_t> valid;       ///< nx*ny, 1 valid, 0 no data (empty: all valid)
-  std::vector<float> terrain;            ///< b: bed height (rock + soil), m
-  std::vector<float> original;           ///< the bed at the start (Weiss eq. 24 and his cap), m
+  std::vector<double> rowDx;       ///< ny east-west spacings, metres
+  std::vector<double> rowDy;       ///< ny north-south spacings, metres
+  std::vector<std::uint8_t> valid; ///< nx*ny, 1 valid, 0 no data (empty: all valid)
+  std::vector<float> terrain;      ///< b: bed height (rock + soil), m
+  std::vector<float> original;     ///< the bed at the start (Weiss eq. 24 and his cap), m
+  /// Rounding residues: the bed is terrain + terrainResidue and the water water + waterResidue
+  /// (about 1e-7 of the value; kept so that small changes add up, see the file comment).
+  /// ErosionMeasure includes them; zero them after editing terrain or water by hand.
+  std::vector<float> terrainResidue, waterResidue;
   std::vector<float> soil;               ///< soil thickness over rock, m (empty: one material)
   std::vector<float> water;              ///< d: water depth, m
   std::vector<float> sediment;           ///< s: suspended sediment, m (height of bed it would make)
