@@ -873,6 +873,10 @@ TEST(TerroirErosionCore, ParametersAreChecked)
   tr::ThermalParams t;
   t.talusSoilDeg = 90.0;
   EXPECT_THROW(tr::ErosionThermalStep(st, t), std::invalid_argument);
+  tr::ErosionState broken = st;
+  broken.water.resize(3);
+  EXPECT_THROW(tr::ErosionHydraulicStep(broken, tr::ErosionParams{}), std::invalid_argument);
+  EXPECT_THROW(tr::ErosionThermalStep(broken, tr::ThermalParams{}), std::invalid_argument);
   std::vector<float> negative(16, -1.0f);
   EXPECT_THROW(MakeState(
                  4, 4, [](int, int) { return 0.0f; }, 1.0, &negative),

@@ -850,6 +850,52 @@ void SlipRows(const ThermalContext& t,
   }
 }
 
+/// Throws std::invalid_argument when an array of the state does not have nx*ny entries (or
+/// rowDx/rowDy ny), e.g. a state built by hand.
+void CheckState(const ErosionState& st)
+{
+  Require(st.nx > 0 && st.ny > 0, "grid size nx*ny", static_cast<double>(st.nx) * st.ny, "> 0");
+  Require(st.rowDx.size() == static_cast<std::size_t>(st.ny),
+    "rowDx size",
+    static_cast<double>(st.rowDx.size()),
+    "ny");
+  Require(st.rowDy.size() == static_cast<std::size_t>(st.ny),
+    "rowDy size",
+    static_cast<double>(st.rowDy.size()),
+    "ny");
+  const std::size_t n = st.Size();
+  const std::pair<const char*, std::size_t> sizes[] = { { "terrain", st.terrain.size() },
+    { "original", st.original.size() },
+    { "terrainResidue", st.terrainResidue.size() },
+    { "waterResidue", st.waterResidue.size() },
+    { "water", st.water.size() },
+    { "sediment", st.sediment.size() },
+    { "fluxW", st.fluxW.size() },
+    { "fluxE", st.fluxE.size() },
+    { "fluxS", st.fluxS.size() },
+    { "fluxN", st.fluxN.size() },
+    { "velocityU", st.velocityU.size() },
+    { "velocityV", st.velocityV.size() },
+    { "scratchKind", st.scratchKind.size() } };
+  for (const auto& s : sizes)
+  {
+    Require(
+      s.second == n, s.first, static_cast<double>(s.second), "of size nx*ny (MakeErosionState)");
+  }
+  for (const std::vector<float>& a : st.scratch)
+  {
+    Require(a.size() == n, "scratch", static_cast<double>(a.size()), "of size nx*ny");
+  }
+  Require(st.soil.empty() || st.soil.size() == n,
+    "soil",
+    static_cast<double>(st.soil.size()),
+    "empty or of size nx*ny");
+  Require(st.valid.empty() || st.valid.size() == n,
+    "valid",
+    static_cast<double>(st.valid.size()),
+    "empty or of size nx*ny");
+}
+
 } // namespace
 
 void CheckErosionParams(const ErosionParams& p)
@@ -986,6 +1032,7 @@ ErosionStepStats ErosionHydraulicStep(ErosionState& st,
   const ErosionParallelFor& parallelFor)
 {
   CheckErosionParams(params);
+  CheckState(st);
   const HydraulicContext h(st, params);
   const int ny = st.ny;
   ErosionStepStats stats;
@@ -1073,6 +1120,7 @@ ThermalStepStats ErosionThermalStep(ErosionState& st,
   const ErosionParallelFor& parallelFor)
 {
   CheckThermalParams(params);
+  CheckState(st);
   const ThermalContext t(st, params);
   const int ny = st.ny;
   std::vector<double> rowExcess(ny, 0.0);

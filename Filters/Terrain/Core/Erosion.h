@@ -217,6 +217,8 @@ using ErosionParallelFor =
  *                        multiplying K_e, or nullptr for 1
  * @param[in] parallelFor row scheduler, or empty to run the rows in order
  * @return the volumes moved (for mass balances)
+ * @throws std::invalid_argument for a parameter out of range or a state whose arrays do not
+ *         have nx*ny entries
  * @post water, sediment and soil >= 0
  */
 ErosionStepStats ErosionHydraulicStep(ErosionState& state,
@@ -237,6 +239,7 @@ struct ThermalStepStats
  * @param[in,out] state  terrain (and soil, if any) are updated; water and sediment untouched
  * @param[in] params     talus angles and rate; checked (std::invalid_argument)
  * @param[in] parallelFor row scheduler, or empty
+ * @throws std::invalid_argument as ErosionHydraulicStep
  * @post every valid cell's bed changes by what its neighbours give minus what it gives; no-data
  *       cells take no part; soil >= 0
  */
