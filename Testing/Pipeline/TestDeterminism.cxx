@@ -17,6 +17,7 @@
 #include "vtkSMPTools.h"
 #include "vtkTable.h"
 #include "vtkTerroirDEMReader.h"
+#include "vtkTerroirErosion.h"
 #include "vtkTerroirFeatureCurveTerrain.h"
 #include "vtkTerroirFloodFill.h"
 #include "vtkTerroirFlowAccumulation.h"
@@ -374,6 +375,18 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
         f->SetSeed(9);
         f->Update();
         return PolyBytes(f->GetOutput());
+      } },
+    { "vtkTerroirErosion",
+      []
+      {
+        // 40 steps of water, erosion and soil slip on the terrain with holes (rows in parallel).
+        vtkNew<vtkTerroirErosion> f;
+        f->SetInputData(TerrainWithHoles());
+        f->SetSteps(40);
+        f->SetInitialWater(0.5);
+        f->SetRainRate(5000.0);
+        f->Update();
+        return OutputBytes(f->GetOutput());
       } },
     // new-filter.sh: cases
   };

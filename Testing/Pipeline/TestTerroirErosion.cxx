@@ -1,0 +1,196 @@
+// vtkTerroirErosion: the erosion core (TestErosion.cxx) through its VTK filter. Answers worked
+// out independently: volumes summed here in double, evaporation against the closed form
+// d0 (1 - K_e dt T)^n, the talus slope against tan(33 deg), time steps against fresh runs.
+#include "TerroirFilterTestUtilities.h"
+
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTerroirErosion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace
+{
+/// nx x ny points 2 m apart, heights from `height(i, j)`.
+template<typename F>
+vtkSmartPointer<vtkImageData> Terrain(int nx, int ny, F height)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(nx, ny, 1);
+  image->SetSpacing(2.0, 2.0, 1.0);
+  auto z = vtkSmartPointer<vtkFloatArray>::New();
+  z->SetName("Elevation");
+  for (int j = 0; j < ny; ++j)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      z->InsertNextValue(static_cast<float>(height(i, j)));
+    }
+  }
+  image->GetPointData()->AddArray(z);
+  return image;
+}
+
+double Sum(vtkImageData* image, const char* name)
+{
+  vtkDataArray* a = image->GetPointData()->GetArray(name);
+  double total = 0.0;
+  for (vtkIdType k = 0; a && k < a->GetNumberOfTuples(); ++k)
+  {
+    total += a->GetComponent(k, 0);
+  }
+  return total;
+}
+
+vtkSmartPointer<vtkImageData> Erode(vtkImageData* in,
+  int steps,
+  std::string* errors = nullptr,
+  double timeStep = 0.01)
+{
+  vtkNew<vtkTerroirErosion> f;
+  vtkNew<terroir_test::ErrorObserver> observer;
+  f->AddObserver(vtkCommand::ErrorEvent, observer);
+  f->SetInputData(in);
+  f->SetSteps(steps);
+  f->SetInitialWater(0.2);
+  f->SetTimeStep(timeStep);
+  f->Update();
+  if (errors)
+  {
+    *errors = observer->Errors;
+  }
+  auto out = vtkSmartPointer<vtkImageData>::New();
+  out->ShallowCopy(f->GetOutput());
+  return out;
+}
+} // namespace
+
+// Hills on a closed domain, 300 steps with soil slip: the bed plus the suspended sediment keep
+// the terrain's volume (summed here from the input heights) to 1e-6 relative, the water its
+// 0.2 m x area less what evaporated (field data), and material moved (the test is not empty).
+TEST(TerroirErosion, ConservesMaterialAndWaterOnAClosedDomain)
+{
+  vtkSmartPointer<vtkImageData> in = Terrain(48,
+    40,
+    [](int i, int j) { return 100.0 + 3.0 * std::sin(0.3 * i) * std::cos(0.25 * j) + 0.05 * i; });
+  vtkSmartPointer<vtkImageData> out = Erode(in, 300);
+  const double cell = 4.0; // m^2
+  const double before = Sum(in, "Elevation") * cell;
+  const double after = (Sum(out, "ErodedElevation") + Sum(out, "SuspendedSediment")) * cell;
+  EXPECT_NEAR(after, before, 1e-6 * before);
+  vtkDataArray* volumes = out->GetFieldData()->GetArray("ErosionVolumes");
+  ASSERT_NE(volumes, nullptr);
+  const double eroded = volumes->GetComponent(0, 0);
+  const double evaporated = volumes->GetComponent(0, 3);
+  EXPECT_GT(eroded, 1.0); // m^3 taken into suspension over the steps
+  const double water = Sum(out, "ErosionWaterDepth") * cell;
+  EXPECT_NEAR(water, 0.2 * 48 * 40 * cell - evaporated, 1e-5 * water);
+  EXPECT_EQ(out->GetFieldData()->GetArray("ErosionSteps")->GetComponent(0, 0), 300);
+}
+
+// A flat terrain under still water: nothing flows or erodes; the water evaporates as
+// d0 (1 - K_e dt T)^n: T = 1 without a temperature, and from the mean of a 12-month
+// Temperature array, (mean - 0) / 30 clamped: 30 degC and more evaporates fully (T = 1), 15 degC
+// half as fast, 0 degC and less not at all.
+TEST(TerroirErosion, EvaporationFollowsTheTemperature)
+{
+  const int n = 200;
+  vtkSmartPointer<vtkImageData> flat = Terrain(8, 8, [](int, int) { return 5.0; });
+  const auto expected = [&](double t) { return 0.2 * std::pow(1.0 - 0.005 * 0.01 * t, n); };
+  vtkSmartPointer<vtkImageData> out = Erode(flat, n);
+  EXPECT_NEAR(
+    out->GetPointData()->GetArray("ErosionWaterDepth")->GetComponent(10, 0), expected(1.0), 1e-6);
+  EXPECT_EQ(Sum(out, "ErosionDepth"), 0.0);
+  for (double degC : { 45.0, 15.0, -5.0 })
+  {
+    vtkSmartPointer<vtkImageData> in = Terrain(8, 8, [](int, int) { return 5.0; });
+    auto temperature = vtkSmartPointer<vtkFloatArray>::New();
+    temperature->SetName("Temperature");
+    temperature->SetNumberOfComponents(12);
+    temperature->SetNumberOfTuples(64);
+    temperature->FillValue(static_cast<float>(degC));
+    in->GetPointData()->AddArray(temperature);
+    const double t = std::min(1.0, std::max(0.0, degC / 30.0));
+    out = Erode(in, n);
+    EXPECT_NEAR(
+      out->GetPointData()->GetArray("ErosionWaterDepth")->GetComponent(27, 0), expected(t), 1e-6)
+      << degC << " degC";
+  }
+  // The closed form differs between the three (the test can tell them apart).
+  EXPECT_GT(expected(0.0) - expected(1.0), 1e-4);
+}
+
+// A spike 10 m above a flat plain, without water: soil slip alone brings every slope to the
+// talus angle (33 deg; 2 m cells, so at most 2 tan(33 deg) + a small excess between
+// neighbours) and keeps the volume.
+TEST(TerroirErosion, SoilSlipReachesTheTalusAngle)
+{
+  vtkSmartPointer<vtkImageData> in =
+    Terrain(21, 21, [](int i, int j) { return i == 10 && j == 10 ? 10.0 : 0.0; });
+  vtkNew<vtkTerroirErosion> f;
+  f->SetInputData(in);
+  f->SetInitialWater(0.0);
+  f->SetSteps(400);
+  f->Update();
+  vtkImageData* out = f->GetOutput();
+  vtkDataArray* b = out->GetPointData()->GetArray("ErodedElevation");
+  double steepest = 0.0;
+  for (int j = 0; j + 1 < 21; ++j)
+  {
+    for (int i = 0; i + 1 < 21; ++i)
+    {
+      const double h = b->GetComponent(j * 21 + i, 0);
+      steepest = std::max(steepest, std::abs(h - b->GetComponent(j * 21 + i + 1, 0)) / 2.0);
+      steepest = std::max(steepest, std::abs(h - b->GetComponent((j + 1) * 21 + i, 0)) / 2.0);
+    }
+  }
+  EXPECT_LE(steepest, std::tan(33.0 * M_PI / 180.0) + 0.01);
+  EXPECT_LT(b->GetComponent(10 * 21 + 10, 0), 5.0); // the spike came down
+  EXPECT_NEAR(Sum(out, "ErodedElevation"), 10.0, 1e-4);
+}
+
+// A VTK time request gives the state after that many steps: the same bits as a fresh run with
+// Steps set to it, before and after a later time was computed (the cache continues or restarts).
+TEST(TerroirErosion, TimeStepsEqualFreshRuns)
+{
+  vtkSmartPointer<vtkImageData> in =
+    Terrain(24, 20, [](int i, int j) { return 50.0 + 2.0 * std::sin(0.4 * i + 0.2 * j); });
+  vtkNew<vtkTerroirErosion> f;
+  f->SetInputData(in);
+  f->SetSteps(80);
+  f->SetInitialWater(0.2);
+  for (double t : { 30.0, 70.0, 30.0 })
+  {
+    f->UpdateTimeStep(t);
+    vtkSmartPointer<vtkImageData> fresh = Erode(in, static_cast<int>(t));
+    vtkDataArray* a = f->GetOutput()->GetPointData()->GetArray("ErodedElevation");
+    vtkDataArray* b = fresh->GetPointData()->GetArray("ErodedElevation");
+    for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
+    {
+      ASSERT_EQ(a->GetComponent(k, 0), b->GetComponent(k, 0)) << "t " << t << " cell " << k;
+    }
+    EXPECT_EQ(f->GetOutput()->GetFieldData()->GetArray("ErosionSteps")->GetComponent(0, 0), t);
+  }
+}
+
+// Bad parameters: one clear line, an empty output.
+TEST(TerroirErosion, Errors)
+{
+  vtkSmartPointer<vtkImageData> in = Terrain(8, 8, [](int, int) { return 1.0; });
+  std::string errors;
+  vtkSmartPointer<vtkImageData> out = Erode(in, 5, &errors, -1.0);
+  EXPECT_EQ(out->GetNumberOfPoints(), 0);
+  EXPECT_NE(errors.find("timeStep"), std::string::npos) << errors;
+}
