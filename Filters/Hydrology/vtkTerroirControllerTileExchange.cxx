@@ -9,6 +9,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTerroirImageAlgorithm.h"
 
+#include <new>
 #include <stdexcept>
 
 //------------------------------------------------------------------------------
@@ -90,6 +91,25 @@ void vtkTerroirControllerTileExchange::Check(int ok)
   {
     throw std::runtime_error("an MPI gather or scatter failed");
   }
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirControllerTileExchange::Run(const std::function<void()>& job, std::string& error)
+{
+  try
+  {
+    job();
+  }
+  catch (const std::bad_alloc&)
+  {
+    throw;
+  }
+  catch (const std::exception& x)
+  {
+    error = x.what();
+    return false;
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------

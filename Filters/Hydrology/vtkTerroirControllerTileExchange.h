@@ -15,6 +15,8 @@
 #include "DistributedPriorityFlood.h"
 #include "GridView.h"
 
+#include <functional>
+#include <string>
 #include <vector>
 
 class vtkImageData;
@@ -39,6 +41,10 @@ public:
   static terroir::hydrology::DistributedFillInput TileInput(vtkInformation* outInfo,
     vtkImageData* input,
     const terroir::GridView<float>& view);
+
+  /// Runs `job` (a call of a distributed core); false, with the exception's message in
+  /// `error`, when it throws (std::bad_alloc goes on to the base class, which reports it).
+  static bool Run(const std::function<void()>& job, std::string& error);
 
 private:
   static void Check(int ok);

@@ -441,25 +441,23 @@ bool vtkTerroirFloodFill::RunInPieces(vtkImageData* input,
   options.minimumArea = this->MinimumArea;
   options.includeFlatSurfaces = this->IncludeFlatSurfaces;
   vtkTerroirControllerTileExchange exchange(controller);
-  try
+  std::string error;
+  const bool ok = vtkTerroirControllerTileExchange::Run(
+    [&]
+    {
+      hy::DistributedFillResult result = seeds
+        ? hy::FloodFillSeedsDistributed(in, *seeds, exchange)
+        : hy::FillDepressionsDistributed(in, options, exchange);
+      std::copy(result.bodyId.begin(), result.bodyId.end(), ids);
+      std::copy(result.depth.begin(), result.depth.end(), depth);
+      bodies = std::move(result.bodies);
+    },
+    error);
+  if (!ok)
   {
-    hy::DistributedFillResult result = seeds
-      ? hy::FloodFillSeedsDistributed(in, *seeds, exchange)
-      : hy::FillDepressionsDistributed(in, options, exchange);
-    std::copy(result.bodyId.begin(), result.bodyId.end(), ids);
-    std::copy(result.depth.begin(), result.depth.end(), depth);
-    bodies = std::move(result.bodies);
+    vtkErrorMacro(<< this->SourcePrefix(input) << error);
   }
-  catch (const std::bad_alloc&)
-  {
-    throw;
-  }
-  catch (const std::exception& x)
-  {
-    vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
-    return false;
-  }
-  return true;
+  return ok;
 #else
   (void)view;
   (void)seeds;

@@ -325,32 +325,30 @@ bool vtkTerroirFlowAccumulation::AccumulateInPieces(vtkImageData* input,
   hy::DistributedFlowOptions options;
   options.weight = weight;
   options.weightScale = 1e-3; // mm -> m
-  try
-  {
-    const hy::DistributedFlowResult r = hy::D8FlowAccumulationDistributed(
-      vtkTerroirControllerTileExchange::TileInput(outInfo, input, view), options, exchange);
-    vtkDebugMacro(<< r.summary.outlets << " outlets, " << r.summary.flatCells << " flat cells, "
-                  << r.summary.sinks << " sinks; the flats took " << r.flatExchanges
-                  << " exchanges");
-    std::copy(r.filled.begin(), r.filled.end(), filled->GetPointer(0));
-    std::copy(r.direction.begin(), r.direction.end(), direction->GetPointer(0));
-    std::copy(r.cells.begin(), r.cells.end(), cells->GetPointer(0));
-    std::copy(r.area.begin(), r.area.end(), area->GetPointer(0));
-    if (volume)
+  std::string error;
+  const bool ok = vtkTerroirControllerTileExchange::Run(
+    [&]
     {
-      std::copy(r.weighted.begin(), r.weighted.end(), volume->GetPointer(0));
-    }
-  }
-  catch (const std::bad_alloc&)
+      const hy::DistributedFlowResult r = hy::D8FlowAccumulationDistributed(
+        vtkTerroirControllerTileExchange::TileInput(outInfo, input, view), options, exchange);
+      vtkDebugMacro(<< r.summary.outlets << " outlets, " << r.summary.flatCells << " flat cells, "
+                    << r.summary.sinks << " sinks; the flats took " << r.flatExchanges
+                    << " exchanges");
+      std::copy(r.filled.begin(), r.filled.end(), filled->GetPointer(0));
+      std::copy(r.direction.begin(), r.direction.end(), direction->GetPointer(0));
+      std::copy(r.cells.begin(), r.cells.end(), cells->GetPointer(0));
+      std::copy(r.area.begin(), r.area.end(), area->GetPointer(0));
+      if (volume)
+      {
+        std::copy(r.weighted.begin(), r.weighted.end(), volume->GetPointer(0));
+      }
+    },
+    error);
+  if (!ok)
   {
-    throw;
+    vtkErrorMacro(<< this->SourcePrefix(input) << error);
   }
-  catch (const std::exception& x)
-  {
-    vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
-    return false;
-  }
-  return true;
+  return ok;
 #else
   (void)view;
   (void)weight;

@@ -793,22 +793,20 @@ bool vtkTerroirWaterFlow::StillWaterInPieces(vtkImageData* input,
   hy::DistributedFillInput in = vtkTerroirControllerTileExchange::TileInput(outInfo, input, v);
   in.reach += 1; // the 2 + g rings whose water every iteration reads (TileInput gives 1 + g)
   vtkDebugMacro(<< "still water in pieces: " << hy::kPriorityFloodBarnes2016Citation);
-  try
+  std::string error;
+  const bool ok = vtkTerroirControllerTileExchange::Run(
+    [&]
+    {
+      hy::DistributedFillResult r = hy::FillDepressionsDistributed(in, options, exchange);
+      spill = std::move(r.filled);
+      ids = std::move(r.bodyId);
+    },
+    error);
+  if (!ok)
   {
-    hy::DistributedFillResult r = hy::FillDepressionsDistributed(in, options, exchange);
-    spill = std::move(r.filled);
-    ids = std::move(r.bodyId);
+    vtkErrorMacro(<< this->SourcePrefix(input) << error);
   }
-  catch (const std::bad_alloc&)
-  {
-    throw;
-  }
-  catch (const std::exception& x)
-  {
-    vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
-    return false;
-  }
-  return true;
+  return ok;
 #else
   (void)v;
   (void)options;
