@@ -2,7 +2,7 @@
 # The benchmarks at a tiny size, so that they cannot rot unseen (CTest label `benchmarks`; the
 # timings mean nothing at this size): `terroir bench` on every stage and backend, and every
 # script of this folder (gdaldem, scikit-learn, the k-means core, RiverLand, GRASS, the outputs of
-# terroir run, the big-DEM memory run, and with an X display the scripted viewer session), each
+# terroir run, the big-DEM memory run, erosion against real landscapes, and with an X display the scripted viewer session), each
 # must run and write its results.
 #   Testing/Benchmarks/smoke.sh BUILD_DIR SCRATCH_DIR
 set -euo pipefail
@@ -38,6 +38,9 @@ bash "$here/Testing/Benchmarks/run_outputs.sh" "$build" 64 >"$scratch/run_output
 grep -q "all identical" "$scratch/run_outputs.log" || { cat "$scratch/run_outputs.log"; exit 1; }
 bash "$here/Testing/Benchmarks/big_dem.sh" "$build" 64 >"$scratch/big_dem.log"
 grep -q "memory check" "$scratch/big_dem.log" || { cat "$scratch/big_dem.log"; exit 1; }
+PYTHONPATH="$build/lib/python3/dist-packages" /usr/bin/python3 \
+  "$here/Testing/Benchmarks/erosion_morphometry.py" "$build" "$scratch/erosion" 64 >"$scratch/erosion.log"
+grep -q "fractal eroded" "$scratch/erosion.log" || { cat "$scratch/erosion.log"; exit 1; }
 if [ -n "${DISPLAY:-}" ]; then
   /usr/bin/python3 "$here/Testing/Benchmarks/viewer_session.py" --build "$build" \
     --flow-iterations 10 --size 640x480 --skip-full --json "$scratch/viewer_session.json" \
