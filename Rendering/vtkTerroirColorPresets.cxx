@@ -47,6 +47,7 @@ const PresetInfo Presets[] = {
   { "WaterBodies", "WaterDepth", "m", "Lake depth", false, { 0, 0 } },
   { "RiverComparison", "RiverComparison", "", "Rivers", true, { 0.0, 3.0 } },
   { "Rivers", "RiverNetwork", "", "Rivers and lakes", true, { 0.0, 2.0 } },
+  { "Erosion", "ErosionDepth", "m", "Erosion (-) / deposition (+)", false, { 0, 0 } },
 };
 constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
 
@@ -330,6 +331,20 @@ void AddRampPoints(vtkColorTransferFunction* ctf,
     ctf->AddRGBPoint(0.0, 0.230, 0.299, 0.754);
     ctf->AddRGBPoint(mid, 0.865, 0.865, 0.865);
     ctf->AddRGBPoint(1.0, 0.706, 0.016, 0.150);
+  }
+  else if (name == "Erosion")
+  {
+    // Diverging, the white point at 0 m when the range contains it (else the middle): brown
+    // where the bed lost material, blue-green where it gained (after ColorBrewer's BrBG ends).
+    double mid = 0.5;
+    if (minValue < 0.0 && maxValue > 0.0)
+    {
+      mid = -minValue / (maxValue - minValue);
+    }
+    ctf->SetColorSpaceToDiverging();
+    ctf->AddRGBPoint(0.0, 0.549, 0.318, 0.039);
+    ctf->AddRGBPoint(mid, 0.961, 0.961, 0.961);
+    ctf->AddRGBPoint(1.0, 0.004, 0.400, 0.369);
   }
   else if (name == "Insolation")
   {

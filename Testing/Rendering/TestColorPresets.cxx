@@ -75,6 +75,18 @@ TEST(TerroirColorPresets, TemperatureIsBlueColdWhiteAtZeroRedWarm)
   EXPECT_GT(cold[2], cold[0]);
 }
 
+// Erosion: brown (0.549, 0.318, 0.039) for the most material lost, blue-green (0.004, 0.400,
+// 0.369) for the most gained, near-white (0.961) at 0 m wherever 0 lies in the range.
+TEST(TerroirColorPresets, ErosionIsBrownWhereLostWhiteAtZeroGreenWhereGained)
+{
+  auto lut = Make("Erosion", -3.0, 1.0);
+  ExpectRGBA(lut, -3.0, 140, 81, 10, 255, 1);
+  ExpectRGBA(lut, 1.0, 1, 102, 94, 255, 1);
+  ExpectRGBA(lut, 0.0, 245, 245, 245, 255, 6);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("ErosionDepth"), "Erosion");
+  EXPECT_FALSE(vtkTerroirColorPresets::IsCategorical("Erosion"));
+}
+
 TEST(TerroirColorPresets, ElevationGoesFromGreenToWhite)
 {
   auto lut = Make("Elevation", 1900.0, 2700.0);
@@ -257,7 +269,7 @@ TEST(TerroirColorPresets, NaNMapsToTheNanColor)
 
 TEST(TerroirColorPresets, MetadataAndBadInput)
 {
-  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 13);
+  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 14);
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(0), "Elevation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(6), "Clusters");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(7), "Sunlit");
@@ -265,7 +277,8 @@ TEST(TerroirColorPresets, MetadataAndBadInput)
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(10), "WaterBodies");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(11), "RiverComparison");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(12), "Rivers");
-  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(13), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(13), "Erosion");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(14), nullptr);
   EXPECT_STREQ(vtkTerroirColorPresets::GetMaskArrayName("Rivers"), "RiverNetwork");
   EXPECT_TRUE(vtkTerroirColorPresets::IsCategorical("Rivers"));
   // Rivers: 1 Okabe-Ito blue (0, 114, 178), 2 sky blue (86, 180, 233), annotated.
