@@ -70,6 +70,9 @@ const std::vector<CommandEntry>& CommandEntries()
       "Landscape statistics: hypsometry, slope, drainage density, Horton ratios, Hack's law, "
       "closed depressions",
       MakeMorphometryOptions },
+    { "erosion",
+      "Hydraulic and thermal erosion on the virtual-pipe model (Weiss 2015, Dunn 2015)",
+      MakeErosionOptions },
     // new-filter.sh: commands
     { "view",
       "Interactive window: relief, overlays, sliders, lakes (default: bundled Sagehen DEM)",

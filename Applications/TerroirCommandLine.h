@@ -303,6 +303,19 @@ struct CommandLine
   double MorphometryDepressionDepth = 1e-3; ///< --depression-depth, m
   std::string MorphometryJson;              ///< --json FILE
   std::string MorphometryCsv;               ///< --csv FILE (the per-order Horton table)
+
+  // erosion (vtkTerroirErosion)
+  struct ErosionSettings
+  {
+    int Steps = 100;            ///< --steps N
+    double TimeStep = 0.01;     ///< --time-step S (Weiss's dt)
+    double InitialWater = 0.05; ///< --water M on every cell at the start
+    double RainRate = 0.0;      ///< --rain MM per hour
+    double TalusAngle = 33.0;   ///< --talus DEG
+    int ThermalInterval = 1;    ///< --thermal-interval N (0: no soil slip)
+    double CapacityDepth = 0.0; ///< --capacity-depth M (0: off)
+    std::string SeaLevel;       ///< --sea M: the Sea boundary at this level (empty: Closed)
+  } Erosion;
   // new-filter.sh: options
 };
 

@@ -56,6 +56,7 @@ std::unique_ptr<CommandOptions> MakeInfoOptions();             // InfoOptions.cx
 std::unique_ptr<CommandOptions> MakeFractalOptions();          // FractalOptions.cxx
 std::unique_ptr<CommandOptions> MakeGenerateOptions();         // GenerateOptions.cxx
 std::unique_ptr<CommandOptions> MakeMorphometryOptions();      // MorphometryOptions.cxx
+std::unique_ptr<CommandOptions> MakeErosionOptions();          // ErosionOptions.cxx
 // new-filter.sh: options factories
 
 // ---- helpers the commands' options share (TerroirCommandOptions.cxx) ------------------------

@@ -30,6 +30,7 @@ const std::vector<Command>& Commands()
     { "validate", CommandValidate },
     { "kmeans", CommandKMeans },
     { "morphometry", CommandMorphometry },
+    { "erosion", CommandErosion },
     // new-filter.sh: commands
     { "view", CommandView },
     { "bench", [](const CommandLine& c) { return CommandBench(c); } },

@@ -93,6 +93,7 @@ void vtkTerroirErosion::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Dissolving: " << this->Dissolving << "\n";
   os << indent << "Deposition: " << this->Deposition << "\n";
   os << indent << "Evaporation: " << this->Evaporation << " 1/s\n";
+  os << indent << "CapacityDepth: " << this->CapacityDepth << " m\n";
   os << indent << "TalusAngle: " << this->TalusAngle << " deg\n";
   os << indent << "ThermalInterval: " << this->ThermalInterval << "\n";
   os << indent << "Boundary: " << (this->Boundary == Sea ? "Sea" : "Closed") << "\n";
@@ -128,6 +129,7 @@ std::string vtkTerroirErosion::CheckParameters()
   p.dissolvingRock = this->Dissolving;
   p.deposition = this->Deposition;
   p.evaporation = this->Evaporation;
+  p.capacityDepth = this->CapacityDepth;
   p.boundary = this->Boundary == Sea ? te::ErosionBoundary::Sea : te::ErosionBoundary::Closed;
   p.seaLevel = this->SeaLevel;
   te::ThermalParams t;
@@ -193,6 +195,7 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
   p.dissolvingRock = this->Dissolving;
   p.deposition = this->Deposition;
   p.evaporation = this->Evaporation;
+  p.capacityDepth = this->CapacityDepth;
   p.boundary = this->Boundary == Sea ? te::ErosionBoundary::Sea : te::ErosionBoundary::Closed;
   p.seaLevel = this->SeaLevel;
   te::ThermalParams thermal;

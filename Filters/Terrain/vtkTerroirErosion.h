@@ -23,7 +23,8 @@
  * deposition K_d, semi-Lagrangian sediment transport with Dunn's mass rescaling, evaporation
  * K_e T), each followed by a thermal step (talus TalusAngle) every ThermalInterval steps.
  * Defaults are Weiss's: TimeStep 0.01 s, Capacity 0.5, Dissolving 0.1, Deposition 0.1,
- * Evaporation 0.005 1/s; InitialWater 0.05 m, RainRate 0, Steps 100, TalusAngle 33 deg,
+ * Evaporation 0.005 1/s, CapacityDepth 0 (off: ours, C scaled by min(1, d / CapacityDepth) so
+ * that thin films carry little); InitialWater 0.05 m, RainRate 0, Steps 100, TalusAngle 33 deg,
  * ThermalInterval 1, Boundary Closed (nothing leaves the grid; no-data cells are walls) or Sea
  * (cells at or below SeaLevel, default 0 m, the grid's edge and no-data cells take the water
  * that reaches them). Water and material are conserved on a closed domain (the state carries
@@ -101,6 +102,13 @@ public:
   vtkGetMacro(Evaporation, double);
   ///@}
   ///@{
+  /// Water depth below which the sediment capacity is scaled down, C x min(1, d /
+  /// CapacityDepth), metres (default 0: off, as Weiss; ours: on real DEMs Weiss's capacity,
+  /// which does not depend on the depth, lets a film of water carve metres: try 0.1-1 m).
+  vtkSetMacro(CapacityDepth, double);
+  vtkGetMacro(CapacityDepth, double);
+  ///@}
+  ///@{
   /// Talus angle of thermal erosion, degrees in (0, 90) (default 33).
   vtkSetMacro(TalusAngle, double);
   vtkGetMacro(TalusAngle, double);
@@ -151,6 +159,7 @@ protected:
   double Dissolving = 0.1;
   double Deposition = 0.1;
   double Evaporation = 0.005;
+  double CapacityDepth = 0.0;
   double TalusAngle = 33.0;
   int ThermalInterval = 1;
   int Boundary = Closed;

@@ -439,6 +439,25 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("Horton R_b / R_l", r.stdout)
 
+    def test_erosion_command(self):
+        # The bundled DEM, 20 steps: the printed volumes; OUT .tif is the bed after them, which
+        # differs from the DEM where water ran (a film of 5 cm on Weiss's capacity erodes), and
+        # whose sum moved by less than what was eroded; bad options are one line, exit 2.
+        tif = os.path.join(self.work, "eroded.tif")
+        r = terroir("erosion", DEM, tif, "--steps", "20", "--capacity-depth", "0.5")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertRegex(r.stdout, r"erosion: 20 steps; eroded [0-9.e+]+ m3, deposited")
+        eroded = float(r.stdout.split("eroded ")[1].split(" m3")[0])
+        before, after = read_band(DEM), read_band(tif)
+        self.assertEqual(after.shape, before.shape)
+        self.assertGreater(float(np.abs(after - before).max()), 0.01)
+        self.assertLess(float((before - after).sum()) * 100.0, eroded)  # 10 m cells: 100 m2
+        for bad in (["--sea", "high"], ["--steps", "-1"], ["--talus", "90"]):
+            r = terroir("erosion", DEM, os.path.join(self.work, "x.tif"), *bad)
+            self.assertEqual(r.returncode, 2, bad)  # a usage error
+            self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+            self.assertFalse(os.path.exists(os.path.join(self.work, "x.tif")))
+
     def test_existing_outputs_are_kept_without_overwrite(self):
         out = os.path.join(self.work, "slope.tif")
         with open(out, "w") as f:
