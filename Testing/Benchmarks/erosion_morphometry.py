@@ -15,7 +15,6 @@ import sys
 
 import terroir
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkImagingCore import vtkImageShiftScale
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.util.numpy_support import numpy_to_vtk
