@@ -145,6 +145,26 @@ TEST(TerroirVegetationCore, SpreadsToEmptyNeighbours)
   EXPECT_EQ(st.step, 1u);
 }
 
+TEST(TerroirVegetationCore, ChildWithTwoParentsTakesTheFirstInOrderENWS)
+{
+  // 3x1: parents at i = 0 (w = 0.02) and i = 2 (w = 0.04), the empty child between them;
+  // spreading certain. The east parent comes first: the child gets 0.1 * 0.04 = 0.004 from it,
+  // the east parent keeps 0.036 and the west one all its 0.02 (both grow, capped at 1).
+  tr::VegetationState st = MakeVeg(
+    3,
+    1,
+    [](int i, int) { return i == 1 ? 0.0f : 1.0f; },
+    [](int i, int) { return i == 0 ? 0.02f : (i == 2 ? 0.04f : 0.0f); });
+  std::vector<float> d(3, 0.0f);
+  tr::VegetationParams p;
+  p.spreadRate = 1e9;
+  EXPECT_EQ(tr::VegetationStep(st, Surface(d), 1.0, p).seeded, 1);
+  EXPECT_FLOAT_EQ(st.stored[1], 0.004f);
+  EXPECT_FLOAT_EQ(st.stored[2], 0.036f);
+  EXPECT_FLOAT_EQ(st.stored[0], 0.02f);
+  EXPECT_FLOAT_EQ(st.density[1], 0.05f);
+}
+
 TEST(TerroirVegetationCore, SpreadNeedsWaterDensityAndDryGround)
 {
   tr::VegetationParams p;

@@ -96,14 +96,19 @@ inline std::uint32_t Mix32(std::uint32_t x)
   return x;
 }
 
-/// Uniform float in [0, 1) (24 bits) for the spreading draw of child `cell` from its
-/// neighbour `k` at step `step`.
-inline float Draw(std::uint32_t seed, std::uint64_t step, std::size_t cell, int k)
+/// The hash of (seed, step), once per step: the start of every draw of that step.
+inline std::uint32_t DrawBase(std::uint32_t seed, std::uint64_t step)
 {
   std::uint32_t h = Mix32(seed + 0x9e3779b9U);
   h = Mix32(h ^ static_cast<std::uint32_t>(step));
-  h = Mix32(h ^ static_cast<std::uint32_t>(step >> 32));
-  h = Mix32(h ^ static_cast<std::uint32_t>(cell));
+  return Mix32(h ^ static_cast<std::uint32_t>(step >> 32));
+}
+
+/// Uniform float in [0, 1) (24 bits) for the spreading draw of child `cell` from its
+/// neighbour `k`, from the step's base.
+inline float Draw(std::uint32_t base, std::size_t cell, int k)
+{
+  std::uint32_t h = Mix32(base ^ static_cast<std::uint32_t>(cell));
   h = Mix32(h ^ static_cast<std::uint32_t>(static_cast<std::uint64_t>(cell) >> 32));
   h = Mix32(h ^ static_cast<std::uint32_t>(k));
   return static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
@@ -152,11 +157,11 @@ struct LifeContext : Grid
 {
   float shareK, shareT, seedV, seedW, phi, prob, growth, growW, droughtW, droughtD, drownDepth,
     drownD;
-  std::uint32_t seed;
-  std::uint64_t step;
-  const float* d; ///< surface water after absorption
-  const float* w; ///< stored water after absorption
-  const float* v; ///< density at the step's start
+  std::uint32_t base;        ///< DrawBase(seed, step)
+  const float* d;            ///< surface water after absorption
+  const float* w;            ///< stored water after absorption
+  const float* v;            ///< density at the step's start
+  const std::int8_t* chosen; ///< ChosenParent of every cell (pass 2a)
 
   LifeContext(const VegetationState& state, const VegetationParams& p, double dt)
     : Grid(state)
@@ -172,11 +177,11 @@ struct LifeContext : Grid
     , droughtD(static_cast<float>(p.droughtRate * dt))
     , drownDepth(static_cast<float>(p.drownDepth))
     , drownD(static_cast<float>(p.drownRate * dt))
-    , seed(p.seed)
-    , step(state.step)
+    , base(DrawBase(p.seed, state.step))
     , d(nullptr)
     , w(nullptr)
     , v(nullptr)
+    , chosen(nullptr)
   {
   }
 
@@ -188,8 +193,8 @@ struct LifeContext : Grid
   }
   /// An empty cell that can be seeded.
   bool Child(std::size_t c) const { return this->v[c] == 0.0f && !this->Drowned(c); }
-  /// The neighbour (0-3) that seeds the valid cell (i, j) this step, or -1. Evaluated with the
-  /// same arguments by the child and by each of its parents, so they agree.
+  /// The neighbour (0-3) that seeds the valid cell (i, j) this step, or -1 (pass 2a; the
+  /// child and its parents then read the same answer).
   int ChosenParent(int i, int j) const
   {
     const std::size_t c = this->Index(i, j);
@@ -200,8 +205,7 @@ struct LifeContext : Grid
     for (int k = 0; k < 4; ++k)
     {
       std::size_t n = 0;
-      if (this->Neighbour(i, j, k, n) && this->Parent(n) &&
-        Draw(this->seed, this->step, c, k) < this->prob)
+      if (this->Neighbour(i, j, k, n) && this->Parent(n) && Draw(this->base, c, k) < this->prob)
       {
         return k;
       }
@@ -307,7 +311,20 @@ inline float NewDensity(const LifeContext& x, std::size_t c, int& rule)
   return v;
 }
 
-/// Pass 2 for rows [j0, j1): sharing, spreading, growth and death into wOut, vOut.
+/// Pass 2a for rows [j0, j1): which neighbour seeds each cell (-1: none).
+void ChooseRows(const LifeContext& x, std::int8_t* chosen, int j0, int j1)
+{
+  for (int j = j0; j < j1; ++j)
+  {
+    for (int i = 0; i < x.st.nx; ++i)
+    {
+      const std::size_t c = x.Index(i, j);
+      chosen[c] = static_cast<std::int8_t>(x.st.IsValid(c) ? x.ChosenParent(i, j) : -1);
+    }
+  }
+}
+
+/// Pass 2b for rows [j0, j1): sharing, spreading, growth and death into wOut, vOut.
 void LifeRows(const LifeContext& x, float* wOut, float* vOut, RowSums& sums, int j0, int j1)
 {
   const VegetationState& st = x.st;
@@ -315,19 +332,26 @@ void LifeRows(const LifeContext& x, float* wOut, float* vOut, RowSums& sums, int
   {
     double shared = 0.0, seedWater = 0.0, cover = 0.0;
     long long seeded = 0, counts[4] = { 0, 0, 0, 0 };
+    float ratio[4]; // a_n / a_c of the neighbours in row j + kDj[k]
+    for (int k = 0; k < 4; ++k)
+    {
+      const int jn = std::min(std::max(j + kDj[k], 0), st.ny - 1);
+      ratio[k] = x.area[jn] / x.area[j];
+    }
     for (int i = 0; i < st.nx; ++i)
     {
       const std::size_t c = x.Index(i, j);
       wOut[c] = x.w[c];
       vOut[c] = x.v[c];
-      if (!st.IsValid(c))
+      // Invalid, or empty and not seeded: no sharing, no giving, no receiving.
+      if (!st.IsValid(c) || (x.v[c] <= 0.0f && x.chosen[c] < 0))
       {
         continue;
       }
       const float w = x.w[c];
       float out = 0.0f, in = 0.0f, given = 0.0f;
       const bool parent = x.Parent(c);
-      const int chosen = x.ChosenParent(i, j);
+      const int chosen = x.chosen[c];
       for (int k = 0; k < 4; ++k)
       {
         std::size_t n = 0;
@@ -335,19 +359,18 @@ void LifeRows(const LifeContext& x, float* wOut, float* vOut, RowSums& sums, int
         {
           continue;
         }
-        const float ratio = x.area[j + kDj[k]] / x.area[j];
         if (x.v[c] > 0.0f && x.v[n] > 0.0f)
         {
           out += x.Share(w, x.w[n]);
-          in += x.Share(x.w[n], w) * ratio;
+          in += x.Share(x.w[n], w) * ratio[k];
         }
-        if (parent && x.ChosenParent(i + kDi[k], j + kDj[k]) == (k + 2) % 4)
+        if (parent && x.chosen[n] == (k + 2) % 4)
         {
           given += x.phi * w;
         }
         if (k == chosen)
         {
-          in += (x.phi * x.w[n]) * ratio;
+          in += (x.phi * x.w[n]) * ratio[k];
           seedWater += static_cast<double>(x.phi * x.w[n]) * x.area[j + kDj[k]];
         }
       }
@@ -514,6 +537,7 @@ VegetationState MakeVegetationState(const GridView<float>& density, const float*
   {
     a.assign(n, 0.0f);
   }
+  st.scratchChosen.assign(n, -1);
   return st;
 }
 
@@ -536,6 +560,10 @@ VegetationStepStats VegetationStep(VegetationState& st,
   x.d = water.surface;
   x.w = absorbed;
   x.v = st.density.data();
+  st.scratchChosen.resize(st.Size());
+  std::int8_t* chosen = st.scratchChosen.data();
+  ForRows(parallelFor, st.ny, [&](int j0, int j1) { ChooseRows(x, chosen, j0, j1); });
+  x.chosen = chosen;
   float* vNew = st.scratch[1].data();
   float* wNew = st.stored.data();
   ForRows(parallelFor, st.ny, [&](int j0, int j1) { LifeRows(x, wNew, vNew, sums, j0, j1); });

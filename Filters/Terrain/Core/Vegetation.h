@@ -12,12 +12,13 @@
  * density v in [0, 1] (section 3.4) and stored water w (m). A cell with v = 0 is empty.
  *
  * VegetationStep (Dunn section 3.4, functions ComputeVegetationWaterAbsorption and
- * ComputeGrowthAndSpread of his Table 4.3). Two passes, each reading only the previous pass's
+ * ComputeGrowthAndSpread of his Table 4.3). Passes that each read only the previous pass's
  * arrays (Jacobi, ping-pong), so the order of the cells does not matter:
  * 1. Absorption: vegetation takes water out of the surface water d (and then, where given, out
  *    of a soil-water layer) into its store: up to U = r_a v dt (m), at most S - w (ours: Dunn
  *    gives no rate; uptake in proportion to density, store capped at S).
- * 2. Sharing, spreading, growth and death, all decided on the values after pass 1:
+ * 2. Sharing, spreading, growth and death, all decided on the values after pass 1 (pass 2a
+ *    picks each empty cell's seeding parent, pass 2b applies the rules):
  *    - sharing: a vegetated cell with w above T_share passes q = (k_s dt / 4) max(0,
  *      min(w - T_share, w - w_n)) to each vegetated 4-neighbour n (Dunn: "if there is
  *      sufficient water ... it can pass some of it on to neighbouring cells"; the linear law
@@ -162,13 +163,14 @@ struct VegetationState
 {
   int nx = 0;
   int ny = 0;
-  std::vector<double> rowDx;       ///< ny east-west spacings, m
-  std::vector<double> rowDy;       ///< ny north-south spacings, m
-  std::vector<std::uint8_t> valid; ///< nx*ny, 1 valid, 0 no data or sea (empty: all valid)
-  std::vector<float> density;      ///< v in [0, 1]
-  std::vector<float> stored;       ///< w, m of water held by the vegetation
-  std::uint64_t step = 0;          ///< steps taken: the counter of the spreading draws
-  std::vector<float> scratch[2];   ///< ping-pong buffers (contents undefined)
+  std::vector<double> rowDx;              ///< ny east-west spacings, m
+  std::vector<double> rowDy;              ///< ny north-south spacings, m
+  std::vector<std::uint8_t> valid;        ///< nx*ny, 1 valid, 0 no data or sea (empty: all valid)
+  std::vector<float> density;             ///< v in [0, 1]
+  std::vector<float> stored;              ///< w, m of water held by the vegetation
+  std::uint64_t step = 0;                 ///< steps taken: the counter of the spreading draws
+  std::vector<float> scratch[2];          ///< ping-pong buffers (contents undefined)
+  std::vector<std::int8_t> scratchChosen; ///< per-cell seeding parent during a step (undefined)
 
   std::size_t Size() const { return static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny); }
   bool IsValid(std::size_t c) const { return valid.empty() || valid[c] != 0; }
