@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -633,6 +634,62 @@ TEST(TerroirVegetationCore, AnyRowSplitGivesTheSameBits)
   EXPECT_EQ(a.residue, b.residue);
   EXPECT_EQ(a.soil, b.soil);
   EXPECT_EQ(va, vb);
+}
+
+TEST(TerroirVegetationCore, CouplesWithErosionOnOneTimeStep)
+{
+  // The coupling a filter does on each time step: ErosionHydraulicStep (its evaporation off),
+  // VegetationStep on the state's water and residue, the per-cell talus factors (which the
+  // thermal step does not take yet: it has one talus per material), soil slip, slip damage. On a
+  // closed bowl the water in the flow plus the water held by vegetation is conserved (1e-6 relative
+  // over 300 steps), and vegetation took some of it.
+  const int n = 24;
+  std::vector<float> z(static_cast<std::size_t>(n) * n);
+  for (int j = 0; j < n; ++j)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      const float x = i - 11.5f, y = j - 11.5f;
+      z[static_cast<std::size_t>(j) * n + i] = 0.01f * (x * x + y * y) + 0.3f * std::sin(0.7f * i);
+    }
+  }
+  GridView<float> view;
+  view.data = z.data();
+  view.nx = n;
+  view.ny = n;
+  view.dx = view.dy = 2.0;
+  tr::ErosionState flow = tr::MakeErosionState(view);
+  std::fill(flow.water.begin(), flow.water.end(), 0.05f);
+  GridView<float> none = view;
+  none.data = nullptr;
+  tr::VegetationState veg = tr::MakeVegetationState(none);
+  for (std::size_t c = 0; c < veg.Size(); ++c)
+  {
+    veg.density[c] = (c % 3 == 0) ? 0.8f : 0.0f;
+  }
+  tr::ErosionParams ep;
+  ep.evaporation = 0.0;
+  tr::VegetationParams vp;
+  tr::VegetationWater water;
+  water.surface = flow.water.data();
+  water.surfaceResidue = flow.waterResidue.data();
+  const double total0 = tr::ErosionMeasure(flow).water + tr::VegetationMeasure(veg).stored;
+  std::vector<float> talus(veg.Size()), before;
+  double absorbed = 0.0;
+  for (int step = 0; step < 300; ++step)
+  {
+    tr::ErosionHydraulicStep(flow, ep);
+    absorbed += tr::VegetationStep(veg, water, ep.timeStep, vp).absorbedSurface;
+    tr::VegetationResistance(veg, vp, nullptr, talus.data());
+    before = flow.terrain;
+    tr::ErosionThermalStep(flow, tr::ThermalParams());
+    tr::VegetationSlipDamage(veg, before.data(), flow.terrain.data(), vp);
+  }
+  const double total1 = tr::ErosionMeasure(flow).water + tr::VegetationMeasure(veg).stored;
+  EXPECT_NEAR(total1, total0, 1e-6 * total0);
+  EXPECT_NEAR(tr::VegetationMeasure(veg).stored, absorbed, 1e-6 * absorbed);
+  EXPECT_GT(absorbed, 0.01 * total0);
+  EXPECT_GE(*std::min_element(talus.begin(), talus.end()), 1.0f);
 }
 
 /// Expects fn to throw std::invalid_argument whose message names `name`.
