@@ -289,6 +289,7 @@ struct VegetationTotals
   double cover = 0.0;  ///< sum of v a, m^2
   double stored = 0.0; ///< sum of w a, m^3
 };
+/// Area-weighted totals of `state` (valid cells only); throws as VegetationStep for a bad state.
 VegetationTotals VegetationMeasure(const VegetationState& state);
 
 /// Throws std::invalid_argument naming the first parameter out of its range.
