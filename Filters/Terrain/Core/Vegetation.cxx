@@ -350,7 +350,9 @@ void LifeRows(const LifeContext& x, float* wOut, float* vOut, RowSums& sums, int
       }
       const float w = x.w[c];
       float out = 0.0f, in = 0.0f, given = 0.0f;
+      const bool vegetated = x.v[c] > 0.0f;
       const bool parent = x.Parent(c);
+      const float gift = x.phi * w;
       const int chosen = x.chosen[c];
       for (int k = 0; k < 4; ++k)
       {
@@ -359,19 +361,18 @@ void LifeRows(const LifeContext& x, float* wOut, float* vOut, RowSums& sums, int
         {
           continue;
         }
-        if (x.v[c] > 0.0f && x.v[n] > 0.0f)
-        {
-          out += x.Share(w, x.w[n]);
-          in += x.Share(x.w[n], w) * ratio[k];
-        }
-        if (parent && x.chosen[n] == (k + 2) % 4)
-        {
-          given += x.phi * w;
-        }
+        // Selects rather than branches (random patterns mispredict); adding 0 changes nothing.
+        const float wn = x.w[n];
+        const bool both = vegetated && x.v[n] > 0.0f;
+        const float o = x.Share(w, wn);
+        const float r = x.Share(wn, w) * ratio[k];
+        out += both ? o : 0.0f;
+        in += both ? r : 0.0f;
+        given += (parent && x.chosen[n] == (k + 2) % 4) ? gift : 0.0f;
         if (k == chosen)
         {
-          in += (x.phi * x.w[n]) * ratio[k];
-          seedWater += static_cast<double>(x.phi * x.w[n]) * x.area[j + kDj[k]];
+          in += (x.phi * wn) * ratio[k];
+          seedWater += static_cast<double>(x.phi * wn) * x.area[j + kDj[k]];
         }
       }
       shared += static_cast<double>(out) * x.area[j];
