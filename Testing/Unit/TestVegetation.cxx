@@ -780,9 +780,9 @@ TEST(TerroirVegetationCore, RejectsBadParameters)
 // Throughput of the CPU core at 1024^2 (one thread, plain loops). Not a test: run with
 // --gtest_also_run_disabled_tests --gtest_filter=*Vegetation*Throughput*; nothing is asserted
 // on time.
-TEST(TerroirVegetationCore, DISABLED_Throughput1024)
+/// Steps per second of VegetationStep and EvaporationDunn2015Step on `world` (20 steps each).
+void Time(const char* name, RandomWorld& world)
 {
-  RandomWorld world(1024, 1024, 3);
   tr::VegetationParams p;
   tr::EvaporationParams e;
   using Clock = std::chrono::steady_clock;
@@ -799,11 +799,34 @@ TEST(TerroirVegetationCore, DISABLED_Throughput1024)
     tr::EvaporationDunn2015Step(world.st, world.Water(), 0.02, p, e);
   }
   auto t2 = Clock::now();
-  const double cells = 1024.0 * 1024.0 * steps;
+  const double cells = static_cast<double>(world.st.Size()) * steps;
   const double vs = std::chrono::duration<double>(t1 - t0).count();
   const double es = std::chrono::duration<double>(t2 - t1).count();
-  std::printf("vegetation:  %.1f steps/s, %.3g cells*steps/s\n", steps / vs, cells / vs);
-  std::printf("evaporation: %.1f steps/s, %.3g cells*steps/s\n", steps / es, cells / es);
+  std::printf("%s vegetation:  %.1f steps/s, %.3g cells*steps/s\n", name, steps / vs, cells / vs);
+  std::printf("%s evaporation: %.1f steps/s, %.3g cells*steps/s\n", name, steps / es, cells / es);
+}
+
+// Throughput of the CPU core at 1024^2 (one thread, plain loops) on white noise (a third of the
+// cells empty at random: worst case for branch prediction) and on smooth patches of vegetation.
+// Not a test: run with --gtest_also_run_disabled_tests --gtest_filter=*Vegetation*Throughput*;
+// nothing is asserted on time.
+TEST(TerroirVegetationCore, DISABLED_Throughput1024)
+{
+  RandomWorld noise(1024, 1024, 3);
+  Time("noise  ", noise);
+  RandomWorld patches(1024, 1024, 3);
+  for (int j = 0; j < 1024; ++j)
+  {
+    for (int i = 0; i < 1024; ++i)
+    {
+      const std::size_t c = Idx(patches.st, i, j);
+      const float v = std::sin(i / 37.0f) * std::sin(j / 23.0f);
+      patches.st.density[c] = patches.valid[c] ? std::max(0.0f, v) : 0.0f;
+      patches.st.stored[c] = patches.valid[c] ? 0.02f : 0.0f;
+      patches.d[c] = patches.valid[c] ? 0.005f : 0.0f;
+    }
+  }
+  Time("patches", patches);
 }
 
 } // namespace
