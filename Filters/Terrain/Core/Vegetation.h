@@ -63,9 +63,10 @@
  *
  * @par Correctness
  * Testing/Unit/TestVegetation.cxx (suite TerroirVegetationCore): hand-worked 3x3 and 5x5 grids
- * (growth, spreading, sharing, drought, drowning), the spread probability, water conservation,
- * eq. 2.6 and Table 2.1 by hand, resistance factors, slip damage, any row split, parameter
- * errors. Documentation/Vegetation.md has the measured numbers.
+ * (growth, spreading and the parent order, sharing, drought, drowning), the spread probability,
+ * water conservation, a coupled run with the erosion core, eq. 2.6 and Table 2.1 by hand,
+ * resistance factors, slip damage, any row split, parameter errors.
+ * Documentation/Vegetation.md has the measured numbers.
  *
  * @par References
  * J. Dunn, "Building Dynamic & Interactive Natural Game Worlds", MSc dissertation, Trinity
