@@ -8,7 +8,7 @@
  * area a_j = rowDx[j] rowDy[j], optional validity mask). Water amounts are depths of water over
  * the cell (m); volumes are depth times area (m^3).
  *
- * State (Dunn section 4.2.1: "the vegetation density and the water stored by the vegetation"):
+ * State (Dunn section 4.2.1: two matrices, vegetation density and the water it holds):
  * density v in [0, 1] (section 3.4) and stored water w (m). A cell with v = 0 is empty.
  *
  * VegetationStep (Dunn section 3.4, functions ComputeVegetationWaterAbsorption and
@@ -20,23 +20,21 @@
  * 2. Sharing, spreading, growth and death, all decided on the values after pass 1 (pass 2a
  *    picks each empty cell's seeding parent, pass 2b applies the rules):
  *    - sharing: a vegetated cell with w above T_share passes q = (k_s dt / 4) max(0,
- *      min(w - T_share, w - w_n)) to each vegetated 4-neighbour n (Dunn: "if there is
- *      sufficient water ... it can pass some of it on to neighbouring cells"; the linear law
- *      is ours);
+ *      min(w - T_share, w - w_n)) to each vegetated 4-neighbour n (Dunn: a cell with
+ *      enough water passes part of it to its neighbours; the linear law is ours);
  *    - spreading: a cell with v >= v_seed and w >= w_seed, not drowned, may seed each empty,
- *      not drowned 4-neighbour; the neighbour then gets v = g dt ("incremented by the growth
- *      rate for that time delta") and a fraction phi of the parent's stored water ("some of
- *      the water is passed over"). Ours: each parent-child pair seeds with probability
+ *      not drowned 4-neighbour; the neighbour then gets v = g dt (Dunn: its density rises by
+ *      one time step's growth) and a fraction phi of the parent's stored water (Dunn: the
+ *      parent hands over part of its water). Ours: each parent-child pair seeds with probability
  *      p = 1 - exp(-r_s dt) drawn from a counter-based hash of (seed, step, child, direction),
  *      and a child with several parents takes the first that succeeds in the order E, N, W, S,
  *      so the result does not depend on how the rows are split;
- *    - drowning: surface water d > d_drown: v decreases by r_drown dt (Dunn: "once the water
- *      matrix goes above a certain height the vegetation dies off");
- *    - drought: else, w <= w_drought: v decreases by r_drought dt (Dunn: "if the water falls
- *      to zero, the vegetation density starts to decrease"; w_drought = 0 by default);
- *    - growth: else, w >= w_grow and v > 0: v increases by g dt, up to 1 (Dunn: "growth is
- *      dictated by a preset growth rate and requires the absorbed water ... above a ...
- *      threshold").
+ *    - drowning: surface water d > d_drown: v decreases by r_drown dt (Dunn: vegetation is
+ *      suffocated once the surface water exceeds a height);
+ *    - drought: else, w <= w_drought: v decreases by r_drought dt (Dunn: density decreases
+ *      once the stored water reaches zero; w_drought = 0 by default);
+ *    - growth: else, w >= w_grow and v > 0: v increases by g dt, up to 1 (Dunn: a fixed growth
+ *      rate, with absorbed water above a user threshold).
  *    The parent gives at most (k_s dt + 4 phi) w <= w (checked), so no store goes negative.
  *
  * EvaporationDunn2015Step (Dunn section 3.5.1):
@@ -44,11 +42,10 @@
  *   (kg/s), Theta = 25 + 19 v_air (kg/(m^2 h)), x_s and x the saturation and actual humidity
  *   ratios (kg water / kg dry air); as a depth, e_w = Theta (x_s - x) / (3600 rho_w) (m/s).
  *   Ours: no evaporation where x >= x_s (condensation is the rain model's business);
- * - canopy: Table 2.1's rates (0.15 to 0.45 mm/h), one vegetation type (Dunn: "no different
- *   types of vegetation"), "determined by the amount of water present in the vegetation model
- *   and a minimum evaporation threshold". Ours: e_c = v (E_min + (E_c - E_min) min(1, w / S)),
- *   linear in the store as in Rutter's interception model (his reference [11]), with a floor
- *   E_min so that a store does run dry and the drought rule can fire.
+ * - canopy: Table 2.1's rates (0.15 to 0.45 mm/h), one vegetation type (Dunn), a rate set by
+ *   the water the vegetation holds and a minimum threshold (Dunn section 3.5.1). Ours: e_c = v
+ * (E_min + (E_c - E_min) min(1, w / S)), linear in the store as in Rutter's interception model (his
+ * reference [11]), with a floor E_min so that a store does run dry and the drought rule can fire.
  * Each is limited by the water there; what evaporates is added to an optional vapour array.
  *
  * Coupling with erosion (Dunn section 3.4): vegetation multiplies the soil's dissolving rate K_s
@@ -129,7 +126,7 @@ struct VegetationParams
 };
 
 /// Parameters of the evaporation (Dunn eq. 2.6 and Table 2.1). Rates are physical; `scale`
-/// speeds both up (Dunn section 5.2.1: "increased for effect").
+/// speeds both up (Dunn section 5.2.1 raised his for effect).
 struct EvaporationParams
 {
   double canopyRate = 0.19;        ///< E_c, mm/h at a full store (Table 2.1, Scots pine) (>= 0)
