@@ -480,6 +480,14 @@ TEST(TerroirVegetationCore, OpenWaterEvaporationFollowsEq26)
   const std::vector<float> before = d;
   tr::EvaporationDunn2015Step(st, Surface(d), 10.0, tr::VegetationParams(), e, f);
   EXPECT_EQ(d, before);
+  // A NaN or negative wind counts as still air (Theta = 25): both cells lose 6.944e-7 m.
+  std::vector<float> badWind = { NAN, -3.0f }, pools = { 0.01f, 0.01f };
+  f.windSpeed = badWind.data();
+  f.humidityRatio = nullptr;
+  tr::EvaporationDunn2015Step(st, Surface(pools), 10.0, tr::VegetationParams(), e, f);
+  EXPECT_NEAR(pools[0], 0.01 - 25.0 * 0.01 / 3.6e6 * 10.0, 1e-9);
+  EXPECT_NEAR(pools[1], 0.01 - 25.0 * 0.01 / 3.6e6 * 10.0, 1e-9);
+  f.windSpeed = wind.data();
   // Limited by the water there: a 1 micrometre film over a long step is all gone, no more.
   std::vector<float> film = { 1e-6f, 0.0f };
   f.humidityRatio = nullptr;

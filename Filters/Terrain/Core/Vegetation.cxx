@@ -620,7 +620,7 @@ EvaporationStats EvaporationDunn2015Step(VegetationState& st,
         const float xa =
           fields.humidityRatio ? fields.humidityRatio[c] : static_cast<float>(p.humidityRatio);
         const float wind = fields.windSpeed ? fields.windSpeed[c] : static_cast<float>(p.windSpeed);
-        const float theta = 25.0f + 19.0f * wind;
+        const float theta = 25.0f + 19.0f * std::max(0.0f, wind); // NaN or < 0: still air
         const float ew = std::min(water.surface[c], waterK * theta * std::max(0.0f, xs - xa) * fdt);
         SubtractWater(
           water.surface[c], water.surfaceResidue ? water.surfaceResidue + c : nullptr, ew);

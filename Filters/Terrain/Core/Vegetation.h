@@ -147,6 +147,7 @@ struct VegetationWater
 };
 
 /// Optional per-cell atmosphere fields of the evaporation (nx*ny each, null: the parameter).
+/// A negative or NaN wind counts as still air; NaN or x >= x_s as no evaporation.
 struct EvaporationFields
 {
   const float* saturationRatio = nullptr; ///< x_s, kg/kg
