@@ -314,6 +314,7 @@ struct CommandLine
     double TalusAngle = 33.0;   ///< --talus DEG
     int ThermalInterval = 1;    ///< --thermal-interval N (0: no soil slip)
     double CapacityDepth = 0.0; ///< --capacity-depth M (0: off)
+    double Vegetation = -1.0;   ///< --vegetation V: Dunn's vegetation from density V (< 0: off)
     std::string SeaLevel;       ///< --sea M: the Sea boundary at this level (empty: Closed)
   } Erosion;
   // new-filter.sh: options

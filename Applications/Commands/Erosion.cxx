@@ -37,6 +37,11 @@ int CommandErosion(const CommandLine& c)
   erosion->SetTalusAngle(e.TalusAngle);
   erosion->SetThermalInterval(e.ThermalInterval);
   erosion->SetCapacityDepth(e.CapacityDepth);
+  if (e.Vegetation >= 0.0)
+  {
+    erosion->VegetationOn();
+    erosion->SetInitialVegetation(e.Vegetation);
+  }
   if (!e.SeaLevel.empty())
   {
     erosion->SetBoundary(vtkTerroirErosion::Sea);

@@ -53,6 +53,12 @@ public:
         "real DEMs try 0.1-1)")
       ->check(FiniteIn(0.0, 1000.0))
       ->capture_default_str();
+    sub
+      ->add_option("--vegetation",
+        e.Vegetation,
+        "Couple Dunn's vegetation, starting at this density (0-1) on every cell: it drinks, "
+        "spreads, grows, dies and holds the soil")
+      ->check(FiniteIn(0.0, 1.0));
     sub->add_option("--sea",
       e.SeaLevel,
       "Sea level, m: the grid's edge, no-data cells and cells at or below it take the water "

@@ -17,6 +17,7 @@
 
 #include "Erosion.h"
 #include "NumberText.h"
+#include "Vegetation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,6 +62,8 @@ struct vtkTerroirErosion::Cache
 {
   bool Valid = false;
   te::ErosionState State;
+  bool HasVegetation = false;
+  te::VegetationState Vegetation;
   std::vector<float> Factor; ///< evaporation factor per cell (empty: 1)
   int Steps = 0;
   double Volumes[VolumeCount] = { 0, 0, 0, 0, 0 };
@@ -99,6 +102,8 @@ void vtkTerroirErosion::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Boundary: " << (this->Boundary == Sea ? "Sea" : "Closed") << "\n";
   os << indent << "SeaLevel: " << this->SeaLevel << " m\n";
   os << indent << "TimeStepStride: " << this->TimeStepStride << "\n";
+  os << indent << "Vegetation: " << this->Vegetation << "\n";
+  os << indent << "InitialVegetation: " << this->InitialVegetation << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -107,7 +112,9 @@ double vtkTerroirErosion::EstimateMemory(double nx, double ny)
   // The state: bed, its start, two residues, water, sediment, four fluxes, two velocities and
   // six scratch arrays (float) and the cell kinds (1 B); the evaporation factors (4 B), the
   // rain (4 B) and the four float outputs.
-  return nx * ny * (18.0 * 4.0 + 1.0 + 8.0 + 16.0);
+  // With vegetation: its density, store, two scratch arrays and the two factors (float), the
+  // chosen parents (1 B) and the bed's copy before soil slip (4 B).
+  return nx * ny * (18.0 * 4.0 + 1.0 + 8.0 + 16.0 + (this->Vegetation ? 29.0 : 0.0));
 }
 
 //------------------------------------------------------------------------------
@@ -249,6 +256,26 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
             std::isfinite(f) ? static_cast<float>(std::min(1.0, std::max(0.0, f))) : 0.0f;
         }
       }
+      c.HasVegetation = this->Vegetation != 0;
+      if (c.HasVegetation)
+      {
+        std::vector<float> density(n, 0.0f);
+        vtkDataArray* given = input->GetPointData()->GetArray(VegetationName());
+        for (std::size_t k = 0; k < n; ++k)
+        {
+          const double d = given && given->GetNumberOfTuples() == static_cast<vtkIdType>(n)
+            ? given->GetComponent(static_cast<vtkIdType>(k), 0)
+            : this->InitialVegetation;
+          density[k] = mask[k] && std::isfinite(d)
+            ? static_cast<float>(std::min(1.0, std::max(0.0, d)))
+            : 0.0f;
+        }
+        terroir::GridView<float> dv = masked;
+        dv.data = density.data();
+        c.Vegetation = te::MakeVegetationState(dv);
+        c.State.erosionFactor.assign(n, 1.0f);
+        c.State.talusFactor.assign(n, 1.0f);
+      }
       c.Steps = 0;
       std::fill(c.Volumes, c.Volumes + VolumeCount, 0.0);
       c.Input = input;
@@ -259,8 +286,15 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
     const std::vector<float> rain(
       this->RainRate > 0.0 ? n : 0, static_cast<float>(this->RainRate / 1000.0 / 3600.0));
     const int first = c.Steps;
+    const te::VegetationParams plants;
+    std::vector<float> bedBefore;
     while (c.Steps < steps)
     {
+      if (c.HasVegetation)
+      {
+        te::VegetationResistance(
+          c.Vegetation, plants, c.State.erosionFactor.data(), c.State.talusFactor.data());
+      }
       const te::ErosionStepStats s = te::ErosionHydraulicStep(c.State,
         p,
         rain.empty() ? nullptr : rain.data(),
@@ -272,9 +306,25 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
       c.Volumes[Evaporated] += s.evaporated;
       c.Volumes[ToSea] += s.waterToSea;
       ++c.Steps;
+      if (c.HasVegetation)
+      {
+        te::VegetationWater w;
+        w.surface = c.State.water.data();
+        w.surfaceResidue = c.State.waterResidue.data();
+        te::VegetationStep(c.Vegetation, w, this->TimeStep, plants, rows);
+      }
       if (this->ThermalInterval > 0 && c.Steps % this->ThermalInterval == 0)
       {
+        if (c.HasVegetation)
+        {
+          bedBefore = c.State.terrain;
+        }
         te::ErosionThermalStep(c.State, thermal, rows);
+        if (c.HasVegetation)
+        {
+          te::VegetationSlipDamage(
+            c.Vegetation, bedBefore.data(), c.State.terrain.data(), plants, rows);
+        }
       }
       if ((c.Steps - first) % 16 == 0)
       {
@@ -319,6 +369,16 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
     sediment->SetValue(k, s.sediment[k]);
   }
   vtkPointData* pd = output->GetPointData();
+  if (c.HasVegetation)
+  {
+    vtkSmartPointer<vtkFloatArray> plants = vtkSmartPointer<vtkFloatArray>::Take(
+      terroir::NewOutputArray(VegetationName(), 1, static_cast<long long>(n), ""));
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      plants->SetValue(static_cast<vtkIdType>(k), s.IsValid(k) ? c.Vegetation.density[k] : nan);
+    }
+    pd->AddArray(plants);
+  }
   pd->AddArray(bed);
   pd->AddArray(change);
   pd->AddArray(water);

@@ -14,6 +14,7 @@
  * - field data `ErosionSteps` (steps computed), `ErosionVolumes` (m^3: eroded, deposited,
  *   rain, evaporated, water to the sea, over all steps) and `ErosionTotals` (m^3: bed, water,
  *   suspended sediment now, area-weighted over the valid cells).
+ * - with Vegetation on, `VegetationDensity` (float, 0..1).
  * No-data cells: NaN.
  *
  * Algorithm (terroir::terrain, Filters/Terrain/Core/Erosion.h; Mei, Decaudin & Hu 2007 as
@@ -126,6 +127,18 @@ public:
   vtkGetMacro(SeaLevel, double);
   ///@}
   ///@{
+  /// Vegetation (Dunn 2015, Vegetation.h) coupled on every step (default off): it absorbs and
+  /// shares water, spreads, grows, dies of drought or drowning or when soil slip buries it, and
+  /// holds the soil (K_s x (1 - 0.75 v), talus tangent x (1 + 0.5 v) at density v). Its start:
+  /// the input's `VegetationDensity` point array (0..1) when there is one, else
+  /// InitialVegetation (default 0.5, in [0, 1]) on every cell. Output `VegetationDensity`.
+  vtkSetMacro(Vegetation, vtkTypeBool);
+  vtkGetMacro(Vegetation, vtkTypeBool);
+  vtkBooleanMacro(Vegetation, vtkTypeBool);
+  vtkSetClampMacro(InitialVegetation, double, 0.0, 1.0);
+  vtkGetMacro(InitialVegetation, double);
+  ///@}
+  ///@{
   /// Steps between the announced VTK time steps (default 10, >= 1).
   vtkSetClampMacro(TimeStepStride, int, 1, VTK_INT_MAX);
   vtkGetMacro(TimeStepStride, int);
@@ -136,6 +149,7 @@ public:
   static const char* ErosionDepthName() { return "ErosionDepth"; }
   static const char* WaterDepthName() { return "ErosionWaterDepth"; }
   static const char* SedimentName() { return "SuspendedSediment"; }
+  static const char* VegetationName() { return "VegetationDensity"; }
 
 protected:
   vtkTerroirErosion();
@@ -165,6 +179,8 @@ protected:
   int Boundary = Closed;
   double SeaLevel = 0.0;
   int TimeStepStride = 10;
+  vtkTypeBool Vegetation = 0;
+  double InitialVegetation = 0.5;
 
 private:
   vtkTerroirErosion(const vtkTerroirErosion&) = delete;

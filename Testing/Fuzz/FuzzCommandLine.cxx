@@ -260,6 +260,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Check(Within(e.TimeStep, 1e-6, 100.0) && Within(e.InitialWater, 0.0, 1000.0));
     Check(Within(e.RainRate, 0.0, 1e7) && Within(e.TalusAngle, 0.01, 89.99));
     Check(Within(e.CapacityDepth, 0.0, 1000.0));
+    Check(e.Vegetation == -1.0 || Within(e.Vegetation, 0.0, 1.0));
     Check(e.SeaLevel.empty() || Within(std::stod(e.SeaLevel), -1e5, 1e5));
   }
   if (c == "fractal" || c == "generate")

@@ -915,3 +915,37 @@ TEST(TerroirErosionCore, DISABLED_Throughput1024)
 }
 
 } // namespace
+
+// Per-cell factors (vegetation's resistance, Vegetation.h): on the uniform flow of
+// UniformFlowBalancesErosionAndDeposition with s0 = C / 2, a factor f on K_s makes the bed give
+// f x 0.1 x 0.0049937617 (f = 0.5: half; f = 0: nothing); a factor 2 on the talus tangent
+// leaves a spike at atan(2 tan 30 deg) = 49.1 degrees instead of 30.
+TEST(TerroirErosionCore, PerCellFactorsScaleErosionAndTalus)
+{
+  const double capacity = 0.0099875234;
+  tr::ErosionParams p;
+  for (float f : { 0.5f, 0.0f })
+  {
+    tr::ErosionState st = UniformFlow(static_cast<float>(capacity / 2));
+    st.erosionFactor.assign(st.Size(), f);
+    const std::vector<float> bed = st.terrain;
+    tr::ErosionHydraulicStep(st, p);
+    for (int i = 3; i < st.nx - 3; ++i)
+    {
+      const std::size_t c = Idx(st, i, 1);
+      ASSERT_NEAR(st.terrain[c] - bed[c], -f * 0.00049937617, 2e-6) << "factor " << f;
+    }
+  }
+  tr::ThermalParams t;
+  t.talusSoilDeg = 30.0;
+  tr::ErosionState spike =
+    MakeState(15, 15, [](int i, int j) { return i == 7 && j == 7 ? 10.0f : 0.0f; });
+  spike.talusFactor.assign(spike.Size(), 2.0f);
+  Relax(spike, t, 1e-4, 20000);
+  const double steep = std::atan(2.0 * std::tan(30.0 * M_PI / 180.0)) * 180.0 / M_PI;
+  EXPECT_LE(MaxExcess(spike, steep), 1e-4 + 1e-5);
+  EXPECT_GT(MaxExcess(spike, 30.0), 0.1);
+  // A negative factor is refused.
+  spike.talusFactor[3] = -1.0f;
+  EXPECT_THROW(tr::ErosionThermalStep(spike, t), std::invalid_argument);
+}

@@ -519,7 +519,12 @@ void ErodeRows(const HydraulicContext& h,
         capacity *= std::min(1.0f, st.water[c] / rampDepth);
       }
       const float original = st.original[c];
-      const CellRates r = RatesAt(h, original - b);
+      CellRates r = RatesAt(h, original - b);
+      if (!st.erosionFactor.empty())
+      {
+        r.ks *= st.erosionFactor[c]; // vegetation holds the soil (a multiplier <= 1)
+        r.ksRock *= st.erosionFactor[c];
+      }
       const float s = st.sediment[c];
       if (capacity > s)
       {
@@ -746,7 +751,8 @@ struct ThermalContext
   }
   float TanTalus(std::size_t c) const
   {
-    return (!layered || st.soil[c] > 0.0f) ? tanSoil : tanRock;
+    const float tan = (!layered || st.soil[c] > 0.0f) ? tanSoil : tanRock;
+    return st.talusFactor.empty() ? tan : tan * st.talusFactor[c];
   }
 };
 
@@ -894,6 +900,18 @@ void CheckState(const ErosionState& st)
     "valid",
     static_cast<double>(st.valid.size()),
     "empty or of size nx*ny");
+  for (const auto& f : { std::make_pair("erosionFactor", &st.erosionFactor),
+         std::make_pair("talusFactor", &st.talusFactor) })
+  {
+    Require(f.second->empty() || f.second->size() == n,
+      f.first,
+      static_cast<double>(f.second->size()),
+      "empty or of size nx*ny");
+    for (float x : *f.second)
+    {
+      Require(x >= 0.0f && std::isfinite(x), f.first, static_cast<double>(x), ">= 0 and finite");
+    }
+  }
 }
 
 } // namespace

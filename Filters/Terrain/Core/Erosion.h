@@ -159,6 +159,10 @@ struct ErosionState
   /// ErosionMeasure includes them; zero them after editing terrain or water by hand.
   std::vector<float> terrainResidue, waterResidue;
   std::vector<float> soil;               ///< soil thickness over rock, m (empty: one material)
+  /// Optional per-cell multipliers (>= 0; empty: 1), e.g. from vegetation (Vegetation.h:
+  /// VegetationResistance): on K_s and K_s,rock (erosion) and on the tangent of the talus angle
+  /// (soil slip; the giver's factor, so both sides of a pipe agree).
+  std::vector<float> erosionFactor, talusFactor;
   std::vector<float> water;              ///< d: water depth, m
   std::vector<float> sediment;           ///< s: suspended sediment, m (height of bed it would make)
   std::vector<float> fluxW, fluxE;       ///< outflow to the west (Weiss f^L) and east (f^R), m^3/s
