@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The benchmarks at a tiny size, so that they cannot rot unseen (CTest label `benchmarks`; the
 # timings mean nothing at this size): `terroir bench` on every stage and backend, and every
-# script of this folder (gdaldem, scikit-learn, the k-means core, RiverLand, GRASS, the outputs of
-# terroir run, the big-DEM memory run, erosion against real landscapes, and with an X display the scripted viewer session), each
-# must run and write its results.
+# script of this folder (gdaldem, scikit-learn, the k-means core, RiverLand, GRASS's r.horizon and
+# r.sun, GRASS's r.sim.water and r.sim.sediment against our erosion, the outputs of terroir run,
+# the big-DEM memory run, erosion against real landscapes, and with an X display the scripted
+# viewer session), each must run and write its results.
 #   Testing/Benchmarks/smoke.sh BUILD_DIR SCRATCH_DIR
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -34,6 +35,10 @@ grep -q "yes" "$scratch/riverland.log" && ! grep -q "NO" "$scratch/riverland.log
   { cat "$scratch/riverland.log"; exit 1; }
 bash "$here/Testing/Benchmarks/illumination_vs_grass.sh" "$build" "64" 80 >"$scratch/grass.log"
 grep -q "ratio" "$scratch/grass.log" || { cat "$scratch/grass.log"; exit 1; }
+MINUTES=2 REPEAT=1 bash "$here/Testing/Benchmarks/erosion_vs_grass.sh" "$build" "64" 5 \
+  >"$scratch/erosion_grass.log"
+grep -q "GRASS r.sim.sediment" "$scratch/erosion_grass.log" ||
+  { cat "$scratch/erosion_grass.log"; exit 1; }
 bash "$here/Testing/Benchmarks/run_outputs.sh" "$build" 64 >"$scratch/run_outputs.log"
 grep -q "all identical" "$scratch/run_outputs.log" || { cat "$scratch/run_outputs.log"; exit 1; }
 bash "$here/Testing/Benchmarks/big_dem.sh" "$build" 64 >"$scratch/big_dem.log"
