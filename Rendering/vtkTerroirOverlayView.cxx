@@ -1,5 +1,6 @@
 #include "vtkTerroirOverlayView.h"
 
+#include "ClusterPalette.h"
 #include "TerroirSafeOutput.h"
 
 #include "vtkActor.h"
@@ -7,10 +8,12 @@
 #include "vtkAutoInit.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
+#include "vtkConeSource.h"
 #include "vtkCoordinate.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkGlyph3DMapper.h"
 #include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
@@ -65,6 +68,7 @@ vtkStandardNewMacro(vtkTerroirOverlayView);
 struct vtkTerroirOverlayView::Internals
 {
   vtkSmartPointer<vtkImageData> Input;
+  vtkSmartPointer<vtkPolyData> Plants;
   // Kept from one Render() to the next (one view draws a run's overlays in turn): the window
   // with its X connection and compiled shaders, and the surface while its geometry is current.
   vtkSmartPointer<vtkRenderWindow> Window;
@@ -258,6 +262,78 @@ bool vtkTerroirOverlayView::ColourSurface(vtkImageData* image,
 }
 
 //------------------------------------------------------------------------------
+void vtkTerroirOverlayView::SetPlantsData(vtkPolyData* plants)
+{
+  if (this->Internal->Plants != plants)
+  {
+    this->Internal->Plants = plants;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkPolyData* vtkTerroirOverlayView::GetPlantsData()
+{
+  return this->Internal->Plants;
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkActor> vtkTerroirOverlayView::MakePlantsActor()
+{
+  // The plants' points on the exaggerated surface, each glyph's base on the ground.
+  vtkPolyData* plants = this->Internal->Plants;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(plants->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < plants->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    plants->GetPoint(p, x);
+    points->SetPoint(p, x[0], x[1], x[2] * this->VerticalExaggeration + 0.5 * this->PlantSize);
+  }
+  vtkNew<vtkPolyData> placed;
+  placed->SetPoints(points);
+  vtkNew<vtkUnsignedCharArray> colours;
+  colours->SetName("PlantColours");
+  colours->SetNumberOfComponents(3);
+  colours->SetNumberOfTuples(plants->GetNumberOfPoints());
+  vtkDataArray* species = plants->GetPointData()->GetArray("Species");
+  for (vtkIdType p = 0; p < plants->GetNumberOfPoints(); ++p)
+  {
+    const double s = species ? species->GetComponent(p, 0) : 0.0;
+    // Green first (the palette's third colour), so that plants stand out from the zones' blue
+    // and orange.
+    const int k =
+      (std::isfinite(s) && s >= 0.0 ? static_cast<int>(s) + 2 : 2) % terroir::kClusterPaletteSize;
+    for (int c = 0; c < 3; ++c)
+    {
+      colours->SetTypedComponent(p, c, terroir::kClusterPalette[k][c]);
+    }
+  }
+  placed->GetPointData()->SetScalars(colours);
+  vtkNew<vtkConeSource> cone;
+  cone->SetHeight(this->PlantSize);
+  cone->SetRadius(0.25 * this->PlantSize);
+  cone->SetDirection(0.0, 0.0, 1.0);
+  cone->SetResolution(12);
+  vtkNew<vtkGlyph3DMapper> mapper;
+  mapper->SetInputData(placed);
+  mapper->SetSourceConnection(cone->GetOutputPort());
+  mapper->ScalingOff();
+  mapper->OrientOff();
+  mapper->SetScalarModeToUsePointFieldData();
+  mapper->SelectColorArray("PlantColours");
+  mapper->SetColorModeToDirectScalars();
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  // The terrain's lighting (Ambient, Diffuse of the view; no highlight on the foliage).
+  actor->GetProperty()->SetAmbient(this->Ambient);
+  actor->GetProperty()->SetDiffuse(this->Diffuse);
+  actor->GetProperty()->SetSpecular(0.0);
+  return actor;
+}
+
+//------------------------------------------------------------------------------
 void vtkTerroirOverlayView::AddTerrainRenderer(vtkRenderWindow* window,
   vtkTerroirReliefSurface* relief,
   double legendWidth,
@@ -269,6 +345,11 @@ void vtkTerroirOverlayView::AddTerrainRenderer(vtkRenderWindow* window,
   renderer->AutomaticLightCreationOff();
   renderer->AddActor(relief->GetSurfaceActor());
   renderer->AddActor(relief->GetHoleActor());
+  if (this->Internal->Plants && this->Internal->Plants->GetNumberOfPoints() > 0 &&
+    this->PlantSize > 0.0)
+  {
+    renderer->AddActor(this->MakePlantsActor());
+  }
 
   double bounds[6];
   relief->GetBounds(bounds);

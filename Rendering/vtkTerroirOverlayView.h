@@ -76,11 +76,15 @@
 #include "vtkObject.h"
 #include "vtkTerroirRenderingModule.h" // For export macro
 
+#include "vtkSmartPointer.h" // For the plants actor
+
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
 class vtkDataArray;
+class vtkActor;
 class vtkImageData;
+class vtkPolyData;
 class vtkLookupTable;
 class vtkRenderWindow;
 class vtkTerroirReliefSurface;
@@ -208,6 +212,19 @@ public:
   vtkGetVector3Macro(BaseColor, double);
   ///@}
 
+  ///@{
+  /// Plants drawn over the terrain (optional; not copied): the points of a vtkPolyData such as
+  /// vtkTerroirPlantPlacement's (x, y metres, z = ground elevation), each as a cone glyph
+  /// `PlantSize` metres high (default 8) and half as wide, standing on the surface (z times
+  /// VerticalExaggeration), coloured by its point array `Species` with the Clusters palette
+  /// from its green (species i gets colour (i + 2) mod 12; all green without the array).
+  /// Null: none.
+  void SetPlantsData(vtkPolyData* plants);
+  vtkPolyData* GetPlantsData();
+  vtkSetClampMacro(PlantSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PlantSize, double);
+  ///@}
+
   /// Renders offscreen. Returns false and sets the error on bad input or without a display.
   bool Render();
 
@@ -256,6 +273,7 @@ protected:
   double Background[3] = { 1.0, 1.0, 1.0 };
   double NanColor[4] = { 0.5, 0.5, 0.5, 1.0 };
   double BaseColor[3] = { 0.85, 0.85, 0.85 };
+  double PlantSize = 8.0;
   std::string LastError;
 
 private:
@@ -276,6 +294,8 @@ private:
     vtkTerroirReliefSurface* relief,
     vtkLookupTable* lut,
     std::string& categoricalTitle);
+  /// The plants' cone glyphs (SetPlantsData), coloured by species.
+  vtkSmartPointer<vtkActor> MakePlantsActor();
   /// The terrain's renderer: its viewport, the surface, the light and the fitted camera.
   void AddTerrainRenderer(vtkRenderWindow* window,
     vtkTerroirReliefSurface* relief,
