@@ -158,7 +158,7 @@ struct ErosionState
   /// (about 1e-7 of the value; kept so that small changes add up, see the file comment).
   /// ErosionMeasure includes them; zero them after editing terrain or water by hand.
   std::vector<float> terrainResidue, waterResidue;
-  std::vector<float> soil;               ///< soil thickness over rock, m (empty: one material)
+  std::vector<float> soil; ///< soil thickness over rock, m (empty: one material)
   /// Optional per-cell multipliers (>= 0; empty: 1), e.g. from vegetation (Vegetation.h:
   /// VegetationResistance): on K_s and K_s,rock (erosion) and on the tangent of the talus angle
   /// (soil slip; the giver's factor, so both sides of a pipe agree).
