@@ -118,6 +118,21 @@ double vtkTerroirErosion::EstimateMemory(double nx, double ny)
 }
 
 //------------------------------------------------------------------------------
+void vtkTerroirErosion::MakeParams(te::ErosionParams& p, te::ThermalParams& t) const
+{
+  p.timeStep = this->TimeStep;
+  p.capacity = this->Capacity;
+  p.dissolving = this->Dissolving;
+  p.dissolvingRock = this->Dissolving;
+  p.deposition = this->Deposition;
+  p.evaporation = this->Evaporation;
+  p.capacityDepth = this->CapacityDepth;
+  p.boundary = this->Boundary == Sea ? te::ErosionBoundary::Sea : te::ErosionBoundary::Closed;
+  p.seaLevel = this->SeaLevel;
+  t.talusSoilDeg = this->TalusAngle;
+}
+
+//------------------------------------------------------------------------------
 std::string vtkTerroirErosion::CheckParameters()
 {
   if (!(this->InitialWater >= 0.0 && std::isfinite(this->InitialWater)))
@@ -130,17 +145,8 @@ std::string vtkTerroirErosion::CheckParameters()
     return "RainRate " + terroir::NumberText(this->RainRate) + " mm/h must be a finite number >= 0";
   }
   te::ErosionParams p;
-  p.timeStep = this->TimeStep;
-  p.capacity = this->Capacity;
-  p.dissolving = this->Dissolving;
-  p.dissolvingRock = this->Dissolving;
-  p.deposition = this->Deposition;
-  p.evaporation = this->Evaporation;
-  p.capacityDepth = this->CapacityDepth;
-  p.boundary = this->Boundary == Sea ? te::ErosionBoundary::Sea : te::ErosionBoundary::Closed;
-  p.seaLevel = this->SeaLevel;
   te::ThermalParams t;
-  t.talusSoilDeg = this->TalusAngle;
+  this->MakeParams(p, t);
   try
   {
     te::CheckErosionParams(p);
@@ -196,17 +202,8 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
   }
 
   te::ErosionParams p;
-  p.timeStep = this->TimeStep;
-  p.capacity = this->Capacity;
-  p.dissolving = this->Dissolving;
-  p.dissolvingRock = this->Dissolving;
-  p.deposition = this->Deposition;
-  p.evaporation = this->Evaporation;
-  p.capacityDepth = this->CapacityDepth;
-  p.boundary = this->Boundary == Sea ? te::ErosionBoundary::Sea : te::ErosionBoundary::Closed;
-  p.seaLevel = this->SeaLevel;
   te::ThermalParams thermal;
-  thermal.talusSoilDeg = this->TalusAngle;
+  this->MakeParams(p, thermal);
   const te::ErosionParallelFor rows =
     [](int begin, int end, const std::function<void(int, int)>& body)
   {

@@ -61,6 +61,15 @@
 #include "vtkTerroirFiltersTerrainModule.h" // For export macro
 #include "vtkTerroirImageAlgorithm.h"
 
+namespace terroir
+{
+namespace terrain
+{
+struct ErosionParams;
+struct ThermalParams;
+}
+}
+
 class VTKTERROIRFILTERSTERRAIN_EXPORT vtkTerroirErosion : public vtkTerroirImageAlgorithm
 {
 public:
@@ -188,6 +197,9 @@ private:
 
   struct Cache;
   Cache* State;
+  /// The core's parameters from the properties.
+  void MakeParams(terroir::terrain::ErosionParams& hydraulic,
+    terroir::terrain::ThermalParams& thermal) const;
 };
 
 #endif
