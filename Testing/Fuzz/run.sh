@@ -32,6 +32,8 @@ cmake --build "$build" -j "$jobs" --target "${harnesses[@]/#/Fuzz}" >/dev/null
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:strict_string_checks=1:check_initialization_order=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# Leaks inside GDAL and PROJ themselves (lsan-third-party.supp says which and why).
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/lsan-third-party.supp:print_suppressions=0}
 failed=0
 printf '%-17s %8s %12s %9s %10s %s\n' harness seconds executions exec/s "new units" result
 for name in "${harnesses[@]}"; do
