@@ -7,6 +7,8 @@
 #include <string>
 #include <utility>
 
+#include "ParameterCheck.h"
+
 namespace terroir
 {
 namespace terrain
@@ -17,8 +19,7 @@ namespace
 
 [[noreturn]] void Bad(const char* name, double value, const char* range)
 {
-  throw std::invalid_argument(
-    std::string("erosion: ") + name + " = " + std::to_string(value) + " is not " + range);
+  detail::BadParameter("erosion", name, value, range);
 }
 
 void Require(bool ok, const char* name, double value, const char* range)

@@ -6,6 +6,8 @@
 #include <string>
 #include <utility>
 
+#include "ParameterCheck.h"
+
 namespace terroir
 {
 namespace terrain
@@ -16,8 +18,7 @@ namespace
 
 [[noreturn]] void Bad(const char* name, double value, const char* range)
 {
-  throw std::invalid_argument(
-    std::string("vegetation: ") + name + " = " + std::to_string(value) + " is not " + range);
+  detail::BadParameter("vegetation", name, value, range);
 }
 
 void Require(bool ok, const char* name, double value, const char* range)
