@@ -16,12 +16,14 @@
 #include "vtkTerroirTerrainInput.h"
 
 #include "Erosion.h"
+#include "ErosionSimulation.h"
 #include "NumberText.h"
 #include "Vegetation.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -35,17 +37,6 @@ namespace te = terroir::terrain;
 constexpr double kColdDegC = 0.0;
 constexpr double kHotDegC = 30.0;
 
-/// Volumes summed over the steps, m^3, in the order of the ErosionVolumes field array.
-enum Volume
-{
-  Eroded,
-  Deposited,
-  Rain,
-  Evaporated,
-  ToSea,
-  VolumeCount
-};
-
 vtkSmartPointer<vtkDoubleArray> FieldArray(const char* name, const double* values, int n)
 {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
@@ -55,18 +46,64 @@ vtkSmartPointer<vtkDoubleArray> FieldArray(const char* name, const double* value
   a->GetInformation()->Set(vtkDataArray::UNITS_LABEL(), "m3");
   return a;
 }
+/**
+ * A new start: the terrain's cells with data, InitialWater on each, the temperature's
+ * evaporation factors, and with vegetation (initialVegetation >= 0) the input's
+ * VegetationDensity or initialVegetation on every cell.
+ */
+std::unique_ptr<te::ErosionSimulation> StartSimulation(vtkImageData* input,
+  const terroir::GridView<float>& v,
+  double initialWater,
+  double initialVegetation)
+{
+  const std::size_t n = v.Size();
+  std::vector<std::uint8_t> mask(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    mask[k] = (!v.valid || v.valid[k]) && std::isfinite(v.data[k]) ? 1 : 0;
+  }
+  terroir::GridView<float> masked = v;
+  masked.valid = mask.data();
+  std::vector<float> factor;
+  vtkDataArray* temperature = input->GetPointData()->GetArray("Temperature");
+  if (temperature && temperature->GetNumberOfTuples() == static_cast<vtkIdType>(n))
+  {
+    factor.resize(n);
+    const int months = temperature->GetNumberOfComponents();
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      double mean = 0.0;
+      for (int m = 0; m < months; ++m)
+      {
+        mean += temperature->GetComponent(static_cast<vtkIdType>(k), m);
+      }
+      mean /= months;
+      const double f = (mean - kColdDegC) / (kHotDegC - kColdDegC);
+      factor[k] = std::isfinite(f) ? static_cast<float>(std::min(1.0, std::max(0.0, f))) : 0.0f;
+    }
+  }
+  std::vector<float> density;
+  if (initialVegetation >= 0.0)
+  {
+    density.assign(n, static_cast<float>(initialVegetation));
+    vtkDataArray* given = input->GetPointData()->GetArray(vtkTerroirErosion::VegetationName());
+    if (given && given->GetNumberOfTuples() == static_cast<vtkIdType>(n))
+    {
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        density[k] = static_cast<float>(given->GetComponent(static_cast<vtkIdType>(k), 0));
+      }
+    }
+  }
+  return std::unique_ptr<te::ErosionSimulation>(new te::ErosionSimulation(
+    masked, initialWater, std::move(factor), density.empty() ? nullptr : density.data()));
+}
 } // namespace
 
 /// The last state and what it was computed from.
 struct vtkTerroirErosion::Cache
 {
-  bool Valid = false;
-  te::ErosionState State;
-  bool HasVegetation = false;
-  te::VegetationState Vegetation;
-  std::vector<float> Factor; ///< evaporation factor per cell (empty: 1)
-  int Steps = 0;
-  double Volumes[VolumeCount] = { 0, 0, 0, 0, 0 };
+  std::unique_ptr<te::ErosionSimulation> Simulation; ///< null: none valid
   vtkImageData* Input = nullptr;
   vtkMTimeType InputTime = 0;
   vtkMTimeType FilterTime = 0;
@@ -213,132 +250,48 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
       [&](vtkIdType b, vtkIdType e) { body(static_cast<int>(b), static_cast<int>(e)); });
   };
 
+  te::ErosionSimulationParams sp;
+  sp.hydraulic = p;
+  sp.thermal = thermal;
+  sp.thermalInterval = this->ThermalInterval;
+  sp.rainRate = this->RainRate / 1000.0 / 3600.0;
   Cache& c = *this->State;
   try
   {
-    if (!c.Valid || c.Input != input || c.InputTime != input->GetMTime() ||
-      c.FilterTime != this->GetMTime() || steps < c.Steps)
+    if (!c.Simulation || c.Input != input || c.InputTime != input->GetMTime() ||
+      c.FilterTime != this->GetMTime() || steps < c.Simulation->Steps())
     {
-      // A new start: the terrain's cells with data, InitialWater on each, the temperature's
-      // evaporation factors.
-      std::vector<std::uint8_t> mask(n);
-      for (std::size_t k = 0; k < n; ++k)
-      {
-        mask[k] = (!v.valid || v.valid[k]) && std::isfinite(v.data[k]) ? 1 : 0;
-      }
-      terroir::GridView<float> masked = v;
-      masked.valid = mask.data();
-      c.Valid = false;
-      c.State = te::MakeErosionState(masked);
-      for (std::size_t k = 0; k < n; ++k)
-      {
-        c.State.water[k] = mask[k] ? static_cast<float>(this->InitialWater) : 0.0f;
-      }
-      c.Factor.clear();
-      vtkDataArray* temperature = input->GetPointData()->GetArray("Temperature");
-      if (temperature && temperature->GetNumberOfTuples() == static_cast<vtkIdType>(n))
-      {
-        c.Factor.resize(n);
-        const int months = temperature->GetNumberOfComponents();
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          double mean = 0.0;
-          for (int m = 0; m < months; ++m)
-          {
-            mean += temperature->GetComponent(static_cast<vtkIdType>(k), m);
-          }
-          mean /= months;
-          const double f = (mean - kColdDegC) / (kHotDegC - kColdDegC);
-          c.Factor[k] =
-            std::isfinite(f) ? static_cast<float>(std::min(1.0, std::max(0.0, f))) : 0.0f;
-        }
-      }
-      c.HasVegetation = this->Vegetation != 0;
-      if (c.HasVegetation)
-      {
-        std::vector<float> density(n, 0.0f);
-        vtkDataArray* given = input->GetPointData()->GetArray(VegetationName());
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          const double d = given && given->GetNumberOfTuples() == static_cast<vtkIdType>(n)
-            ? given->GetComponent(static_cast<vtkIdType>(k), 0)
-            : this->InitialVegetation;
-          density[k] = mask[k] && std::isfinite(d)
-            ? static_cast<float>(std::min(1.0, std::max(0.0, d)))
-            : 0.0f;
-        }
-        terroir::GridView<float> dv = masked;
-        dv.data = density.data();
-        c.Vegetation = te::MakeVegetationState(dv);
-        c.State.erosionFactor.assign(n, 1.0f);
-        c.State.talusFactor.assign(n, 1.0f);
-      }
-      c.Steps = 0;
-      std::fill(c.Volumes, c.Volumes + VolumeCount, 0.0);
+      c.Simulation.reset();
+      c.Simulation = StartSimulation(
+        input, v, this->InitialWater, this->Vegetation != 0 ? this->InitialVegetation : -1.0);
       c.Input = input;
       c.InputTime = input->GetMTime();
       c.FilterTime = this->GetMTime();
-      c.Valid = true;
     }
-    const std::vector<float> rain(
-      this->RainRate > 0.0 ? n : 0, static_cast<float>(this->RainRate / 1000.0 / 3600.0));
-    const int first = c.Steps;
-    const te::VegetationParams plants;
-    std::vector<float> bedBefore;
-    while (c.Steps < steps)
+    te::ErosionSimulation& sim = *c.Simulation;
+    const long long first = sim.Steps();
+    while (sim.Steps() < steps)
     {
-      if (c.HasVegetation)
+      sim.Step(sp, rows);
+      if ((sim.Steps() - first) % 16 == 0)
       {
-        te::VegetationResistance(
-          c.Vegetation, plants, c.State.erosionFactor.data(), c.State.talusFactor.data());
-      }
-      const te::ErosionStepStats s = te::ErosionHydraulicStep(c.State,
-        p,
-        rain.empty() ? nullptr : rain.data(),
-        c.Factor.empty() ? nullptr : c.Factor.data(),
-        rows);
-      c.Volumes[Eroded] += s.eroded;
-      c.Volumes[Deposited] += s.deposited;
-      c.Volumes[Rain] += s.rain;
-      c.Volumes[Evaporated] += s.evaporated;
-      c.Volumes[ToSea] += s.waterToSea;
-      ++c.Steps;
-      if (c.HasVegetation)
-      {
-        te::VegetationWater w;
-        w.surface = c.State.water.data();
-        w.surfaceResidue = c.State.waterResidue.data();
-        te::VegetationStep(c.Vegetation, w, this->TimeStep, plants, rows);
-      }
-      if (this->ThermalInterval > 0 && c.Steps % this->ThermalInterval == 0)
-      {
-        if (c.HasVegetation)
-        {
-          bedBefore = c.State.terrain;
-        }
-        te::ErosionThermalStep(c.State, thermal, rows);
-        if (c.HasVegetation)
-        {
-          te::VegetationSlipDamage(
-            c.Vegetation, bedBefore.data(), c.State.terrain.data(), plants, rows);
-        }
-      }
-      if ((c.Steps - first) % 16 == 0)
-      {
-        this->UpdateProgress(0.05 + 0.9 * (c.Steps - first) / std::max(1, steps - first));
+        this->UpdateProgress(0.05 +
+          0.9 * static_cast<double>(sim.Steps() - first) /
+            static_cast<double>(std::max<long long>(1, steps - first)));
       }
     }
   }
   catch (const std::invalid_argument& x)
   {
-    c.Valid = false;
+    c.Simulation.reset();
     vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
     return 0;
   }
 
   // Outputs: the bed and the water with their rounding residues, NaN on no data.
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  const te::ErosionState& s = c.State;
+  const te::ErosionSimulation& sim = *c.Simulation;
+  const te::ErosionState& s = sim.State();
   auto make = [&](const char* name)
   {
     return vtkSmartPointer<vtkFloatArray>::Take(
@@ -366,13 +319,13 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
     sediment->SetValue(k, s.sediment[k]);
   }
   vtkPointData* pd = output->GetPointData();
-  if (c.HasVegetation)
+  if (sim.HasVegetation())
   {
     vtkSmartPointer<vtkFloatArray> plants = vtkSmartPointer<vtkFloatArray>::Take(
       terroir::NewOutputArray(VegetationName(), 1, static_cast<long long>(n), ""));
     for (std::size_t k = 0; k < n; ++k)
     {
-      plants->SetValue(static_cast<vtkIdType>(k), s.IsValid(k) ? c.Vegetation.density[k] : nan);
+      plants->SetValue(static_cast<vtkIdType>(k), s.IsValid(k) ? sim.Vegetation().density[k] : nan);
     }
     pd->AddArray(plants);
   }
@@ -383,9 +336,11 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
   vtkFieldData* fd = output->GetFieldData();
   auto count = vtkSmartPointer<vtkIntArray>::New();
   count->SetName("ErosionSteps");
-  count->InsertNextValue(c.Steps);
+  count->InsertNextValue(static_cast<int>(sim.Steps()));
   fd->AddArray(count);
-  fd->AddArray(FieldArray("ErosionVolumes", c.Volumes, VolumeCount));
+  const te::ErosionVolumes& sums = sim.Volumes();
+  const double volumes[] = { sums.eroded, sums.deposited, sums.rain, sums.evaporated, sums.toSea };
+  fd->AddArray(FieldArray("ErosionVolumes", volumes, 5));
   const te::ErosionTotals totals = te::ErosionMeasure(s);
   const double now[3] = { totals.terrain, totals.water, totals.sediment };
   fd->AddArray(FieldArray("ErosionTotals", now, 3));
