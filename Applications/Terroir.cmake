@@ -59,7 +59,8 @@ install(TARGETS terroir-overlay LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")
 # `terroir view`: the window-free model (unit-tested by Testing/Pipeline/TestViewerSession.cxx)
 # and the window module, loaded with dlopen like the overlay module.
 add_library(TerroirViewerSession STATIC TerroirViewerSession.cxx TerroirViewerSession.h
-  TerroirViewerSessionEdits.cxx TerroirViewerSessionOverlays.cxx TerroirViewerSessionWorker.cxx
+  TerroirViewerSessionEdits.cxx TerroirViewerSessionErosion.cxx TerroirViewerSessionOverlays.cxx
+  TerroirViewerSessionWorker.cxx
   TerroirViewerSessionPrivate.h)
 set_target_properties(TerroirViewerSession PROPERTIES POSITION_INDEPENDENT_CODE ON)
 target_include_directories(TerroirViewerSession PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}")
@@ -74,7 +75,7 @@ set_target_properties(TerroirCommandLine PROPERTIES POSITION_INDEPENDENT_CODE ON
 
 add_library(terroir-viewer MODULE TerroirViewerWindow.cxx TerroirViewerWindowCamera.cxx
   TerroirViewerWindowOverlay.cxx TerroirViewerWindowScript.cxx TerroirViewerWindowTools.cxx
-  TerroirViewerWindowCards.cxx
+  TerroirViewerWindowCards.cxx TerroirViewerWindowErosion.cxx
   TerroirViewerWindowPrivate.h TerroirViewerPlugin.h)
 set_target_properties(terroir-viewer PROPERTIES PREFIX "" OUTPUT_NAME "terroir-viewer"
   CXX_VISIBILITY_PRESET hidden)

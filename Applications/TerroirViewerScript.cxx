@@ -80,6 +80,9 @@ const NumericVerb NumericVerbs[] = {
   { "coldest", -90.0, 60.0, false },
   { "warmest", -90.0, 60.0, false },
   { "lapse-rate", 0.0, 20.0, false },
+  { "erosion-amount", -100.0, 100.0, false },
+  { "erosion-rain", 0.0, 10000.0, false },
+  { "wait-erosion", 1.0, 1e9, true },
 };
 
 /// A whole token as a finite number; false otherwise.
@@ -205,18 +208,21 @@ bool ParseOverlay(ScriptLine& s)
   return true;
 }
 
-/// style, tool, view, button, flow-mode and card: one word of a fixed list.
+/// style, tool, view, button, flow-mode, card, erosion and erosion-brush: one word of a fixed
+/// list.
 bool ParseChoice(ScriptLine& s)
 {
   const std::vector<std::string>& w = s.W;
   ViewerAction& a = s.A;
   const std::vector<std::string> allowed = a.Verb == "style"
     ? std::vector<std::string>{ "terrain", "first-person" }
-    : a.Verb == "tool"      ? std::vector<std::string>{ "navigate", "lake", "brush", "sea" }
-    : a.Verb == "button"    ? ViewerButtonNames()
-    : a.Verb == "flow-mode" ? std::vector<std::string>{ "pulse", "rivers" }
-    : a.Verb == "card"      ? std::vector<std::string>{ "none", "climate", "settings" }
-                            : std::vector<std::string>{ "relief", "map" };
+    : a.Verb == "tool"          ? std::vector<std::string>{ "navigate", "lake", "brush", "sea" }
+    : a.Verb == "button"        ? ViewerButtonNames()
+    : a.Verb == "flow-mode"     ? std::vector<std::string>{ "pulse", "rivers" }
+    : a.Verb == "card"          ? std::vector<std::string>{ "none", "climate", "settings" }
+    : a.Verb == "erosion"       ? std::vector<std::string>{ "start", "stop", "keep" }
+    : a.Verb == "erosion-brush" ? std::vector<std::string>{ "soil", "water", "vegetation" }
+                                : std::vector<std::string>{ "relief", "map" };
   std::string list;
   for (const std::string& name : allowed)
   {
@@ -405,7 +411,7 @@ bool ParseArguments(ScriptLine& s)
     return ParseOverlay(s);
   }
   else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button" ||
-    a.Verb == "flow-mode" || a.Verb == "card")
+    a.Verb == "flow-mode" || a.Verb == "card" || a.Verb == "erosion" || a.Verb == "erosion-brush")
   {
     return ParseChoice(s);
   }
@@ -461,7 +467,8 @@ bool ParseArguments(ScriptLine& s)
       "button, card, click, "
       "drag, wheel, key, flow, undo, wait, camera, state, screenshot, cluster-weight, table-csv, "
       "flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance, sea, "
-      "coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save, quit)");
+      "coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save, "
+      "erosion, erosion-brush, erosion-amount, erosion-rain, wait-erosion, quit)");
   }
   return true;
 }

@@ -200,12 +200,17 @@ unsigned long ViewerSession::GetWaterVersion() const
 
 vtkFloatArray* ViewerSession::GetDisplayedWater() const
 {
-  return this->Impl->HavePreview ? this->Impl->Preview.Get() : this->Impl->Water.Get();
+  const Internals& in = *this->Impl;
+  if (in.Erosion && in.ErosionWater)
+  {
+    return in.ErosionWater; // a live erosion's water (until kept or the terrain changes)
+  }
+  return in.HavePreview ? in.Preview.Get() : in.Water.Get();
 }
 
 unsigned long ViewerSession::GetDisplayedWaterVersion() const
 {
-  return this->Impl->WaterVersion + this->Impl->FrameVersion;
+  return this->Impl->WaterVersion + this->Impl->FrameVersion + this->Impl->ErosionFrameVersion;
 }
 
 long long ViewerSession::GetFlowFrameIteration() const
@@ -255,6 +260,9 @@ bool ViewerSession::SetTerrain(vtkImageData* terrain, std::string& error)
     error = "the terrain has no one-component 'Elevation' point array";
     return false;
   }
+  in.Erosion.reset(); // a live erosion of the old terrain ends
+  in.ErosionBed = in.ErosionWater = in.ErosionSediment = in.ErosionVegetation = nullptr;
+  ++in.ErosionFrameVersion;
   in.Terrain = vtkSmartPointer<vtkImageData>::New();
   in.Terrain->ShallowCopy(terrain);
   // Our own arrays replace any of the same name the file had.

@@ -107,6 +107,18 @@ struct ViewerParameters
   bool UseMonthlyTemperatures = false;
   std::array<double, 12> MonthlyTemperatures{};
   int FlowFrameInterval = 10; ///< iterations between the frames of a running water flow
+  /// Live erosion (StartErosion): what the Brush tool paints while it runs (0 soil, 1 water,
+  /// 2 vegetation: terroir::terrain::ErosionBrush), the dab's amount at its centre (m of soil
+  /// or water, negative digs or dries; the target density for vegetation), rain (mm/h on every
+  /// cell), water on every cell at the start (m; 0: dry, the water comes from the brush and the
+  /// rain), vegetation coupled from the start (else from the first vegetation dab), and steps
+  /// between two frames.
+  int ErosionBrush = 1;
+  double ErosionAmount = 0.5;
+  double ErosionRain = 0.0;
+  double ErosionInitialWater = 0.0;
+  bool ErosionVegetation = false;
+  int ErosionFrameInterval = 5;
 };
 
 /// One row of the cluster table: a cluster's colour, size and mean resources.
@@ -244,8 +256,9 @@ public:
   /// The current water state (`WaterHeight`, metres). Changes in place; do not keep it
   /// across a change if you need the old values.
   vtkFloatArray* GetWater() const;
-  /// What to draw: while a water flow runs, its latest frame (the state after
-  /// GetFlowFrameIteration() iterations, every FlowFrameInterval), else GetWater().
+  /// What to draw: the live erosion's water frame while there is one (StartErosion, until
+  /// KeepErosion or a new terrain), else while a water flow runs its latest frame (the state
+  /// after GetFlowFrameIteration() iterations, every FlowFrameInterval), else GetWater().
   vtkFloatArray* GetDisplayedWater() const;
   /// Changes whenever GetDisplayedWater() does (water changes and flow frames).
   unsigned long GetDisplayedWaterVersion() const;
@@ -277,6 +290,40 @@ public:
   long long EndStroke();
   long long FillInfiltration();
   long long ApplySlopeRule(std::string& error);
+  ///@}
+
+  ///@{
+  /// Live erosion (Dunn 2015's sandbox; terroir::terrain::ErosionSimulation with
+  /// vtkTerroirErosion's defaults: Weiss's constants, a soil-slip step after every hydraulic
+  /// step, a closed domain; ErosionInitialWater, ErosionRain, ErosionVegetation) on a thread
+  /// of its own, with the terrain as it is now. Dabs painted while it runs (PaintErosion, the
+  /// Brush tool) are applied between two steps. Every ErosionFrameInterval steps it publishes
+  /// a frame: the bed (m), the water depth (m), the suspended sediment and, with vegetation,
+  /// the density.
+  /// StartErosion is false with `error` when one runs already or the terrain cannot be used.
+  /// StopErosion ends the run (the last frame stays); KeepErosion ends it and makes the bed
+  /// the terrain's `Elevation` (as SetTerrain: water, infiltration and undo start again).
+  bool StartErosion(std::string& error);
+  void StopErosion();
+  bool KeepErosion(std::string& error);
+  bool IsEroding() const;
+  /// Queues a dab of the parameters' brush, amount and BrushRadius at cell (i, j); false when
+  /// no erosion runs.
+  bool PaintErosion(double i, double j);
+  /// Blocks until the run has done at least `steps` steps (or stopped, or `timeout` seconds
+  /// passed); false when it did not get there.
+  bool WaitErosionSteps(long long steps, double timeout);
+  long long GetErosionSteps() const;
+  /// Steps per second of the run (wall clock, frames included), 0 before the first frame.
+  double GetErosionStepsPerSecond() const;
+  /// Changes with every frame; the frame's arrays (null before the first; the vegetation null
+  /// without vegetation): bed (m), water depth (m), suspended sediment (m of bed), density.
+  /// Valid until the next call that changes the version.
+  unsigned long GetErosionFrameVersion() const;
+  vtkFloatArray* GetErosionBed() const;
+  vtkFloatArray* GetErosionWater() const;
+  vtkFloatArray* GetErosionSediment() const;
+  vtkFloatArray* GetErosionVegetation() const;
   ///@}
 
 private:

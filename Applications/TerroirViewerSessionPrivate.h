@@ -232,6 +232,14 @@ struct ViewerSession::Internals
       std::max(0.0, std::min(vtkTerroirInfiltration::GetMaximumRate(), this->Params.BrushRate)));
   }
 
+  // ---- live erosion (TerroirViewerSessionErosion.cxx) -----------------------------------
+  struct ErosionRunner; ///< the simulation and its thread
+  std::shared_ptr<ErosionRunner> Erosion;
+  vtkSmartPointer<vtkFloatArray> ErosionBed, ErosionWater, ErosionSediment, ErosionVegetation;
+  unsigned long ErosionFrameVersion = 0;
+  /// Pump's part: the runner's newest frame into the arrays above; true when there was one.
+  bool TakeErosionFrame();
+
   /// 1 where the cell has data (finite elevation, valid mask); set by SetTerrain.
   std::vector<unsigned char> DataCells;
   bool HasData(vtkIdType k) const { return this->DataCells[static_cast<std::size_t>(k)] != 0; }

@@ -215,7 +215,7 @@ void ViewerSession::RequestWaterFlow()
 bool ViewerSession::Pump()
 {
   Internals& in = *this->Impl;
-  bool changed = false;
+  bool changed = in.TakeErosionFrame();
   {
     // The running flow's newest frame goes on display.
     std::lock_guard<std::mutex> lock(in.FrameMutex);

@@ -322,6 +322,12 @@ void ViewerWindow::CollectResults()
   {
     this->ApplyOverlay(result);
   }
+  if (this->Session.GetErosionFrameVersion() != this->ErosionShown)
+  {
+    // A live erosion's frame: the relief follows the bed (the water below).
+    this->ErosionShown = this->Session.GetErosionFrameVersion();
+    this->ShowErosionFrame(!this->Session.IsEroding());
+  }
   if (this->Session.GetWaterVersion() != this->WaterShown)
   {
     // A water-flow run replaced the water state (fills and undos redraw at once).

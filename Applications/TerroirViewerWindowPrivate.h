@@ -229,6 +229,20 @@ private:
   bool FlowKey(const std::string& symbol, bool shift);
   /// Describes the water-flow settings (and the last run) in Message.
   void DescribeFlow();
+  ///@{
+  /// Live erosion (TerroirViewerWindowErosion.cxx). ErosionKey: F5 starts or stops it, F6
+  /// cycles the erosion brush, F7 keeps the eroded terrain (false for another key).
+  /// ErosionCommand: "start", "stop" or "keep", the outcome in Message. ShowErosionFrame: the
+  /// relief rebuilt on the newest bed (at most twice a second unless `force`).
+  /// PaintErosionAlong: dabs every half radius from cell (i0, j0) to (i1, j1).
+  bool ErosionKey(const std::string& symbol);
+  void ErosionCommand(const std::string& what);
+  void DescribeErosion();
+  void ShowErosionFrame(bool force);
+  void PaintErosionAlong(double i0, double j0, double i1, double j1);
+  std::chrono::steady_clock::time_point LastBedShown;
+  unsigned long ErosionShown = 0; ///< erosion frame version on screen
+  ///@}
   /// flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance.
   void SetFlowParameter(const ViewerAction& a);
   /// coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save: sets

@@ -84,7 +84,9 @@ void ViewerWindow::PrintState()
               "warmest %.6g lapse-rate %.6g temperatures %s precipitation-jul %.6g "
               "intensity-jul %.6g orientation-edit %s card %s card-field %d card-month %d "
               "sensitivity %.6g move-speed %.6g sea-level %.9g precipitation-months %s "
-              "intensity-months %s style %s detail %s\n",
+              "intensity-months %s style %s detail %s erosion %s erosion-steps %lld "
+              "erosion-brush %s erosion-amount %.6g erosion-water-sum %.9g erosion-bed-sum %.9g "
+              "erosion-rate %.4g\n",
     terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
     ToolName(this->CurrentTool),
     p.Latitude,
@@ -133,7 +135,18 @@ void ViewerWindow::PrintState()
     this->FirstPerson ? "first-person" : "terrain",
     !this->HaveCoarse       ? "full-only"
       : this->LastDrawnFull ? "full"
-                            : "coarse");
+                            : "coarse",
+    this->Session.IsEroding()                    ? "running"
+      : this->Session.GetErosionBed() != nullptr ? "stopped"
+                                                 : "none",
+    this->Session.GetErosionSteps(),
+    p.ErosionBrush == 0     ? "soil"
+      : p.ErosionBrush == 1 ? "water"
+                            : "vegetation",
+    p.ErosionAmount,
+    this->Session.GetErosionWater() ? sum(this->Session.GetErosionWater()) : 0.0,
+    this->Session.GetErosionBed() ? sum(this->Session.GetErosionBed()) : 0.0,
+    this->Session.GetErosionStepsPerSecond());
   std::fflush(stdout);
 }
 
@@ -323,6 +336,35 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
   else if (a.Verb == "sea")
   {
     this->FloodSea(n[0]);
+  }
+  else if (a.Verb == "erosion")
+  {
+    this->ErosionCommand(a.Text);
+  }
+  else if (a.Verb == "erosion-brush" || a.Verb == "erosion-amount" || a.Verb == "erosion-rain")
+  {
+    auto& p = this->Session.Parameters();
+    if (a.Verb == "erosion-brush")
+    {
+      p.ErosionBrush = a.Text == "soil" ? 0 : a.Text == "water" ? 1 : 2;
+    }
+    else
+    {
+      (a.Verb == "erosion-amount" ? p.ErosionAmount : p.ErosionRain) = n[0];
+    }
+    this->DescribeErosion();
+  }
+  else if (a.Verb == "wait-erosion")
+  {
+    if (!this->Session.WaitErosionSteps(static_cast<long long>(n[0]), 600.0))
+    {
+      error = where + ": the erosion did not reach " +
+        std::to_string(static_cast<long long>(n[0])) + " steps (none running, or it stopped)";
+      return false;
+    }
+    this->CollectResults();
+    this->ShowErosionFrame(true);
+    this->DescribeErosion();
   }
   else if (a.Verb.compare(0, 5, "flow-") == 0)
   {

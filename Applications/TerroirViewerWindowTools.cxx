@@ -368,6 +368,9 @@ void ViewerWindow::OnKey(vtkObject*, unsigned long, void*)
     this->Message = this->Screenshot(path, error) ? "Saved " + path : error;
     this->UpdateTexts();
   }
+  else if (this->ErosionKey(sym))
+  {
+  }
   else if (sym == "q" || sym == "Escape")
   {
     this->QuitRequested = true; // a script's `key q` ends the session too
@@ -541,8 +544,13 @@ void ViewerWindow::OnClick(vtkObject*, unsigned long, void* callData)
 
 void ViewerWindow::OnTimer(vtkObject*, unsigned long, void*)
 {
-  const bool busy = !this->Session.IsIdle();
+  const bool eroding = this->Session.IsEroding();
+  const bool busy = !this->Session.IsIdle() || eroding;
   this->CollectResults();
+  if (eroding)
+  {
+    this->DescribeErosion();
+  }
   if (busy || this->Computing)
   {
     this->UpdateTexts();
@@ -624,7 +632,11 @@ void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
       this->Painting = true;
       this->Session.BeginStroke();
       this->HaveLastCell = this->PickCell(x, y, this->LastCell[0], this->LastCell[1]);
-      if (this->HaveLastCell)
+      if (this->HaveLastCell && this->Session.IsEroding())
+      {
+        this->Session.PaintErosion(this->LastCell[0], this->LastCell[1]);
+      }
+      else if (this->HaveLastCell)
       {
         this->Session.PaintInfiltration(this->LastCell[0], this->LastCell[1]);
       }
@@ -647,7 +659,18 @@ void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
       int i = 0, j = 0;
       if (this->PickCell(x, y, i, j))
       {
-        if (this->HaveLastCell)
+        if (this->Session.IsEroding())
+        {
+          if (this->HaveLastCell)
+          {
+            this->PaintErosionAlong(this->LastCell[0], this->LastCell[1], i, j);
+          }
+          else
+          {
+            this->Session.PaintErosion(i, j);
+          }
+        }
+        else if (this->HaveLastCell)
         {
           this->Session.PaintInfiltrationAlong(this->LastCell[0], this->LastCell[1], i, j);
         }
@@ -678,13 +701,20 @@ void ViewerWindow::OnMouse(vtkObject*, unsigned long event, void*)
     {
       this->Painting = false;
       const long long changed = this->Session.EndStroke();
-      char line[128];
-      std::snprintf(line,
-        sizeof(line),
-        "Painted %lld cells at %.0f mm/h (Ctrl+Z undoes the stroke)",
-        changed,
-        this->Session.Parameters().BrushRate);
-      this->Message = line;
+      if (this->Session.IsEroding())
+      {
+        this->DescribeErosion(); // the dabs reach the run between two steps
+      }
+      else
+      {
+        char line[128];
+        std::snprintf(line,
+          sizeof(line),
+          "Painted %lld cells at %.0f mm/h (Ctrl+Z undoes the stroke)",
+          changed,
+          this->Session.Parameters().BrushRate);
+        this->Message = line;
+      }
       if (changed > 0)
       {
         this->InfiltrationChanged();

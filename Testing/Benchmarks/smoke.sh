@@ -54,5 +54,11 @@ if [ -n "${DISPLAY:-}" ]; then
     cat "$scratch/viewer_session.log"
     exit 1
   }
+  /usr/bin/python3 "$here/Testing/Benchmarks/viewer_erosion.py" --build "$build" --size 64 \
+    --steps 10 --json "$scratch/viewer_erosion.json" >"$scratch/viewer_erosion.log" 2>&1
+  grep -q "target 10 steps/s" "$scratch/viewer_erosion.log" || {
+    cat "$scratch/viewer_erosion.log"
+    exit 1
+  }
 fi
 echo "benchmarks ran: $(ls "$scratch")"

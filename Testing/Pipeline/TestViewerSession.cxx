@@ -4,6 +4,8 @@
 #include "TerroirFilterTestUtilities.h"
 #include "TerroirViewerSession.h"
 
+#include "ErosionSimulation.h"
+
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -984,4 +986,149 @@ TEST(TerroirViewerSession, RefusesATerrainWithoutElevation)
   std::string error;
   EXPECT_FALSE(s.SetTerrain(image, error));
   EXPECT_EQ(error, "the terrain has no one-component 'Elevation' point array");
+}
+
+namespace
+{
+/// The bed and water of a live erosion as the core computes them after `steps` steps from the
+/// session's defaults (Weiss's constants, soil slip every step, closed) with 0.05 m of water.
+void ExpectTheCoreAfter(vtkImageData* terrain,
+  long long steps,
+  vtkFloatArray* bed,
+  vtkFloatArray* water)
+{
+  const vtkIdType n = terrain->GetNumberOfPoints();
+  std::vector<float> z(n);
+  std::vector<std::uint8_t> valid(n);
+  vtkDataArray* e = terrain->GetPointData()->GetArray("Elevation");
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    z[k] = static_cast<float>(e->GetComponent(k, 0));
+    valid[k] = std::isfinite(z[k]) ? 1 : 0;
+  }
+  terroir::GridView<float> view;
+  view.data = z.data();
+  view.nx = 48;
+  view.ny = 32;
+  view.dx = view.dy = 10.0;
+  view.valid = valid.data();
+  terroir::terrain::ErosionSimulation sim(view, 0.05);
+  while (sim.Steps() < steps)
+  {
+    sim.Step(terroir::terrain::ErosionSimulationParams());
+  }
+  const terroir::terrain::ErosionState& s = sim.State();
+  int differ = 0;
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    const float b = static_cast<float>(double(s.terrain[k]) + double(s.terrainResidue[k]));
+    const float w = static_cast<float>(double(s.water[k]) + double(s.waterResidue[k]));
+    differ += (b != bed->GetValue(k) || w != water->GetValue(k)) ? 1 : 0;
+  }
+  EXPECT_EQ(differ, 0) << "of " << n << " cells after " << steps << " steps";
+}
+
+/// Sum of the bed (or water) over the cells with data, times the cell area 100 m^2.
+double Volume(vtkFloatArray* a, vtkImageData* terrain)
+{
+  vtkDataArray* e = terrain->GetPointData()->GetArray("Elevation");
+  double v = 0.0;
+  for (vtkIdType k = 0; k < a->GetNumberOfValues(); ++k)
+  {
+    v += std::isfinite(e->GetComponent(k, 0)) ? 100.0 * a->GetValue(k) : 0.0;
+  }
+  return v;
+}
+} // namespace
+
+TEST(TerroirViewerSession, LiveErosionIsTheCoreSimulationStepForStep)
+{
+  ViewerSession s;
+  std::string error;
+  vtkSmartPointer<vtkImageData> terrain = TwoBowls();
+  ASSERT_TRUE(s.SetTerrain(terrain, error)) << error;
+  s.Parameters().ErosionInitialWater = 0.05;
+  EXPECT_FALSE(s.PaintErosion(5, 5)); // nothing runs yet
+  ASSERT_TRUE(s.StartErosion(error)) << error;
+  EXPECT_TRUE(s.IsEroding());
+  EXPECT_FALSE(s.StartErosion(error));
+  EXPECT_EQ(error, "an erosion run is under way (stop it first)");
+  ASSERT_TRUE(s.WaitErosionSteps(12, 120.0));
+  s.StopErosion();
+  EXPECT_FALSE(s.IsEroding());
+  const long long steps = s.GetErosionSteps();
+  EXPECT_GE(steps, 12);
+  ASSERT_NE(s.GetErosionBed(), nullptr);
+  ASSERT_NE(s.GetErosionWater(), nullptr);
+  EXPECT_EQ(s.GetErosionVegetation(), nullptr);
+  EXPECT_EQ(s.GetDisplayedWater(), s.GetErosionWater());
+  ExpectTheCoreAfter(terrain, steps, s.GetErosionBed(), s.GetErosionWater());
+}
+
+TEST(TerroirViewerSession, ErosionBrushesPaintSoilAndWaterAndKeepingMakesTheBedTheTerrain)
+{
+  ViewerSession s;
+  std::string error;
+  vtkSmartPointer<vtkImageData> terrain = TwoBowls();
+  ASSERT_TRUE(s.SetTerrain(terrain, error)) << error;
+  auto& p = s.Parameters();
+  p.BrushRadius = 4.0;
+  p.ErosionInitialWater = 0.05;
+  ASSERT_TRUE(s.StartErosion(error)) << error;
+  ASSERT_TRUE(s.WaitErosionSteps(2, 120.0));
+  // At the start: 0.05 m of water on each of the 1535 cells with data, and the terrain.
+  vtkNew<vtkFloatArray> start;
+  start->DeepCopy(terrain->GetPointData()->GetArray("Elevation"));
+  const double water0 = 1535 * 100.0 * static_cast<double>(0.05f);
+  const double bed0 = Volume(start, terrain);
+  p.ErosionBrush = 0; // soil: a 3 m mound at (24, 16), on the ridge between the bowls
+  p.ErosionAmount = 3.0;
+  ASSERT_TRUE(s.PaintErosion(24.0, 16.0));
+  p.ErosionBrush = 1; // water: 0.4 m around (12, 12), the west bowl
+  p.ErosionAmount = 0.4;
+  ASSERT_TRUE(s.PaintErosion(12.0, 12.0));
+  ASSERT_TRUE(s.WaitErosionSteps(s.GetErosionSteps() + 3, 120.0));
+  s.StopErosion();
+  // A dab of radius 4 puts amount x sum of (1 + cos(pi r / 4)) / 2 over the cells with r < 4.
+  double weights = 0.0;
+  for (int dj = -3; dj <= 3; ++dj)
+  {
+    for (int di = -3; di <= 3; ++di)
+    {
+      const double r = std::hypot(di, dj);
+      weights += r < 4.0 ? 0.5 * (1.0 + std::cos(3.14159265358979 * r / 4.0)) : 0.0;
+    }
+  }
+  // The water: evaporation takes the fraction K_e dt = 5e-5 of every cell's water a step, so
+  // after N steps, with the dab D at an unknown step, (W0 + D) f^N <= W <= W0 f^N + D,
+  // f = 1 - 5e-5.
+  const double dab = 0.4 * 100.0 * weights;
+  const double f = std::pow(1.0 - 5e-5, static_cast<double>(s.GetErosionSteps()));
+  const double water = Volume(s.GetErosionWater(), terrain);
+  EXPECT_GE(water, (water0 + dab) * f * (1.0 - 1e-6));
+  EXPECT_LE(water, (water0 * f + dab) * (1.0 + 1e-6));
+  EXPECT_GT(dab, 0.1 * water0 * (1.0 - f)); // the test can tell the dab from evaporation
+  // The material: bed and suspended sediment change by the mound alone (closed domain).
+  const double mound = 3.0 * 100.0 * weights;
+  const double material =
+    Volume(s.GetErosionBed(), terrain) + Volume(s.GetErosionSediment(), terrain);
+  EXPECT_NEAR(material, bed0 + mound, 1e-6 * bed0);
+  EXPECT_GT(mound, 10.0 * 1e-6 * bed0); // the test can tell the mound from rounding
+  vtkFloatArray* bed = s.GetErosionBed();
+  const std::vector<float> last = Copy(bed);
+
+  ASSERT_TRUE(s.KeepErosion(error)) << error;
+  EXPECT_FALSE(s.IsEroding());
+  EXPECT_EQ(s.GetErosionBed(), nullptr);
+  vtkDataArray* kept = s.GetTerrain()->GetPointData()->GetArray("Elevation");
+  int differ = 0;
+  for (vtkIdType k = 0; k + 1 < kept->GetNumberOfTuples(); ++k) // the last cell has no data
+  {
+    differ += kept->GetComponent(k, 0) == last[k] ? 0 : 1;
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_TRUE(std::isnan(kept->GetComponent(47 + 31 * 48, 0)));
+  EXPECT_EQ(s.GetDisplayedWater(), s.GetWater()); // dry again: the water starts over
+  EXPECT_FALSE(s.KeepErosion(error));
+  EXPECT_EQ(error, "no erosion to keep (start one first)");
 }

@@ -463,6 +463,32 @@ class TerroirViewer(unittest.TestCase):
         self.assertGreater(s[2]["water-sum"], 0.0)
         self.assertEqual((s[3]["flow-last-stop"], s[3]["undo"]), ("Balanced", 2))
 
+    def test_live_erosion_runs_takes_dabs_and_keeps_its_bed(self):
+        """F5 (and `erosion start`) runs the live erosion on its own thread with the Brush tool
+        on; a click drops a dab of water (the run starts dry, so any water is the dab's);
+        `wait-erosion 30` blocks until 30 steps are done; F5 stops it, F6 cycles the brush
+        (water -> vegetation), F7 keeps the bed as the terrain and ends the run. Waiting for
+        steps with no run stops the script with one line."""
+        need_display(self)
+        proc, _, _ = run_view("erosion", [
+            "key F5", "erosion-brush water", "erosion-amount 1", "brush-size 6",
+            "click %d %d" % BOWL, "wait-erosion 30", "state", "key F5", "state", "key F6",
+            "state", "key F7", "state", "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual(len(s), 4, proc.stdout)
+        self.assertEqual((s[0]["erosion"], s[0]["tool"], s[0]["erosion-brush"]),
+                         ("running", "brush", "water"))
+        self.assertGreaterEqual(s[0]["erosion-steps"], 30)
+        self.assertGreater(s[0]["erosion-water-sum"], 1.0)
+        self.assertEqual(s[1]["erosion"], "stopped")
+        self.assertGreaterEqual(s[1]["erosion-steps"], s[0]["erosion-steps"])
+        self.assertEqual(s[2]["erosion-brush"], "vegetation")
+        self.assertEqual((s[3]["erosion"], s[3]["erosion-steps"]), ("none", 0))
+        proc, _, _ = run_view("erosion_none", ["wait-erosion 5", "quit"], dem=bowl_dem())
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertIn("the erosion did not reach 5 steps", proc.stderr)
+
     def test_the_sea_floods_from_the_edge_and_is_undone(self):
         """`sea 2003` on BowlDEM covers what a breadth-first search from the edge cells at or
         below 2003 m reaches through such cells (8 neighbours), each with 2003 - z m: the

@@ -78,8 +78,16 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
     "screenshot, "
     "cluster-weight, table-csv, flow-mode, flow-iterations, flow-water, flow-rain-rate, "
     "flow-stop, flow-balance, sea, coldest, warmest, lapse-rate, precipitation, intensity, "
-    "climate-load, climate-save, quit)");
+    "climate-load, climate-save, erosion, erosion-brush, erosion-amount, erosion-rain, "
+    "wait-erosion, quit)");
   EXPECT_EQ(ErrorOf("card map"), "s.txt:1: 'card': unknown value 'map' (none, climate, settings)");
+  EXPECT_EQ(ErrorOf("erosion go"), "s.txt:1: 'erosion': unknown value 'go' (start, stop, keep)");
+  EXPECT_EQ(ErrorOf("erosion-brush rock"),
+    "s.txt:1: 'erosion-brush': unknown value 'rock' (soil, water, vegetation)");
+  EXPECT_EQ(
+    ErrorOf("wait-erosion 2.5"), "s.txt:1: 'wait-erosion': value 2.5 is not a whole number");
+  EXPECT_EQ(
+    ErrorOf("erosion-amount -200"), "s.txt:1: 'erosion-amount': value -200 is outside [-100, 100]");
   EXPECT_EQ(ErrorOf("move-speed 200"), "s.txt:1: 'move-speed': value 200 is outside [0.01, 100]");
   EXPECT_EQ(ErrorOf("button paint"),
     "s.txt:1: 'button': unknown value 'paint' (navigate, lake, brush, fill, slope-rule, flow, "
