@@ -73,6 +73,10 @@ const std::vector<CommandEntry>& CommandEntries()
     { "erosion",
       "Hydraulic and thermal erosion on the virtual-pipe model (Weiss 2015, Dunn 2015)",
       MakeErosionOptions },
+    { "plants",
+      "Plants for each ecological zone: point patterns learned from an exemplar, or hard-core "
+      "(Long 2016, section 2.2)",
+      MakePlantsOptions },
     // new-filter.sh: commands
     { "view",
       "Interactive window: relief, overlays, sliders, lakes (default: bundled Sagehen DEM)",

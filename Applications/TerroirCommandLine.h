@@ -15,6 +15,7 @@
 #ifndef TerroirCommandLine_h
 #define TerroirCommandLine_h
 
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -317,6 +318,19 @@ struct CommandLine
     double Vegetation = -1.0;   ///< --vegetation V: Dunn's vegetation from density V (< 0: off)
     std::string SeaLevel;       ///< --sea M: the Sea boundary at this level (empty: Closed)
   } Erosion;
+
+  // plants (vtkTerroirPlantPlacement)
+  struct PlantSettings
+  {
+    std::string Exemplar;         ///< --exemplar FILE (.csv or .vtp)
+    std::vector<double> Window;   ///< --exemplar-window XMIN XMAX YMIN YMAX (empty: bounds)
+    double Density = 0.01;        ///< --density, plants per m2 (no exemplar)
+    double MinimumDistance = 5.0; ///< --min-distance M (no exemplar: hard core)
+    double MaximumDistance = 0.0; ///< --max-distance M (0: 2 x min-distance, 10 m with one)
+    int Bins = 20;                ///< --bins N
+    std::uint64_t Seed = 1;       ///< --seed N
+    long long Iterations = 0;     ///< --iterations N (0: 200 per expected plant)
+  } Plants;
   // new-filter.sh: options
 };
 

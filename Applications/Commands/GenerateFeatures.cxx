@@ -24,7 +24,6 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkXMLPolyDataReader.h"
-#include "vtkXMLPolyDataWriter.h"
 
 #include "TerroirSafeOutput.h"
 #include "vtkTerroirFeatureCurveTerrain.h"
@@ -235,24 +234,6 @@ vtkSmartPointer<vtkPolyData> ReadVTPCurves(const std::string& path)
   return copy;
 }
 
-void WriteCurves(vtkPolyData* curves, const std::string& path)
-{
-  const std::string temporary = TemporaryNameFor(path);
-  vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->SetInputData(curves);
-  writer->SetFileName(temporary.c_str());
-  writer->SetDataModeToAppended();
-  if (writer->Write() != 1)
-  {
-    DiscardTemporary(temporary);
-    throw Failure(path + ": cannot be written");
-  }
-  std::string error;
-  if (!CommitTemporary(temporary, path, error))
-  {
-    throw Failure(path + ": " + error);
-  }
-}
 } // namespace
 
 vtkSmartPointer<vtkPolyData> ReadFeatureCurves(const std::string& path)
@@ -305,7 +286,7 @@ int CommandGenerateFeatures(const CommandLine& c)
     WriteStageResult(terrain, "Elevation", c.Output, c.Overwrite);
     if (!f.SaveCurves.empty())
     {
-      WriteCurves(curves, f.SaveCurves);
+      WriteVTP(curves, f.SaveCurves);
     }
   }
   catch (...)

@@ -57,6 +57,7 @@ std::unique_ptr<CommandOptions> MakeFractalOptions();          // FractalOptions
 std::unique_ptr<CommandOptions> MakeGenerateOptions();         // GenerateOptions.cxx
 std::unique_ptr<CommandOptions> MakeMorphometryOptions();      // MorphometryOptions.cxx
 std::unique_ptr<CommandOptions> MakeErosionOptions();          // ErosionOptions.cxx
+std::unique_ptr<CommandOptions> MakePlantsOptions();           // PlantsOptions.cxx
 // new-filter.sh: options factories
 
 // ---- helpers the commands' options share (TerroirCommandOptions.cxx) ------------------------

@@ -6,11 +6,15 @@
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPolyData.h"
 #include "vtkStringArray.h"
 #include "vtkTerroirSolarIllumination.h"
 #include "vtkTerroirTemperature.h"
+#include "vtkXMLPolyDataWriter.h"
 
 #include "ClimateTable.h"
+#include "TerroirSafeOutput.h"
 
 #include <algorithm>
 #include <cmath>
@@ -301,6 +305,25 @@ OverlayWriterFunction CommandOverlayWriter(const CommandLine& c)
     }
     WriteOverlay(image, array, 0, preset, title, path, overwrite, map);
   };
+}
+
+void WriteVTP(vtkPolyData* data, const std::string& path)
+{
+  const std::string temporary = TemporaryNameFor(path);
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(data);
+  writer->SetFileName(temporary.c_str());
+  writer->SetDataModeToAppended();
+  if (writer->Write() != 1)
+  {
+    DiscardTemporary(temporary);
+    throw Failure(path + ": cannot be written");
+  }
+  std::string error;
+  if (!CommitTemporary(temporary, path, error))
+  {
+    throw Failure(path + ": " + error);
+  }
 }
 
 } // namespace app

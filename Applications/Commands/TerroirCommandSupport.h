@@ -22,6 +22,7 @@
 #include <string>
 
 class vtkDataArray;
+class vtkPolyData;
 class vtkTerroirSolarIllumination;
 class vtkTerroirTemperature;
 
@@ -74,6 +75,9 @@ vtkSmartPointer<vtkImageData> RunStage(Filter* filter,
 
 /// The first value of a one-value field-data array (NaN when missing), or of a string array.
 double FieldNumber(vtkImageData* image, const char* name);
+/// Writes `data` as VTK XML polydata (.vtp, appended), temporary file then rename; throws
+/// Failure naming `path`.
+void WriteVTP(vtkPolyData* data, const std::string& path);
 std::string FieldText(vtkImageData* image, const char* name);
 
 /// True when DISPLAY is set (PNG overlays and the window need an X server).

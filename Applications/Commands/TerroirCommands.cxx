@@ -31,6 +31,7 @@ const std::vector<Command>& Commands()
     { "kmeans", CommandKMeans },
     { "morphometry", CommandMorphometry },
     { "erosion", CommandErosion },
+    { "plants", CommandPlants },
     // new-filter.sh: commands
     { "view", CommandView },
     { "bench", [](const CommandLine& c) { return CommandBench(c); } },

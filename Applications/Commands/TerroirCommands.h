@@ -57,6 +57,7 @@ int CommandValidate(const CommandLine& c);         // Validate.cxx
 int CommandKMeans(const CommandLine& c);           // KMeans.cxx
 int CommandMorphometry(const CommandLine& c);      // Morphometry.cxx
 int CommandErosion(const CommandLine& c);          // Erosion.cxx
+int CommandPlants(const CommandLine& c);           // Plants.cxx
 // new-filter.sh: commands
 
 /// One GeoJSON property of WriteRiverLines: `key`, from the lines' cell array `array`.

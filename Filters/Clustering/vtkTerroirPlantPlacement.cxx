@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -135,9 +136,16 @@ Exemplar ReadExemplar(vtkPolyData* data)
   }
   else
   {
+    // The points' bounds, the upper edges moved up by one ulp: the window is half-open, and
+    // the points that make the bounds belong in it.
     double b[6];
     data->GetBounds(b);
-    std::copy(b, b + 4, e.window);
+    const double inf = std::numeric_limits<double>::infinity();
+    const bool area = b[1] > b[0] && b[3] > b[2]; // a line of points has none
+    const double w[4] = {
+      b[0], area ? std::nextafter(b[1], inf) : b[1], b[2], area ? std::nextafter(b[3], inf) : b[3]
+    };
+    std::copy(w, w + 4, e.window);
   }
   if (!(e.window[1] > e.window[0] && e.window[3] > e.window[2]))
   {

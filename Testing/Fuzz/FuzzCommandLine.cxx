@@ -245,7 +245,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     Check(!line.Input.empty());
   }
-  if (rasterIn && c != "info" && c != "validate" && c != "morphometry")
+  if (rasterIn && c != "info" && c != "validate" && c != "morphometry" && c != "plants")
   {
     Check(EndsWithRasterExtension(line.Output));
   }
@@ -262,6 +262,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Check(Within(e.CapacityDepth, 0.0, 1000.0));
     Check(e.Vegetation == -1.0 || Within(e.Vegetation, 0.0, 1.0));
     Check(e.SeaLevel.empty() || Within(std::stod(e.SeaLevel), -1e5, 1e5));
+  }
+  if (c == "plants")
+  {
+    const auto& p = line.Plants;
+    Check(EndsWith(line.Output, ".vtp") || EndsWith(line.Output, ".csv"));
+    Check(p.Exemplar.empty() || EndsWith(p.Exemplar, ".csv") || EndsWith(p.Exemplar, ".vtp"));
+    Check(p.Exemplar != line.Output);
+    Check(p.Window.empty() ||
+      (p.Window.size() == 4 && !p.Exemplar.empty() && p.Window[0] < p.Window[1] &&
+        p.Window[2] < p.Window[3]));
+    Check(Within(p.Density, 0.0, 100.0) && Within(p.MinimumDistance, 0.0, 1e6));
+    Check(Within(p.MaximumDistance, 0.0, 1e6) && p.Bins >= 1 && p.Bins <= 4096);
+    Check(p.Iterations >= 0);
   }
   if (c == "fractal" || c == "generate")
   {

@@ -236,6 +236,21 @@ TEST(TerroirPlantPlacement, ReproducesAnExemplar)
   EXPECT_GT(seen[1], 50);
 }
 
+// Without an ExemplarWindow the window is the points' bounds: the points that make the upper
+// bounds are inside it (the window is half-open; they were refused before).
+TEST(TerroirPlantPlacement, TheBoundsWindowHoldsThePointsOnItsUpperEdges)
+{
+  vtkNew<vtkPolyData> exemplar;
+  vtkNew<vtkPoints> points;
+  for (int k = 0; k < 30; ++k)
+  {
+    points->InsertNextPoint(3.0 * (k % 6), 5.0 * (k / 6), 0.0); // corner (15, 20) included
+  }
+  exemplar->SetPoints(points);
+  vtkSmartPointer<vtkPolyData> plants = Place(Zones(), exemplar, 3);
+  EXPECT_GT(plants->GetNumberOfPoints(), 0);
+}
+
 // The same seed gives the same plants, bit for bit; another seed others.
 TEST(TerroirPlantPlacement, SeedsDecide)
 {

@@ -458,6 +458,60 @@ class TerroirCommandLine(unittest.TestCase):
             self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
             self.assertFalse(os.path.exists(os.path.join(self.work, "x.tif")))
 
+    def test_plants_command(self):
+        # Zones of a 64 x 48 grid of 10 m cells written as a ClusterId GeoTIFF (west half zone
+        # 0, east half zone 1, a no-data column): a hard-core pattern (5 m) at 0.01 plants per
+        # m2 puts about 0.01 x 15200 m2 in each zone, no two plants of a zone closer than 5 m,
+        # and none in the no-data column; the same from an exemplar CSV whose points lie on
+        # its bounds (the window); a bad exemplar row is one line naming the file and the line.
+        import vtk
+        from osgeo import gdal_array
+        from vtk.util.numpy_support import vtk_to_numpy
+        zones = np.zeros((48, 64), dtype=np.float32)
+        zones[:, 32:] = 1.0
+        zones[:, 0] = np.nan
+        tif = os.path.join(self.work, "zones.tif")
+        ds = gdal_array.SaveArray(zones, tif, format="GTiff")
+        ds.SetGeoTransform((500000.0, 10.0, 0.0, 4300000.0, 0.0, -10.0))
+        ds = None
+        out = os.path.join(self.work, "plants.csv")
+        r = terroir("plants", tif, out, "--seed", "3")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertRegex(r.stdout, r"plants: [0-9]+ plants in 2 zones \(hard core\)")
+        rows = np.loadtxt(out, delimiter=",", skiprows=1, ndmin=2)
+        with open(out) as f:
+            self.assertEqual(f.readline().strip(), "x,y,z,species,cluster_id")
+        for zone, cells in ((0, 31 * 48), (1, 32 * 48)):
+            mine = rows[rows[:, 4] == zone]
+            self.assertAlmostEqual(len(mine) / (0.01 * cells * 100.0), 1.0, delta=0.15)
+            d = np.hypot(mine[:, None, 0] - mine[None, :, 0], mine[:, None, 1] - mine[None, :, 1])
+            np.fill_diagonal(d, np.inf)
+            self.assertGreaterEqual(d.min(), 5.0 - 1e-9)
+        self.assertGreater(rows[:, 0].min(), 500000.0 + 10.0)  # the no-data column stays empty
+        exemplar = os.path.join(self.work, "exemplar.csv")
+        with open(exemplar, "w") as f:
+            f.write("x,y,species\n" + "".join("%d,%d,%d\n" % (8 * (k % 8), 8 * (k // 8), k % 2)
+                                              for k in range(64)))
+        vtp = os.path.join(self.work, "plants.vtp")
+        r = terroir("plants", tif, vtp, "--exemplar", exemplar)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("(learned from", r.stdout)
+        reader = vtk.vtkXMLPolyDataReader()
+        reader.SetFileName(vtp)
+        reader.Update()
+        species = vtk_to_numpy(reader.GetOutput().GetPointData().GetArray("Species"))
+        self.assertEqual(set(species.tolist()), {0, 1})
+        with open(exemplar, "a") as f:
+            f.write("3,4,99\n")
+        r = terroir("plants", tif, os.path.join(self.work, "x.vtp"), "--exemplar", exemplar)
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(r.stderr.strip().splitlines()[-1], "terroir: error: " + exemplar +
+                         ": line 66: species '99' is not a whole number in 0..63")
+        self.assertFalse(os.path.exists(os.path.join(self.work, "x.vtp")))
+        r = terroir("plants", tif, os.path.join(self.work, "x.vtp"), "--exemplar-window",
+                    "0", "1", "0", "1")
+        self.assertEqual(r.returncode, 2)
+
     def test_existing_outputs_are_kept_without_overwrite(self):
         out = os.path.join(self.work, "slope.tif")
         with open(out, "w") as f:
