@@ -366,6 +366,56 @@ TEST(TerroirErosionGPU, OptionsOfWeissAndDunn)
   RunBoth(o, p, Slippery(), 2, 50, "halving depths (exp2)", 1e-4);
 }
 
+TEST(TerroirErosionGPU, ThinGrids)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  // One row, one column, 2 x 2: the edge tests of every kernel (pipes, tilt, bilinear sample,
+  // eight neighbours) with the grid's edge on both sides.
+  const int sizes[][2] = { { 1, 23 }, { 23, 1 }, { 2, 2 } };
+  for (const auto& size : sizes)
+  {
+    for (int sea = 0; sea < 2; ++sea)
+    {
+      SceneOptions o;
+      o.nx = size[0];
+      o.ny = size[1];
+      o.soil = true;
+      o.rainField = true;
+      tr::ErosionParams p;
+      p.boundary = sea ? tr::ErosionBoundary::Sea : tr::ErosionBoundary::Closed;
+      p.seaLevel = 2.0;
+      RunBoth(o,
+        p,
+        Slippery(),
+        2,
+        60,
+        std::to_string(o.nx) + " x " + std::to_string(o.ny) + (sea ? ", sea" : ", closed"));
+    }
+  }
+}
+
+TEST(TerroirErosionGPU, TwoRunsEqualOne)
+{
+  TERROIR_REQUIRE_GPU_OR_SKIP();
+  // The state read back (residues, fluxes, velocities included) is the whole state: a run of
+  // 2 x 45 steps gives the bits of 90 steps on the CPU (45 is a multiple of the thermal
+  // interval, so the thermal steps fall on the same steps).
+  SceneOptions o;
+  o.seed = 5;
+  o.mask = true;
+  o.soil = true;
+  o.factors = true;
+  tr::ErosionParams p;
+  Scene cpu = MakeScene(o);
+  Scene gpu = MakeScene(o);
+  RunCPU(cpu, p, Slippery(), 3, 90);
+  for (int run = 0; run < 2; ++run)
+  {
+    tr::RunErosionGPU(gpu.state, p, Slippery(), 3, nullptr, nullptr, 45);
+  }
+  CompareStates(cpu.state, gpu.state, "2 x 45 steps");
+}
+
 TEST(TerroirErosionGPU, ClosedDomainConservesWaterAndMaterialOverAThousandSteps)
 {
   TERROIR_REQUIRE_GPU_OR_SKIP();
