@@ -59,8 +59,9 @@
 // uSeaLevel, uDt, uDryDepth, uSoftMin, uSoftScale, uKc, uRampDepth, uMaxChange (+inf: none),
 // uKs, uKsRock, uKd, uHalvingE, uHalvingD, uMinTilt, uMaxTilt, uKe (K_e dt), uTanSoil, uTanRock,
 // uRate16 (rate / 16). All float constants are the core's float casts, made on the host.
-// Work group LOCAL_X (define, 256 by default); the host dispatches ceil(items / LOCAL_X) groups
-// as gx x gy (group = TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + .x).
+// Work group LOCAL_X (define, 256 by default; the host uses 64 for EROSION_ROWS and
+// EROSION_TOTALS); the host dispatches ceil(items / LOCAL_X) groups as gx x gy
+// (group = TERROIR_WORKGROUP_ID.y * TERROIR_NUM_WORKGROUPS.x + .x).
 
 #ifndef LOCAL_X
 #define LOCAL_X 256

@@ -20,8 +20,10 @@ namespace terrain
 
 namespace
 {
-/// Work-group size of Shaders/Erosion.comp (LOCAL_X).
+/// Work-group size of Shaders/Erosion.comp's cell kernels (LOCAL_X), and of the row sums (one
+/// invocation per row: small groups, so that a GPU spreads the rows over more of its cores).
 constexpr unsigned kLocalX = 256;
+constexpr unsigned kRowLocalX = 64;
 /// Planes of the kernel's buffers (see the shader's header comment).
 constexpr std::size_t kStatePlanes = 9;
 constexpr std::size_t kFluxPlanes = 4;
@@ -214,10 +216,10 @@ void SetConstants(gpu::Program& prog,
   prog.SetFloat("uRate16", static_cast<float>(th.rate / 16.0));
 }
 
-/// Work groups covering `items` invocations (gx x gy within the context's limits).
-gpu::Groups GroupsFor(std::size_t items, const gpu::Limits& limits)
+/// Work groups of `local` covering `items` invocations (gx x gy within the context's limits).
+gpu::Groups GroupsFor(std::size_t items, const gpu::Limits& limits, unsigned local = kLocalX)
 {
-  const std::size_t groups = std::max<std::size_t>(1, (items + kLocalX - 1) / kLocalX);
+  const std::size_t groups = std::max<std::size_t>(1, (items + local - 1) / local);
   const std::size_t maxX =
     limits.MaxWorkGroupCount[0] > 0 ? static_cast<std::size_t>(limits.MaxWorkGroupCount[0]) : 65535;
   gpu::Groups g;
@@ -288,8 +290,8 @@ public:
   void Read(ErosionState& st, ErosionGPUTotals* totals);
 
 private:
-  gpu::Program& Kernel(const char* define);
-  void Dispatch(gpu::Program& prog, std::size_t items);
+  gpu::Program& Kernel(const char* define, unsigned local = kLocalX);
+  void Dispatch(gpu::Program& prog, std::size_t items, unsigned local = kLocalX);
   /// Sums `planes` planes of contrib row by row into slots [slot, slot + planes).
   void Rows(unsigned planes, unsigned slot, unsigned maxMask = 0u);
   void Totals(unsigned mode);
@@ -382,8 +384,8 @@ GPURun::GPURun(gpu::Context& ctx,
   this->Finish = &this->Kernel("EROSION_FINISH");
   this->SlipScale = &this->Kernel("EROSION_SLIP_SCALE");
   this->Slip = &this->Kernel("EROSION_SLIP");
-  this->RowKernel = &this->Kernel("EROSION_ROWS");
-  this->TotalsKernel = &this->Kernel("EROSION_TOTALS");
+  this->RowKernel = &this->Kernel("EROSION_ROWS", kRowLocalX);
+  this->TotalsKernel = &this->Kernel("EROSION_TOTALS", kRowLocalX);
   const unsigned flags = Flags(st, p, rain, evaporationFactor);
   for (gpu::Program* prog : this->Programs)
   {
@@ -401,18 +403,18 @@ GPURun::GPURun(gpu::Context& ctx,
 }
 
 //------------------------------------------------------------------------------
-gpu::Program& GPURun::Kernel(const char* define)
+gpu::Program& GPURun::Kernel(const char* define, unsigned local)
 {
-  gpu::Program& prog =
-    this->Ctx.GetProgram("Erosion.comp", vtkTerroirErosionCS, { "LOCAL_X 256", define });
+  gpu::Program& prog = this->Ctx.GetProgram(
+    "Erosion.comp", vtkTerroirErosionCS, { "LOCAL_X " + std::to_string(local), define });
   this->Programs.push_back(&prog);
   return prog;
 }
 
 //------------------------------------------------------------------------------
-void GPURun::Dispatch(gpu::Program& prog, std::size_t items)
+void GPURun::Dispatch(gpu::Program& prog, std::size_t items, unsigned local)
 {
-  const gpu::Groups g = GroupsFor(items, this->Limits);
+  const gpu::Groups g = GroupsFor(items, this->Limits, local);
   prog.Dispatch(g.x, g.y);
 }
 
@@ -422,14 +424,14 @@ void GPURun::Rows(unsigned planes, unsigned slot, unsigned maxMask)
   this->RowKernel->SetUInt("uPlanes", planes);
   this->RowKernel->SetUInt("uSlot", slot);
   this->RowKernel->SetUInt("uMaxMask", maxMask);
-  this->Dispatch(*this->RowKernel, planes * this->Ny);
+  this->Dispatch(*this->RowKernel, planes * this->Ny, kRowLocalX);
 }
 
 //------------------------------------------------------------------------------
 void GPURun::Totals(unsigned mode)
 {
   this->TotalsKernel->SetUInt("uMode", mode);
-  this->Dispatch(*this->TotalsKernel, 1);
+  this->Dispatch(*this->TotalsKernel, 1, kRowLocalX);
 }
 
 //------------------------------------------------------------------------------
