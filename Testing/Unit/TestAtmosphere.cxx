@@ -156,6 +156,33 @@ TEST(TerroirAtmosphereCore, HandWorkedFluxStep)
   }
 }
 
+TEST(TerroirAtmosphereCore, VapourTransportByHand)
+{
+  // A row of 4 cells of 1 m, air [11, 10, 10, 10] m, vapour [1, 2, 0, 0] mm, dt = 0.1 s.
+  // Flux: cell 0 gives east f = dt g l (11 - 10) = 1 m^3/s (K = 1); h2 = [10.9, 10.1, 10, 10].
+  // Velocities (eq. 16): u0 = ((0 - 0) + (1 - 0)) / 2 / ((11 + 10.9) / 2) = 0.5 / 10.95,
+  // u1 = ((1 - 0) + (0 - 0)) / 2 / ((10 + 10.1) / 2) = 0.5 / 10.05, u2 = u3 = 0.
+  // Back-trace: cell 1 samples at x = 1 - 0.1 u1 between cells 0 and 1: 1 + (1 - 0.1 u1)(2 - 1)
+  // mm; cell 0 samples at -0.1 u0, clamped to the grid: 1 mm. Dunn's k = 3 / (1 + that), and
+  // both are multiplied by it.
+  const std::vector<float> q = { 0.001f, 0.002f, 0.0f, 0.0f };
+  tr::AtmosphereState st = MakeAir(4, 1, 10.0, 1.0, &q);
+  st.air[0] = 11.0f;
+  tr::AtmosphereParams p;
+  p.timeStep = 0.1;
+  const tr::AtmosphereStepStats s = tr::AtmosphereStep(st, p, std::vector<float>(4, 0.0f).data());
+  const double u0 = 0.5 / 10.95, u1 = 0.5 / 10.05;
+  EXPECT_NEAR(st.velocityU[0], u0, 1e-7);
+  EXPECT_NEAR(st.velocityU[1], u1, 1e-7);
+  const double moved1 = 1.0 + (1.0 - 0.1 * u1);
+  const double k = 3.0 / (1.0 + moved1);
+  EXPECT_NEAR(s.vapourScale, k, 1e-6);
+  EXPECT_NEAR(st.vapour[0], 0.001 * k, 1e-9);
+  EXPECT_NEAR(st.vapour[1], 0.001 * moved1 * k, 1e-9);
+  EXPECT_EQ(st.vapour[2], 0.0f);
+  EXPECT_EQ(st.vapour[3], 0.0f);
+}
+
 TEST(TerroirAtmosphereCore, AirDamBreakConservesAir)
 {
   // 20 x 16 cells of 50 m with a no-data hole (a wall), bumpy terrain, west half 12 m of air,
@@ -266,6 +293,27 @@ TEST(TerroirAtmosphereCore, PrevailingWindBlowsFromItsDirection)
       ASSERT_NEAR(a.air[c], t.air[ct], 1e-5f) << i << "," << j;
     }
   }
+}
+
+TEST(TerroirAtmosphereCore, PrevailingWindByHandNeverTakesMoreAirThanThereIs)
+{
+  // A row of 3 cells of 1 m, air [1, 1, 0.05] m, wind from the west, S = 10 m/s, dt = 0.01 s:
+  // the west cell's weight is +1 (its west edge faces the wind), the east cell's -1, the middle
+  // one's 0 (its north and south edges cancel). Wanted: +0.1 m west, -0.1 m east; the east cell
+  // has only 0.05 m, so 0.05 m is removed and the addition is scaled down to the same 0.05 m.
+  tr::AtmosphereState st = MakeAir(3, 1, 1.0);
+  st.air[2] = 0.05f;
+  tr::AtmosphereParams p;
+  p.windStrength = 10.0;
+  EXPECT_NEAR(tr::AtmospherePrevailingWind(st, p), 0.05, 1e-7);
+  EXPECT_FLOAT_EQ(st.air[0], 1.05f);
+  EXPECT_EQ(st.air[1], 1.0f);
+  EXPECT_EQ(st.air[2], 0.0f);
+  // From the east (90 degrees) the roles swap: 0.1 m moves from the west cell to the east one.
+  p.windDirectionDeg = 90.0;
+  EXPECT_NEAR(tr::AtmospherePrevailingWind(st, p), 0.1, 1e-7);
+  EXPECT_FLOAT_EQ(st.air[0], 0.95f);
+  EXPECT_FLOAT_EQ(st.air[2], 0.1f);
 }
 
 TEST(TerroirAtmosphereCore, WindIsSlowerUpARidge)
@@ -510,7 +558,8 @@ TEST(TerroirAtmosphereCore, CoupledWaterCycleConservesWater)
 TEST(TerroirAtmosphereCore, AnyRowSplitGivesTheSameBits)
 {
   // Blocks of 5 rows run last block first give the same bits as one call in order, with
-  // geographic-style row spacings, a no-data cell, wind, transport and rain.
+  // geographic-style row spacings, a no-data cell, wind from 200 degrees (mostly from the
+  // south), transport and rain. Air, and vapour plus rain, are conserved there too.
   const int nx = 23, ny = 19;
   std::vector<double> rowDx(ny);
   for (int j = 0; j < ny; ++j)
@@ -552,6 +601,7 @@ TEST(TerroirAtmosphereCore, AnyRowSplitGivesTheSameBits)
   };
   std::vector<float> ra(q.size(), 0.0f), rs(q.size(), 0.0f);
   double rainA = 0.0;
+  const tr::AtmosphereTotals t0 = tr::AtmosphereMeasure(a);
   for (int n = 0; n < 100; ++n)
   {
     const tr::AtmosphereStepStats sa = tr::AtmosphereStep(a, p, b.data(), nullptr, ra.data());
@@ -562,6 +612,11 @@ TEST(TerroirAtmosphereCore, AnyRowSplitGivesTheSameBits)
     rainA += sa.rain;
   }
   EXPECT_GT(rainA, 0.0);
+  // The wind's source (south edge, narrower cells) and sink (north edge, wider cells) balance:
+  // total air unchanged; vapour + rain unchanged.
+  const tr::AtmosphereTotals t1 = tr::AtmosphereMeasure(a);
+  EXPECT_NEAR(t1.air / t0.air, 1.0, 1e-6);
+  EXPECT_NEAR((t1.vapour + rainA) / t0.vapour, 1.0, 1e-6);
   EXPECT_EQ(a.air, s.air);
   EXPECT_EQ(a.vapour, s.vapour);
   EXPECT_EQ(a.velocityU, s.velocityU);

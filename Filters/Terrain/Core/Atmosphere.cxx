@@ -224,8 +224,9 @@ inline float Sample(const Context& x, const float* q, float px, float py)
 {
   const int nx = x.st.nx;
   const int ny = x.st.ny;
-  px = std::min(std::max(px, 0.0f), static_cast<float>(nx - 1));
-  py = std::min(std::max(py, 0.0f), static_cast<float>(ny - 1));
+  // Written so that a NaN position samples cell 0 instead of indexing out of range.
+  px = px > 0.0f ? std::min(px, static_cast<float>(nx - 1)) : 0.0f;
+  py = py > 0.0f ? std::min(py, static_cast<float>(ny - 1)) : 0.0f;
   const int i0 = std::min(static_cast<int>(px), nx - 1);
   const int j0 = std::min(static_cast<int>(py), ny - 1);
   const int i1 = std::min(i0 + 1, nx - 1);
@@ -326,11 +327,14 @@ void CheckState(const AtmosphereState& st)
     { "fluxS", st.fluxS.size() },
     { "fluxN", st.fluxN.size() },
     { "velocityU", st.velocityU.size() },
-    { "velocityV", st.velocityV.size() },
-    { "scratch", st.scratch[5].size() } };
+    { "velocityV", st.velocityV.size() } };
   for (const auto& s : sizes)
   {
     Require(s.second == n, s.first, static_cast<double>(s.second), "of size nx*ny");
+  }
+  for (const std::vector<float>& a : st.scratch)
+  {
+    Require(a.size() == n, "scratch", static_cast<double>(a.size()), "of size nx*ny");
   }
   Require(st.valid.empty() || st.valid.size() == n, "valid", st.valid.size(), "empty or nx*ny");
 }

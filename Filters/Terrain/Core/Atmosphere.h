@@ -52,12 +52,16 @@
  *
  * @par Correctness
  * Testing/Unit/TestAtmosphere.cxx (suite TerroirAtmosphereCore): still air stays still; a
- * hand-worked 3x3 flux step, with an uphill pipe; an air dam break conserves air; a prevailing
- * wind from the west blows east with v ~ 0, and rotated by 90 degrees on the transposed grid
- * gives the transposed wind; wind is slower up a ridge than on the flat; vapour conserved over
- * 1000 steps, never negative; rain by hand, none below capacity; a plume carried up a slope
- * rains on the slope; the coupled water cycle with EvaporationDunn2015Step conserves water;
- * any row split; parameter errors. Documentation/Atmosphere.md has the numbers.
+ * hand-worked 3x3 flux step, with an uphill pipe and the K scaling; vapour transport by hand;
+ * an air dam break conserves air; a prevailing wind from the west blows east with v = 0, and
+ * rotated by 90 degrees on the transposed grid gives the transposed wind; the wind's source and
+ * sink by hand; wind is slower up a ridge than on the flat; vapour conserved over 1000 steps,
+ * never negative; rain by hand, none below capacity; a plume carried up a slope rains on the
+ * slope; the coupled water cycle with EvaporationDunn2015Step conserves water; any row split;
+ * parameter errors. Documentation/Atmosphere.md has the numbers.
+ *
+ * Stability (as the water model; not checked): roughly dt^2 g A0 / (l a) <= 1/4, i.e.
+ * dt <= sqrt(l / g) / 2 with A0 = l^2; a physical face A0 = l h_ref allows larger steps.
  *
  * @par References
  * J. Dunn, "Building Dynamic & Interactive Natural Game Worlds", MSc dissertation, Trinity
