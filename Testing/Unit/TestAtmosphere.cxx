@@ -425,6 +425,19 @@ TEST(TerroirAtmosphereCore, RainsTheExcessOverCapacityByHand)
   EXPECT_FLOAT_EQ(xOut[2], 0.004f);
   EXPECT_FLOAT_EQ(wind[2], 5.0f);
   EXPECT_EQ(wind[0], 0.0f);
+
+  // Colder (higher) cells rain first: 6 mm over cells at 0, 1000 and 2000 m (15, 8.5 and 2 C
+  // from the lapse rate; x_s = 0.0107, 0.00688, 0.00436): only the top one rains,
+  // 0.01 (0.006 - 0.004361) = 1.64e-5 m (by hand: e_s(2 C) = 705.46 Pa).
+  const std::vector<float> six(3, 0.006f);
+  tr::AtmosphereState hillAir = MakeAir(3, 1, 10.0, 1.0, &six);
+  const std::vector<float> hills = { 0.0f, 1000.0f, 2000.0f };
+  std::vector<float> hillRain(3, 0.0f);
+  tr::AtmosphereStep(hillAir, p, hills.data(), nullptr, hillRain.data());
+  EXPECT_EQ(hillRain[0], 0.0f);
+  EXPECT_EQ(hillRain[1], 0.0f);
+  EXPECT_NEAR(hillRain[2], 0.01 * (0.006 - 0.0043610), 2e-9);
+  EXPECT_NEAR(hillRain[2], 0.01 * (0.006 - Magnus(2.0, 101325.0)), 1e-10);
 }
 
 /// Rain on the plain (i < 16) and on the slope of the plume test after `steps` steps.
