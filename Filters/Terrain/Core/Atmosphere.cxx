@@ -18,6 +18,7 @@ namespace terrain
 namespace
 {
 
+using detail::AddCompensated;
 using detail::ForRows;
 using detail::SumRows;
 
@@ -205,7 +206,14 @@ void AirRows(const Context& x,
         continue;
       }
       const float out = (f[0][c] + f[1][c]) + (f[2][c] + f[3][c]);
-      const float h = std::max(0.0f, st.air[c] + x.dt * (Inflow(x, f, i, j) - out) / x.geo.area[j]);
+      float h = st.air[c];
+      float& lo = st.airResidue[c]; // only this cell reads or writes it
+      AddCompensated(h, lo, x.dt * (Inflow(x, f, i, j) - out) / x.geo.area[j]);
+      if (h < 0.0f || static_cast<double>(h) + lo < 0.0)
+      {
+        h = 0.0f; // K keeps h2 >= 0 up to rounding
+        lo = 0.0f;
+      }
       h2[c] = h;
       const float mean = 0.5f * (st.air[c] + h);
       if (mean >= minHeight && mean > 0.0f)
@@ -327,7 +335,8 @@ void CheckState(const AtmosphereState& st)
     { "fluxS", st.fluxS.size() },
     { "fluxN", st.fluxN.size() },
     { "velocityU", st.velocityU.size() },
-    { "velocityV", st.velocityV.size() } };
+    { "velocityV", st.velocityV.size() },
+    { "airResidue", st.airResidue.size() } };
   for (const auto& s : sizes)
   {
     Require(s.second == n, s.first, static_cast<double>(s.second), "of size nx*ny");
@@ -467,7 +476,7 @@ AtmosphereState MakeAtmosphereState(const GridView<float>& grid,
     }
   }
   for (std::vector<float>* a :
-    { &st.fluxW, &st.fluxE, &st.fluxS, &st.fluxN, &st.velocityU, &st.velocityV })
+    { &st.airResidue, &st.fluxW, &st.fluxE, &st.fluxS, &st.fluxN, &st.velocityU, &st.velocityV })
   {
     a->assign(n, 0.0f);
   }
@@ -521,9 +530,16 @@ double AtmospherePrevailingWind(AtmosphereState& st, const AtmosphereParams& p)
     {
       const float delta = rate * w;
       if (delta > 0.0f)
-        st.air[c] += delta * scaleUp;
+        AddCompensated(st.air[c], st.airResidue[c], delta * scaleUp);
       else if (delta < 0.0f)
-        st.air[c] = std::max(0.0f, st.air[c] - std::min(-delta, st.air[c]) * scaleDown);
+      {
+        AddCompensated(st.air[c], st.airResidue[c], -std::min(-delta, st.air[c]) * scaleDown);
+        if (st.air[c] <= 0.0f)
+        {
+          st.air[c] = 0.0f;
+          st.airResidue[c] = 0.0f;
+        }
+      }
     });
   return std::min(added, removed);
 }
@@ -637,7 +653,7 @@ AtmosphereTotals AtmosphereMeasure(const AtmosphereState& st)
       const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
       if (st.IsValid(c))
       {
-        air += st.air[c];
+        air += static_cast<double>(st.air[c]) + st.airResidue[c];
         vapour += st.vapour[c];
       }
     }

@@ -48,7 +48,10 @@
  * conserved up to float rounding on a closed grid.
  *
  * Arithmetic: float state and operations (built with -ffp-contract=off), totals in double summed
- * row by row in order: the same bits for any ParallelFor split.
+ * row by row in order: the same bits for any ParallelFor split. The air height carries its
+ * rounding error in a second float (TwoSum, as the water in Erosion.h): the edge source and sink
+ * change the same cells by the same amounts every step, and plain float would round them the
+ * same way every time, a drift of total air.
  *
  * @par Correctness
  * Testing/Unit/TestAtmosphere.cxx (suite TerroirAtmosphereCore): still air stays still; a
@@ -119,6 +122,9 @@ struct AtmosphereState
   std::vector<std::uint8_t> valid; ///< nx*ny, 1 valid, 0 no data (empty: all valid)
   double referenceHeight = 0.0;    ///< h_ref, m: the air height at which p = p0
   std::vector<float> air;          ///< h: air column height (pressure), m
+  /// Rounding residue of h (TwoSum): the air is air + airResidue; AtmosphereMeasure includes it.
+  /// Zero it after editing air by hand.
+  std::vector<float> airResidue;
   std::vector<float> vapour;       ///< q: water vapour as a depth of water, m
   std::vector<float> fluxW, fluxE; ///< air outflow to the west and east, m^3/s
   std::vector<float> fluxS, fluxN; ///< air outflow to the south and north, m^3/s

@@ -4,8 +4,9 @@
  *
  * A core pass is a function of a row range [j0, j1); it writes one partial sum per row, and the
  * rows' sums are added in row order afterwards, so a total has the same bits for any split of
- * the rows between threads. (Erosion.cxx and Vegetation.cxx still carry their own copies of
- * these two helpers; they can move here.)
+ * the rows between threads. AddCompensated is the TwoSum update of a float carried with its
+ * rounding residue. (Erosion.cxx and Vegetation.cxx still carry their own copies of these
+ * helpers; they can move here.)
  */
 #ifndef terroir_terrain_RowKernels_h
 #define terroir_terrain_RowKernels_h
@@ -45,6 +46,18 @@ inline double SumRows(const std::vector<double>& rows)
     total += r;
   }
   return total;
+}
+
+/// hi + lo += delta with the rounding error kept in lo (Knuth's TwoSum on hi and delta + lo):
+/// a float carried with about twice float's precision, so that many small changes to a large
+/// value add up instead of rounding away. Plain float operations (a shader can do the same).
+inline void AddCompensated(float& hi, float& lo, float delta)
+{
+  const float t = delta + lo;
+  const float sum = hi + t;
+  const float back = sum - hi;
+  lo = (hi - (sum - back)) + (t - back);
+  hi = sum;
 }
 
 } // namespace detail
