@@ -91,13 +91,14 @@ struct TileSynth
   int T;
   double Period; ///< noise lattice period in texels
   double R;      ///< band width in texels
+  double Rv;     ///< radius around the corners where the bands fade to the base colour
 
   /// Band s (0: A, 1: B, 2: C) at integer (t, d) along/into the side; `scale` converts them to
   /// texels (1/sqrt 2 on the diagonal), `length` is the side's length in the same integers.
   double Band(int s, int t, int d, int length, double scale) const
   {
     const double tt = t * scale, dd = d * scale, ll = length * scale;
-    const double taper = Smoothstep(0.0, this->R, tt) * Smoothstep(0.0, this->R, ll - tt);
+    const double taper = Smoothstep(0.0, this->Rv, tt) * Smoothstep(0.0, this->Rv, ll - tt);
     if (taper == 0.0)
     {
       return 0.0;
@@ -135,16 +136,19 @@ struct TileSynth
       dist[s] = d[s] * scale[s];
       edge[s] = this->Edge(tile, s, t[s], d[s], len[s], scale[s]);
     }
+    // Blends of independent noises are divided by the root of the summed squared weights, so
+    // that they keep the noise's contrast (a plain average would fade it between the sides).
     double num = 0.0, den = 0.0;
     for (int s = 0; s < 3; ++s)
     {
       const double h = dist[(s + 1) % 3] * dist[(s + 2) % 3];
       num += h * edge[s];
-      den += h;
+      den += h * h;
     }
     const double g = Smoothstep(0.0, this->R, std::min({ dist[0], dist[1], dist[2] }));
     const double interior = Fbm(this->Seed, 4 + tile, a / this->Period, b / this->Period);
-    return (1.0 - g) * (num / den) + g * interior;
+    return ((1.0 - g) * (num / std::sqrt(den)) + g * interior) /
+      std::sqrt((1.0 - g) * (1.0 - g) + g * g);
   }
 };
 
@@ -243,7 +247,11 @@ TileSet SynthesizeTiles(const Material& material, int texelsPerSide, std::uint64
     BadParameter("SynthesizeTiles", "FeatureSize", material.FeatureSize, "in (0, 4]");
   }
   const int T = texelsPerSide;
-  TileSynth synth{ seed, T, std::max(1.0, double(material.FeatureSize) * T), std::max(1.0, T / 4.0) };
+  TileSynth synth{ seed,
+    T,
+    std::max(1.0, double(material.FeatureSize) * T),
+    std::max(1.0, T / 8.0),
+    std::max(1.5, T / 12.0) };
   TileSet set;
   set.TexelsPerSide = T;
   const std::size_t n = std::size_t(T) + 1;
