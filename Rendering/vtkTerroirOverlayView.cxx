@@ -2,6 +2,7 @@
 
 #include "ClusterPalette.h"
 #include "TerroirSafeOutput.h"
+#include "TriangleTexturing.h"
 
 #include "vtkActor.h"
 #include "vtkActor2D.h"
@@ -42,6 +43,7 @@
 #include "vtkTerroirXDisplay.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
+#include "vtkTexture.h"
 #include "vtkUniforms.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowToImageFilter.h"
@@ -54,6 +56,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include <unistd.h>
@@ -110,6 +113,32 @@ struct vtkTerroirOverlayView::Internals
     key.Stride = stride;
     return key;
   }
+
+  // Texturing: whether the kept surface carries a texture (then it is rebuilt when texturing
+  // is turned off, so that the untextured surface is exactly the one without the option), and
+  // the last texture with what it was built from.
+  bool Textured = false;
+  struct TextureKey
+  {
+    vtkSmartPointer<vtkDataArray> Elevation, Mask, Zones;
+    vtkMTimeType ElevationTime = 0, MaskTime = 0, ZonesTime = 0;
+    int Dims[2] = { 0, 0 };
+    double Spacing[2] = { 0, 0 };
+    int Seed = 0, Texels = 0, MaxSize = 0;
+    double SeaLevel = 0, SnowLine = 0;
+    bool operator==(const TextureKey& o) const
+    {
+      return this->Elevation == o.Elevation && this->Mask == o.Mask && this->Zones == o.Zones &&
+        this->ElevationTime == o.ElevationTime && this->MaskTime == o.MaskTime &&
+        this->ZonesTime == o.ZonesTime && this->Dims[0] == o.Dims[0] &&
+        this->Dims[1] == o.Dims[1] && this->Spacing[0] == o.Spacing[0] &&
+        this->Spacing[1] == o.Spacing[1] && this->Seed == o.Seed && this->Texels == o.Texels &&
+        this->MaxSize == o.MaxSize && this->SeaLevel == o.SeaLevel &&
+        (this->SnowLine == o.SnowLine || (std::isnan(this->SnowLine) && std::isnan(o.SnowLine)));
+    }
+  } TextureBuilt;
+  vtkSmartPointer<vtkTexture> Texture;
+  terroir::rendering::TextureLayout Layout;
 
   // The window goes first: it must not outlive the connection it draws through.
   void ReleaseWindow()
@@ -421,6 +450,10 @@ bool vtkTerroirOverlayView::Render()
   {
     return false;
   }
+  if (this->Texturing && !this->ApplyTexture(image, relief))
+  {
+    return false;
+  }
   vtkRenderWindow* window = this->PrepareWindow(why);
   if (!window)
   {
@@ -429,7 +462,7 @@ bool vtkTerroirOverlayView::Render()
 
   // Layout: the legend takes the right quarter, the title a strip at the top (8% of the
   // height, at least 24 pixels); the terrain gets the rest.
-  const double legendWidth = this->ShowLegend ? 0.25 : 0.0;
+  const double legendWidth = this->LegendShown() ? 0.25 : 0.0;
   const bool hasTitle = this->Title && *this->Title;
   const double titleHeight = hasTitle ? std::max(0.08, 24.0 / this->Height) : 0.0;
   const double luminance =
@@ -440,7 +473,7 @@ bool vtkTerroirOverlayView::Render()
   {
     this->AddTitleRenderer(window, titleHeight, textGrey);
   }
-  if (this->ShowLegend)
+  if (this->LegendShown())
   {
     vtkNew<vtkRenderer> legendRenderer;
     legendRenderer->SetViewport(1.0 - legendWidth, 0.0, 1.0, 1.0 - titleHeight);
@@ -451,6 +484,166 @@ bool vtkTerroirOverlayView::Render()
     window->AddRenderer(legendRenderer);
   }
   window->Render();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// The heights of a terrain as floats, NaN where masked.
+std::vector<float> MaskedHeights(vtkDataArray* elevation, vtkDataArray* mask, vtkIdType n)
+{
+  std::vector<float> z(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    const bool ok = !mask || mask->GetComponent(k, 0) != 0.0;
+    z[k] = ok ? static_cast<float>(elevation->GetComponent(k, 0))
+              : std::numeric_limits<float>::quiet_NaN();
+  }
+  return z;
+}
+
+/// The biome zone of each point from a one-component `ClusterId` array (-1 where not finite
+/// or negative); empty without one.
+std::vector<int> ZonesOf(vtkDataArray* zones, vtkIdType n)
+{
+  std::vector<int> out;
+  if (!zones || zones->GetNumberOfComponents() != 1 || zones->GetNumberOfTuples() != n)
+  {
+    return out;
+  }
+  out.resize(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    const double v = zones->GetComponent(k, 0);
+    out[k] = std::isfinite(v) && v >= 0.0 && v < 1e9 ? static_cast<int>(v) : -1;
+  }
+  return out;
+}
+
+/// The material rules of the view: sea level as given; the snow line as given, or at 85 % of
+/// the valid elevation range, with a band of 1/10 of the range (200 m for a flat terrain).
+terroir::rendering::MaterialRules RulesFor(const std::vector<float>& z,
+  double seaLevel,
+  double snowLine)
+{
+  terroir::rendering::MaterialRules rules;
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (float v : z)
+  {
+    if (std::isfinite(v))
+    {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  const double range = hi > lo ? static_cast<double>(hi) - lo : 0.0;
+  rules.SeaLevel = seaLevel;
+  rules.SnowBand = range > 0.0 ? 0.1 * range : 200.0;
+  rules.SnowLine =
+    std::isfinite(snowLine) ? snowLine : (range > 0.0 ? lo + 0.85 * range : hi + 1e3);
+  return rules;
+}
+} // namespace
+
+bool vtkTerroirOverlayView::ApplyTexture(vtkImageData* image, vtkTerroirReliefSurface* relief)
+{
+  Internals& in = *this->Internal;
+  vtkPointData* pd = image->GetPointData();
+  int dims[3];
+  image->GetDimensions(dims);
+  double spacing[3], origin[3];
+  image->GetSpacing(spacing);
+  image->GetOrigin(origin);
+  Internals::TextureKey key;
+  key.Elevation = pd->GetArray(vtkTerroirGeoreference::ElevationName());
+  key.Mask = pd->GetArray(vtkTerroirGeoreference::ValidMaskName());
+  key.Zones = pd->GetArray("ClusterId");
+  key.ElevationTime = key.Elevation->GetMTime();
+  key.MaskTime = key.Mask ? key.Mask->GetMTime() : 0;
+  key.ZonesTime = key.Zones ? key.Zones->GetMTime() : 0;
+  key.Dims[0] = dims[0];
+  key.Dims[1] = dims[1];
+  key.Spacing[0] = spacing[0];
+  key.Spacing[1] = spacing[1];
+  key.Seed = this->TextureSeed;
+  key.Texels = this->TexelsPerCell;
+  key.MaxSize = this->MaxTextureSize;
+  key.SeaLevel = this->TextureSeaLevel;
+  key.SnowLine = this->TextureSnowLine;
+  if (!in.Texture || !(in.TextureBuilt == key))
+  {
+    const vtkIdType n = static_cast<vtkIdType>(dims[0]) * dims[1];
+    const std::vector<float> z = MaskedHeights(key.Elevation, key.Mask, n);
+    try
+    {
+      const auto rules = RulesFor(z, this->TextureSeaLevel, this->TextureSnowLine);
+      const std::vector<float> weights = terroir::rendering::MaterialWeights(dims[0],
+        dims[1],
+        std::abs(spacing[0]),
+        std::abs(spacing[1]),
+        z,
+        ZonesOf(key.Zones, n),
+        rules);
+      const auto built = terroir::rendering::BuildTerrainTexture(dims[0],
+        dims[1],
+        weights,
+        terroir::rendering::DefaultMaterials(),
+        this->TexelsPerCell,
+        static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->TextureSeed)),
+        this->MaxTextureSize);
+      vtkNew<vtkImageData> picture;
+      picture->SetDimensions(built.Layout.Width, built.Layout.Height, 1);
+      vtkNew<vtkUnsignedCharArray> rgb;
+      rgb->SetNumberOfComponents(3);
+      rgb->SetNumberOfTuples(static_cast<vtkIdType>(built.Layout.Width) * built.Layout.Height);
+      std::copy(built.Rgb.begin(), built.Rgb.end(), rgb->GetPointer(0));
+      picture->GetPointData()->SetScalars(rgb);
+      in.Texture = vtkSmartPointer<vtkTexture>::New();
+      in.Texture->SetInputData(picture);
+      in.Texture->InterpolateOn();
+      in.Texture->MipmapOn();
+      in.Texture->RepeatOff();
+      in.Texture->EdgeClampOn();
+      in.Layout = built.Layout;
+      in.TextureBuilt = key;
+    }
+    catch (const std::exception& e)
+    {
+      in.Texture = nullptr;
+      return this->Fail(std::string("vtkTerroirOverlayView: texturing: ") + e.what());
+    }
+  }
+  this->LastTextureSize[0] = in.Layout.Width;
+  this->LastTextureSize[1] = in.Layout.Height;
+  this->LastCellsPerTile = in.Layout.CellsPerTile;
+
+  // Texture coordinates of the drawn points (every point, or every Stride-th).
+  vtkActor* actor = relief->GetSurfaceActor();
+  vtkPolyData* surface = vtkPolyData::SafeDownCast(actor->GetMapper()->GetInputDataObject(0, 0));
+  if (!surface)
+  {
+    return this->Fail("vtkTerroirOverlayView: texturing: the surface has no polygons");
+  }
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName("TextureCoordinates");
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(surface->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < surface->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    surface->GetPoint(p, x);
+    const double cx = spacing[0] != 0.0 ? (x[0] - origin[0]) / spacing[0] : 0.0;
+    const double cy = spacing[1] != 0.0 ? (x[1] - origin[1]) / spacing[1] : 0.0;
+    tcoords->SetTypedComponent(p, 0, static_cast<float>(in.Layout.TextureU(cx)));
+    tcoords->SetTypedComponent(p, 1, static_cast<float>(in.Layout.TextureV(cy)));
+  }
+  surface->GetPointData()->SetTCoords(tcoords);
+  actor->SetTexture(in.Texture);
+  // The texture replaces the overlay: the surface's own colour is white.
+  relief->SetBaseColor(1.0, 1.0, 1.0);
+  relief->SetUniformColor();
+  in.Textured = true;
   return true;
 }
 
@@ -466,17 +659,20 @@ vtkTerroirReliefSurface* vtkTerroirOverlayView::PrepareSurface(vtkImageData* ima
   Internals& in = *this->Internal;
   int dims[3];
   image->GetDimensions(dims);
-  const double frameWidth = this->Width * (this->ShowLegend ? 0.75 : 1.0);
+  const double frameWidth = this->Width * (this->LegendShown() ? 0.75 : 1.0);
   const double titleShare = this->Title && *this->Title ? std::max(0.08, 24.0 / this->Height) : 0.0;
   const double frameHeight = this->Height * (1.0 - titleShare);
   const int stride = std::max(
     1, static_cast<int>(std::floor(std::min(dims[0] / frameWidth, dims[1] / frameHeight))));
   const Internals::GeometryKey key = Internals::KeyOf(image, this->VerticalExaggeration, stride);
-  const bool current = in.Relief && in.Built == key;
+  // A textured surface is not reused without texturing (its texture coordinates and texture
+  // would change the untextured picture).
+  const bool current = in.Relief && in.Built == key && (this->Texturing || !in.Textured);
   if (!current)
   {
     in.Relief = vtkSmartPointer<vtkTerroirReliefSurface>::New();
     in.Built = Internals::GeometryKey();
+    in.Textured = false;
   }
   vtkTerroirReliefSurface* relief = in.Relief;
   relief->SetInputData(image);
@@ -623,4 +819,9 @@ void vtkTerroirOverlayView::PrintSelf(ostream& os, vtkIndent indent)
      << this->Specular << " " << this->SpecularPower << "\n";
   os << indent << "ShowLegend: " << this->ShowLegend << "\n";
   os << indent << "Title: " << (this->Title ? this->Title : "(none)") << "\n";
+  os << indent << "Texturing: " << this->Texturing << " TextureSeed: " << this->TextureSeed
+     << " TexelsPerCell: " << this->TexelsPerCell << " MaxTextureSize: " << this->MaxTextureSize
+     << "\n";
+  os << indent << "TextureSeaLevel: " << this->TextureSeaLevel
+     << " TextureSnowLine: " << this->TextureSnowLine << "\n";
 }

@@ -78,6 +78,7 @@
 
 #include "vtkSmartPointer.h" // For the plants actor
 
+#include <limits> // For quiet_NaN
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
@@ -225,6 +226,42 @@ public:
   vtkGetMacro(PlantSize, double);
   ///@}
 
+  ///@{
+  /// Terrain texturing (Documentation/Texturing.md), default off. On: the surface gets a
+  /// texture built by terroir::rendering::BuildTerrainTexture (Rendering/Core/
+  /// TriangleTexturing.h): Jensen's (2011) eight edge-matched right-triangle tiles per
+  /// material, placed non-periodically, blended per point by slope (from `Elevation`, central
+  /// differences), height and biome (the point array `ClusterId` when present: zone mod 3 gives
+  /// grass, forest floor or dry soil; grass without it). The texture *replaces* the overlay's
+  /// array colouring (the surface's colour becomes white times the texture), is lit as before
+  /// (Blinn-Phong; VTK multiplies the lit colour by the texture, so the highlight takes the
+  /// material's tint) and no legend is drawn (the terrain takes the whole width). No-data cells
+  /// stay NanColor. Off: rendering is exactly as without this option.
+  vtkSetMacro(Texturing, bool);
+  vtkGetMacro(Texturing, bool);
+  vtkBooleanMacro(Texturing, bool);
+  /// Seed of the tile placement and tile synthesis, default 1.
+  vtkSetMacro(TextureSeed, int);
+  vtkGetMacro(TextureSeed, int);
+  /// Texels per tile side (a tile covers one cell unless the texture would exceed
+  /// MaxTextureSize; then k x k cells), default 16, range 2..256.
+  vtkSetClampMacro(TexelsPerCell, int, 2, 256);
+  vtkGetMacro(TexelsPerCell, int);
+  /// Largest texture side in texels, default 4096 (48 MiB of RGB), range 64..16384.
+  vtkSetClampMacro(MaxTextureSize, int, 64, 16384);
+  vtkGetMacro(MaxTextureSize, int);
+  /// Sea level (metres) of the sand rule: sand up to it, none 5 m above. Default 0.
+  vtkSetMacro(TextureSeaLevel, double);
+  vtkGetMacro(TextureSeaLevel, double);
+  /// Snow line (metres): half snow there, none/full 1/20 of the elevation range below/above.
+  /// Default NaN: 85 % of the way from the lowest to the highest valid elevation.
+  vtkSetMacro(TextureSnowLine, double);
+  vtkGetMacro(TextureSnowLine, double);
+  /// Size of the last texture built (0 x 0 before any) and the cells each tile covers.
+  vtkGetVector2Macro(LastTextureSize, int);
+  vtkGetMacro(LastCellsPerTile, int);
+  ///@}
+
   /// Renders offscreen. Returns false and sets the error on bad input or without a display.
   bool Render();
 
@@ -274,6 +311,14 @@ protected:
   double NanColor[4] = { 0.5, 0.5, 0.5, 1.0 };
   double BaseColor[3] = { 0.85, 0.85, 0.85 };
   double PlantSize = 8.0;
+  bool Texturing = false;
+  int TextureSeed = 1;
+  int TexelsPerCell = 16;
+  int MaxTextureSize = 4096;
+  double TextureSeaLevel = 0.0;
+  double TextureSnowLine = std::numeric_limits<double>::quiet_NaN();
+  int LastTextureSize[2] = { 0, 0 };
+  int LastCellsPerTile = 0;
   std::string LastError;
 
 private:
@@ -307,6 +352,11 @@ private:
   /// The offscreen window, kept while its size stays, emptied of the last frame's renderers;
   /// nullptr with `why` set without an X display.
   vtkRenderWindow* PrepareWindow(std::string& why);
+  /// With Texturing: builds (or reuses) the terrain texture and puts it with texture
+  /// coordinates on `relief`'s surface, coloured white; false after Fail().
+  bool ApplyTexture(vtkImageData* image, vtkTerroirReliefSurface* relief);
+  /// Whether the legend is drawn (ShowLegend and not Texturing).
+  bool LegendShown() const { return this->ShowLegend && !this->Texturing; }
   /// The title strip at the top.
   void AddTitleRenderer(vtkRenderWindow* window, double titleHeight, double textGrey);
 };
