@@ -20,7 +20,7 @@
  * otherwise an edge is drawn with probability 1/2 from a seeded splitmix64 stream; then the
  * tile that fits the three edges is placed.
  *
- * Tiles (our synthesis; Jensen used painted textures). A tile is T x T texels on a side with
+ * Tiles (our synthesis: the paper's textures are not available). A tile is T x T texels on a side with
  * texels at integer corner positions (a, b), 0 <= b <= a <= T, in L's frame. Each edge pair s
  * owns one band of 2-D value noise F_s(t, d) along its side (t along the side, d the distance
  * into the triangle; both in texel units, the diagonal's scaled by 1/sqrt 2). A side with edge
@@ -29,10 +29,12 @@
  * edge, so both triangles see one and the same noise across their shared side. Texels on a
  * side are the band's texels on it (bitwise equal on both triangles); inside, the bands are
  * blended (weight of side s = product of the distances to the other two sides) and faded into
- * the tile's own interior noise N_k over a distance R = T / 4 (smoothstep of the distance to
- * the nearest side). Bands fade to 0 within R of their ends, so every grid vertex gets the
- * material's base colour from all six triangles around it. A noise value n (about -1..1)
- * becomes the colour base x (1 + Amplitude x n), clamped to [0, 1].
+ * the tile's own interior noise N_k over a distance R = T / 8 (smoothstep of the distance to
+ * the nearest side); each blend of independent noises is divided by the root of its summed
+ * squared weights, which keeps the noise's contrast. Bands fade to 0 within max(1.5, T / 12)
+ * texels of their ends, so every grid vertex gets the material's base colour from all six
+ * triangles around it. A noise value n (about -1..1) becomes the colour
+ * base x (1 + Amplitude x n), clamped to [0, 1].
  *
  * Materials and rules (ours; see MaterialRules): rock on steep slopes, snow high up, sand near
  * sea level, elsewhere the ground of the point's biome zone (`ClusterId`): grass, forest floor
