@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace terroir
@@ -55,17 +56,21 @@ double ValueNoise(std::uint64_t seed, std::uint64_t stream, double x, double y)
   return (1 - v) * ((1 - u) * v00 + u * v10) + v * ((1 - u) * v01 + u * v11);
 }
 
-/// Three octaves of value noise (gain 1/2, lacunarity 2), normalised to [-1, 1].
+/// Three octaves of value noise (gain 1/2, lacunarity 2), normalised to [-1, 1]. Each octave's
+/// lattice is turned by its own angle (0.6 + 1.3 o radians), so that no axis shows: the bands
+/// along the diagonals then look like those along the legs.
 double Fbm(std::uint64_t seed, std::uint64_t stream, double x, double y)
 {
-  double sum = 0.0, amplitude = 1.0, norm = 0.0;
+  double sum = 0.0, amplitude = 1.0, norm = 0.0, frequency = 1.0;
   for (int o = 0; o < 3; ++o)
   {
-    sum += amplitude * ValueNoise(seed, stream * 8 + o, x, y);
+    const double angle = 0.6 + 1.3 * o;
+    const double c = std::cos(angle), s = std::sin(angle);
+    const double u = frequency * (c * x - s * y), v = frequency * (s * x + c * y);
+    sum += amplitude * ValueNoise(seed, stream * 8 + o, u, v);
     norm += amplitude;
     amplitude *= 0.5;
-    x *= 2.0;
-    y *= 2.0;
+    frequency *= 2.0;
   }
   return sum / norm;
 }
@@ -92,6 +97,7 @@ struct TileSynth
   double Period; ///< noise lattice period in texels
   double R;      ///< band width in texels
   double Rv;     ///< radius around the corners where the bands fade to the base colour
+  std::uint64_t BandStream[3] = { 1, 2, 3 }; ///< noise stream of each band (ChooseBandStreams)
 
   /// Band s (0: A, 1: B, 2: C) at integer (t, d) along/into the side; `scale` converts them to
   /// texels (1/sqrt 2 on the diagonal), `length` is the side's length in the same integers.
@@ -103,7 +109,7 @@ struct TileSynth
     {
       return 0.0;
     }
-    return taper * Fbm(this->Seed, 1 + s, tt / this->Period, dd / this->Period);
+    return taper * Fbm(this->Seed, this->BandStream[s], tt / this->Period, dd / this->Period);
   }
 
   /// Side s of tile `tile` read at integer (t, d): edge s or s' (bit s of the tile index).
@@ -111,6 +117,64 @@ struct TileSynth
   {
     return ((tile >> s) & 1) ? this->Band(s, length - t, -d, length, scale)
                              : this->Band(s, t, d, length, scale);
+  }
+
+  /// Mean and standard deviation of a stream's noise over a side's band (t in [0, length],
+  /// d in [-R, R], texel steps).
+  void BandStatistics(std::uint64_t stream,
+    int length,
+    double scale,
+    double& mean,
+    double& sd) const
+  {
+    double sum = 0.0, sum2 = 0.0;
+    long n = 0;
+    const int r = static_cast<int>(std::ceil(this->R / scale));
+    for (int t = 0; t <= length; ++t)
+    {
+      for (int d = -r; d <= r; ++d)
+      {
+        const double v =
+          Fbm(this->Seed, stream, t * scale / this->Period, d * scale / this->Period);
+        sum += v;
+        sum2 += v * v;
+        ++n;
+      }
+    }
+    mean = sum / n;
+    sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+  }
+
+  /// Every side of a kind carries the same band (or its turn) all over the terrain, so a band
+  /// darker, lighter or flatter than the rest would draw the grid. Each band's stream is the
+  /// one of 32 candidates whose mean is nearest 0 and whose spread is nearest the interiors'.
+  void ChooseBandStreams()
+  {
+    double target = 0.0;
+    for (int tile = 0; tile < 8; ++tile)
+    {
+      double mean, sd;
+      this->BandStatistics(4 + tile, this->T, 1.0, mean, sd);
+      target += sd / 8.0;
+    }
+    const int length[3] = { this->T, this->T, 2 * this->T };
+    const double scale[3] = { 1.0, 1.0, 1.0 / std::sqrt(2.0) };
+    for (int s = 0; s < 3; ++s)
+    {
+      double best = std::numeric_limits<double>::infinity();
+      for (std::uint64_t c = 0; c < 32; ++c)
+      {
+        const std::uint64_t stream = 100 + 32 * s + c;
+        double mean, sd;
+        this->BandStatistics(stream, length[s], scale[s], mean, sd);
+        const double cost = std::abs(mean) + std::abs(sd - target);
+        if (cost < best)
+        {
+          best = cost;
+          this->BandStream[s] = stream;
+        }
+      }
+    }
   }
 
   /// Noise value of texel (a, b), b <= a, of tile `tile`.
@@ -251,7 +315,8 @@ TileSet SynthesizeTiles(const Material& material, int texelsPerSide, std::uint64
     T,
     std::max(1.0, double(material.FeatureSize) * T),
     std::max(1.0, T / 8.0),
-    std::max(1.5, T / 12.0) };
+    std::max(1.5, T / 16.0) };
+  synth.ChooseBandStreams();
   TileSet set;
   set.TexelsPerSide = T;
   const std::size_t n = std::size_t(T) + 1;

@@ -20,8 +20,8 @@
  * otherwise an edge is drawn with probability 1/2 from a seeded splitmix64 stream; then the
  * tile that fits the three edges is placed.
  *
- * Tiles (our synthesis: the paper's textures are not available). A tile is T x T texels on a side with
- * texels at integer corner positions (a, b), 0 <= b <= a <= T, in L's frame. Each edge pair s
+ * Tiles (our synthesis: the paper's textures are not available). A tile is T x T texels on a side
+ * with texels at integer corner positions (a, b), 0 <= b <= a <= T, in L's frame. Each edge pair s
  * owns one band of 2-D value noise F_s(t, d) along its side (t along the side, d the distance
  * into the triangle; both in texel units, the diagonal's scaled by 1/sqrt 2). A side with edge
  * s reads F_s(t, d); with edge s' it reads F_s(L_s - t, -d), L_s the side's length: the band
@@ -31,10 +31,14 @@
  * blended (weight of side s = product of the distances to the other two sides) and faded into
  * the tile's own interior noise N_k over a distance R = T / 8 (smoothstep of the distance to
  * the nearest side); each blend of independent noises is divided by the root of its summed
- * squared weights, which keeps the noise's contrast. Bands fade to 0 within max(1.5, T / 12)
+ * squared weights, which keeps the noise's contrast. Bands fade to 0 within max(1.5, T / 16)
  * texels of their ends, so every grid vertex gets the material's base colour from all six
- * triangles around it. A noise value n (about -1..1) becomes the colour
- * base x (1 + Amplitude x n), clamped to [0, 1].
+ * triangles around it. Every side of a kind shows the same band (or its turn) all over the
+ * terrain, so each band's noise stream is the one of 32 candidates whose mean over the band is
+ * nearest 0 and whose spread is nearest the interiors' (a darker or flatter band would draw the
+ * grid). Noise: three octaves of value noise, each octave's lattice turned by its own angle (no
+ * axis shows, so diagonal bands look like the others). A noise value n (about -1..1) becomes the
+ * colour base x (1 + Amplitude x n), clamped to [0, 1].
  *
  * Materials and rules (ours; see MaterialRules): rock on steep slopes, snow high up, sand near
  * sea level, elsewhere the ground of the point's biome zone (`ClusterId`): grass, forest floor
