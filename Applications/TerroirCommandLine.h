@@ -317,6 +317,10 @@ struct CommandLine
     double CapacityDepth = 0.0; ///< --capacity-depth M (0: off)
     double Vegetation = -1.0;   ///< --vegetation V: Dunn's vegetation from density V (< 0: off)
     std::string SeaLevel;       ///< --sea M: the Sea boundary at this level (empty: Closed)
+    bool Weather = false;          ///< --weather: Dunn's wind, vapour and rain
+    double WindDirection = 270.0;  ///< --wind-direction DEG (blowing from)
+    double WindStrength = 1.0;     ///< --wind-strength M/S
+    double EvaporationScale = 1.0; ///< --evaporation-scale F
   } Erosion;
 
   // plants (vtkTerroirPlantPlacement)

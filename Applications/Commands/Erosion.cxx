@@ -47,6 +47,10 @@ int CommandErosion(const CommandLine& c)
     erosion->SetBoundary(vtkTerroirErosion::Sea);
     erosion->SetSeaLevel(std::stod(e.SeaLevel));
   }
+  erosion->SetWeather(e.Weather);
+  erosion->SetWindDirection(e.WindDirection);
+  erosion->SetWindStrength(e.WindStrength);
+  erosion->SetEvaporationScale(e.EvaporationScale);
   nlohmann::json stages;
   vtkSmartPointer<vtkImageData> result = RunStage(erosion.Get(), terrain, "erosion", stages);
   WriteStageResult(result, vtkTerroirErosion::ErodedElevationName(), c.Output, c.Overwrite);
@@ -63,6 +67,16 @@ int CommandErosion(const CommandLine& c)
     v ? v->GetComponent(0, 3) : 0.0,
     v ? v->GetComponent(0, 4) : 0.0);
   std::cout << line;
+  if (vtkDataArray* w = result->GetFieldData()->GetArray("WeatherVolumes"))
+  {
+    std::snprintf(line,
+      sizeof(line),
+      "weather: evaporated %.6g m3 from the water and %.6g m3 from the canopy, rained %.6g m3\n",
+      w->GetComponent(0, 0),
+      w->GetComponent(0, 1),
+      w->GetComponent(0, 2));
+    std::cout << line;
+  }
   return 0;
 }
 

@@ -63,6 +63,25 @@ public:
       e.SeaLevel,
       "Sea level, m: the grid's edge, no-data cells and cells at or below it take the water "
       "(default: a closed domain)");
+    sub->add_flag("--weather",
+      e.Weather,
+      "Couple Dunn's weather: evaporation into vapour (his eq. 2.6 instead of Weiss's K_e), a "
+      "prevailing wind on the pipe model, rain where the vapour exceeds the air's capacity");
+    sub
+      ->add_option("--wind-direction",
+        e.WindDirection,
+        "Weather: where the wind blows from, degrees clockwise from north")
+      ->check(FiniteIn(-360.0, 360.0))
+      ->capture_default_str();
+    sub->add_option("--wind-strength", e.WindStrength, "Weather: the prevailing wind's push, m/s")
+      ->check(FiniteIn(0.0, 1000.0))
+      ->capture_default_str();
+    sub
+      ->add_option("--evaporation-scale",
+        e.EvaporationScale,
+        "Weather: factor on Dunn's evaporation (physical: 1; he raised his for effect)")
+      ->check(FiniteIn(0.0, 1e9))
+      ->capture_default_str();
     AddCommonOptions(sub, line);
   }
   void Check(CommandLine& line, const CLI::App&) override

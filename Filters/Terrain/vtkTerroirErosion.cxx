@@ -17,6 +17,8 @@
 
 #include "Erosion.h"
 #include "ErosionSimulation.h"
+#include "vtkTerroirComputeContext.h"
+#include "vtkTerroirErosionGPU.h"
 #include "NumberText.h"
 #include "Vegetation.h"
 
@@ -54,7 +56,8 @@ vtkSmartPointer<vtkDoubleArray> FieldArray(const char* name, const double* value
 std::unique_ptr<te::ErosionSimulation> StartSimulation(vtkImageData* input,
   const terroir::GridView<float>& v,
   double initialWater,
-  double initialVegetation)
+  double initialVegetation,
+  bool weather)
 {
   const std::size_t n = v.Size();
   std::vector<std::uint8_t> mask(n);
@@ -64,11 +67,12 @@ std::unique_ptr<te::ErosionSimulation> StartSimulation(vtkImageData* input,
   }
   terroir::GridView<float> masked = v;
   masked.valid = mask.data();
-  std::vector<float> factor;
+  std::vector<float> factor, meanC;
   vtkDataArray* temperature = input->GetPointData()->GetArray("Temperature");
   if (temperature && temperature->GetNumberOfTuples() == static_cast<vtkIdType>(n))
   {
     factor.resize(n);
+    meanC.resize(weather ? n : 0);
     const int months = temperature->GetNumberOfComponents();
     for (std::size_t k = 0; k < n; ++k)
     {
@@ -78,6 +82,10 @@ std::unique_ptr<te::ErosionSimulation> StartSimulation(vtkImageData* input,
         mean += temperature->GetComponent(static_cast<vtkIdType>(k), m);
       }
       mean /= months;
+      if (weather)
+      {
+        meanC[k] = std::isfinite(mean) ? static_cast<float>(mean) : 15.0f;
+      }
       const double f = (mean - kColdDegC) / (kHotDegC - kColdDegC);
       factor[k] = std::isfinite(f) ? static_cast<float>(std::min(1.0, std::max(0.0, f))) : 0.0f;
     }
@@ -95,8 +103,47 @@ std::unique_ptr<te::ErosionSimulation> StartSimulation(vtkImageData* input,
       }
     }
   }
-  return std::unique_ptr<te::ErosionSimulation>(new te::ErosionSimulation(
+  auto sim = std::unique_ptr<te::ErosionSimulation>(new te::ErosionSimulation(
     masked, initialWater, std::move(factor), density.empty() ? nullptr : density.data()));
+  sim->SetTemperature(std::move(meanC));
+  return sim;
+}
+/**
+ * Runs sim's steps up to `steps` on the GPU (RunErosionGPU) and counts them in `sim`: first the
+ * steps up to the next thermal step when the cache stopped between two, so that the soil slip
+ * falls on the same step numbers as on the CPU, then the rest. The state is read back at the end.
+ */
+void RunStepsGPU(te::ErosionSimulation& sim, const te::ErosionSimulationParams& sp, long long steps)
+{
+  const int interval = sp.thermalInterval;
+  const float* rain = sim.RainField(sp.rainRate);
+  auto run = [&](int count, int thermalEvery)
+  {
+    te::ErosionGPUTotals totals;
+    te::RunErosionGPU(sim.State(),
+      sp.hydraulic,
+      sp.thermal,
+      thermalEvery,
+      rain,
+      sim.EvaporationFactor(),
+      count,
+      &totals);
+    sim.AddSteps(count, totals.hydraulic);
+  };
+  long long left = steps - sim.Steps();
+  if (interval > 0 && sim.Steps() % interval != 0 && left > 0)
+  {
+    const long long toThermal = interval - sim.Steps() % interval;
+    const int count = static_cast<int>(std::min(left, toThermal));
+    run(count, count == toThermal ? count : 0);
+    left -= count;
+  }
+  while (left > 0)
+  {
+    const int count = static_cast<int>(std::min<long long>(left, 1 << 30));
+    run(count, interval);
+    left -= count;
+  }
 }
 } // namespace
 
@@ -141,6 +188,10 @@ void vtkTerroirErosion::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TimeStepStride: " << this->TimeStepStride << "\n";
   os << indent << "Vegetation: " << this->Vegetation << "\n";
   os << indent << "InitialVegetation: " << this->InitialVegetation << "\n";
+  os << indent << "Weather: " << this->Weather << "\n";
+  os << indent << "WindDirection: " << this->WindDirection << " deg\n";
+  os << indent << "WindStrength: " << this->WindStrength << " m/s\n";
+  os << indent << "EvaporationScale: " << this->EvaporationScale << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -151,12 +202,18 @@ double vtkTerroirErosion::EstimateMemory(double nx, double ny)
   // rain (4 B) and the four float outputs.
   // With vegetation: its density, store, two scratch arrays and the two factors (float), the
   // chosen parents (1 B) and the bed's copy before soil slip (4 B).
-  return nx * ny * (18.0 * 4.0 + 1.0 + 8.0 + 16.0 + (this->Vegetation ? 29.0 : 0.0));
+  // With weather: the atmosphere's 15 float arrays (air, residue, vapour, fluxes, velocities,
+  // scratch), the fields x_s, x and wind, the falling rain, the rain rates, a bare canopy (4
+  // floats) and the Vapour output.
+  return nx * ny *
+    (18.0 * 4.0 + 1.0 + 8.0 + 16.0 + (this->Vegetation ? 29.0 : 0.0) +
+      (this->Weather ? 25.0 * 4.0 : 0.0));
 }
 
 //------------------------------------------------------------------------------
-void vtkTerroirErosion::MakeParams(te::ErosionParams& p, te::ThermalParams& t) const
+void vtkTerroirErosion::MakeParams(te::ErosionSimulationParams& sp) const
 {
+  te::ErosionParams& p = sp.hydraulic;
   p.timeStep = this->TimeStep;
   p.capacity = this->Capacity;
   p.dissolving = this->Dissolving;
@@ -166,7 +223,14 @@ void vtkTerroirErosion::MakeParams(te::ErosionParams& p, te::ThermalParams& t) c
   p.capacityDepth = this->CapacityDepth;
   p.boundary = this->Boundary == Sea ? te::ErosionBoundary::Sea : te::ErosionBoundary::Closed;
   p.seaLevel = this->SeaLevel;
-  t.talusSoilDeg = this->TalusAngle;
+  sp.thermal.talusSoilDeg = this->TalusAngle;
+  sp.thermalInterval = this->ThermalInterval;
+  sp.rainRate = this->RainRate / 1000.0 / 3600.0;
+  sp.weather = this->Weather != 0;
+  sp.atmosphere.timeStep = this->TimeStep;
+  sp.atmosphere.windDirectionDeg = this->WindDirection;
+  sp.atmosphere.windStrength = this->WindStrength;
+  sp.evaporation.scale = this->EvaporationScale;
 }
 
 //------------------------------------------------------------------------------
@@ -181,13 +245,17 @@ std::string vtkTerroirErosion::CheckParameters()
   {
     return "RainRate " + terroir::NumberText(this->RainRate) + " mm/h must be a finite number >= 0";
   }
-  te::ErosionParams p;
-  te::ThermalParams t;
-  this->MakeParams(p, t);
+  te::ErosionSimulationParams sp;
+  this->MakeParams(sp);
   try
   {
-    te::CheckErosionParams(p);
-    te::CheckThermalParams(t);
+    te::CheckErosionParams(sp.hydraulic);
+    te::CheckThermalParams(sp.thermal);
+    if (sp.weather)
+    {
+      te::CheckAtmosphereParams(sp.atmosphere);
+      te::CheckEvaporationParams(sp.evaporation);
+    }
   }
   catch (const std::invalid_argument& x)
   {
@@ -226,9 +294,16 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
 {
   const terroir::GridView<float>& v = terrain.view;
   const std::size_t n = v.Size();
-  if (this->SelectBackend(this->HasGPUPath()) < 0)
+  if (this->Backend == vtkTerroirComputeContext::GPU && !this->HasGPUPath())
   {
-    return 0; // a GPU request: this filter has no GPU path yet
+    vtkErrorMacro(<< "the GPU path runs the erosion and soil slip only: turn Vegetation and "
+                     "Weather off, or use the CPU backend");
+    return 0;
+  }
+  const int backend = this->SelectBackend(this->HasGPUPath());
+  if (backend < 0)
+  {
+    return 0;
   }
   vtkInformation* outInfo = this->GetOutputInformation(0);
   int steps = this->Steps;
@@ -238,9 +313,8 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
     steps = static_cast<int>(std::min<double>(std::max(std::round(t), 0.0), this->Steps));
   }
 
-  te::ErosionParams p;
-  te::ThermalParams thermal;
-  this->MakeParams(p, thermal);
+  te::ErosionSimulationParams sp;
+  this->MakeParams(sp);
   const te::ErosionParallelFor rows =
     [](int begin, int end, const std::function<void(int, int)>& body)
   {
@@ -250,11 +324,6 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
       [&](vtkIdType b, vtkIdType e) { body(static_cast<int>(b), static_cast<int>(e)); });
   };
 
-  te::ErosionSimulationParams sp;
-  sp.hydraulic = p;
-  sp.thermal = thermal;
-  sp.thermalInterval = this->ThermalInterval;
-  sp.rainRate = this->RainRate / 1000.0 / 3600.0;
   Cache& c = *this->State;
   try
   {
@@ -262,14 +331,26 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
       c.FilterTime != this->GetMTime() || steps < c.Simulation->Steps())
     {
       c.Simulation.reset();
-      c.Simulation = StartSimulation(
-        input, v, this->InitialWater, this->Vegetation != 0 ? this->InitialVegetation : -1.0);
+      c.Simulation = StartSimulation(input,
+        v,
+        this->InitialWater,
+        this->Vegetation != 0 ? this->InitialVegetation : -1.0,
+        this->Weather != 0);
       c.Input = input;
       c.InputTime = input->GetMTime();
       c.FilterTime = this->GetMTime();
     }
     te::ErosionSimulation& sim = *c.Simulation;
     const long long first = sim.Steps();
+    if (backend == vtkTerroirComputeContext::GPU && sim.Steps() < steps)
+    {
+      const int ran = this->RunGPUPath([&] { RunStepsGPU(sim, sp, steps); });
+      if (ran < 0)
+      {
+        return 0; // an explicit GPU request failed (reported)
+      }
+      // ran == CPU: Auto fell back (reported); the CPU goes on from where the state stands.
+    }
     while (sim.Steps() < steps)
     {
       sim.Step(sp, rows);
@@ -285,6 +366,10 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
   {
     c.Simulation.reset();
     vtkErrorMacro(<< this->SourcePrefix(input) << x.what());
+    return 0;
+  }
+  if (!c.Simulation)
+  {
     return 0;
   }
 
@@ -328,6 +413,20 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
       plants->SetValue(static_cast<vtkIdType>(k), s.IsValid(k) ? sim.Vegetation().density[k] : nan);
     }
     pd->AddArray(plants);
+  }
+  if (sim.HasWeather())
+  {
+    vtkSmartPointer<vtkFloatArray> vapour = vtkSmartPointer<vtkFloatArray>::Take(
+      terroir::NewOutputArray(VapourName(), 1, static_cast<long long>(n), "m"));
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      vapour->SetValue(
+        static_cast<vtkIdType>(k), s.IsValid(k) ? sim.Atmosphere().vapour[k] : nan);
+    }
+    pd->AddArray(vapour);
+    const te::ErosionVolumes& w = sim.Volumes();
+    const double weather[] = { w.evaporated, w.canopyEvaporated, w.weatherRain };
+    output->GetFieldData()->AddArray(FieldArray("WeatherVolumes", weather, 3));
   }
   pd->AddArray(bed);
   pd->AddArray(change);

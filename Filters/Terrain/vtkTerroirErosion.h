@@ -14,7 +14,9 @@
  * - field data `ErosionSteps` (steps computed), `ErosionVolumes` (m^3: eroded, deposited,
  *   rain, evaporated, water to the sea, over all steps) and `ErosionTotals` (m^3: bed, water,
  *   suspended sediment now, area-weighted over the valid cells).
- * - with Vegetation on, `VegetationDensity` (float, 0..1).
+ * - with Vegetation on, `VegetationDensity` (float, 0..1);
+ * - with Weather on, `Vapour` (float, m of water in the air) and field data `WeatherVolumes`
+ *   (m^3: evaporated from the water, from the canopy, rained by the atmosphere).
  * No-data cells: NaN.
  *
  * Algorithm (terroir::terrain, Filters/Terrain/Core/Erosion.h; Mei, Decaudin & Hu 2007 as
@@ -30,7 +32,15 @@
  * (cells at or below SeaLevel, default 0 m, the grid's edge and no-data cells take the water
  * that reaches them). Water and material are conserved on a closed domain (the state carries
  * its float rounding residue: 1e-8 relative per 1000 steps measured). Rows run in parallel
- * (vtkSMPTools) with the same bits on any thread count. CPU only (no GPU path yet).
+ * (vtkSMPTools) with the same bits on any thread count. Weather (Dunn 2015 section 3.5,
+ * Atmosphere.h; default off): Weiss's K_e gives way to Dunn's eq. 2.6 evaporation (times
+ * EvaporationScale, default 1) into the vapour, a prevailing wind from WindDirection (degrees
+ * clockwise from north it blows from, default 270) of WindStrength (m/s, default 1) carries it
+ * on the pipe model, and it rains where it exceeds the air's capacity (the input's mean
+ * `Temperature`, or 15 degC at sea level less 6.5 degC/km).
+ * GPU path (Backend GPU; Shaders/Erosion.comp, vtkTerroirErosionGPU.h): the hydraulic and
+ * thermal steps on the device, the CPU's bits on llvmpipe; without Vegetation and Weather only
+ * (which couple on the CPU every step: a GPU request with them is an error).
  *
  * VTK time: the output announces TIME_STEPS 0, TimeStepStride, ... up to Steps; a request for
  * time t gives the state after round(t) steps. The last state is cached: a later time
@@ -65,8 +75,7 @@ namespace terroir
 {
 namespace terrain
 {
-struct ErosionParams;
-struct ThermalParams;
+struct ErosionSimulationParams;
 }
 }
 
@@ -148,6 +157,19 @@ public:
   vtkGetMacro(InitialVegetation, double);
   ///@}
   ///@{
+  /// Dunn's weather (default off): wind, vapour and rain coupled on every step; see above.
+  vtkSetMacro(Weather, vtkTypeBool);
+  vtkGetMacro(Weather, vtkTypeBool);
+  vtkBooleanMacro(Weather, vtkTypeBool);
+  vtkSetMacro(WindDirection, double);
+  vtkGetMacro(WindDirection, double);
+  vtkSetMacro(WindStrength, double);
+  vtkGetMacro(WindStrength, double);
+  vtkSetMacro(EvaporationScale, double);
+  vtkGetMacro(EvaporationScale, double);
+  ///@}
+
+  ///@{
   /// Steps between the announced VTK time steps (default 10, >= 1).
   vtkSetClampMacro(TimeStepStride, int, 1, VTK_INT_MAX);
   vtkGetMacro(TimeStepStride, int);
@@ -159,12 +181,14 @@ public:
   static const char* WaterDepthName() { return "ErosionWaterDepth"; }
   static const char* SedimentName() { return "SuspendedSediment"; }
   static const char* VegetationName() { return "VegetationDensity"; }
+  static const char* VapourName() { return "Vapour"; }
 
 protected:
   vtkTerroirErosion();
   ~vtkTerroirErosion() override;
 
   int GetHaloWidth() override { return -1; }
+  bool HasGPUPath() override { return !this->Vegetation && !this->Weather; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -190,6 +214,10 @@ protected:
   int TimeStepStride = 10;
   vtkTypeBool Vegetation = 0;
   double InitialVegetation = 0.5;
+  vtkTypeBool Weather = 0;
+  double WindDirection = 270.0;
+  double WindStrength = 1.0;
+  double EvaporationScale = 1.0;
 
 private:
   vtkTerroirErosion(const vtkTerroirErosion&) = delete;
@@ -198,8 +226,7 @@ private:
   struct Cache;
   Cache* State;
   /// The core's parameters from the properties.
-  void MakeParams(terroir::terrain::ErosionParams& hydraulic,
-    terroir::terrain::ThermalParams& thermal) const;
+  void MakeParams(terroir::terrain::ErosionSimulationParams& params) const;
 };
 
 #endif

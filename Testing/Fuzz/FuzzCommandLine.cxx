@@ -262,6 +262,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Check(Within(e.CapacityDepth, 0.0, 1000.0));
     Check(e.Vegetation == -1.0 || Within(e.Vegetation, 0.0, 1.0));
     Check(e.SeaLevel.empty() || Within(std::stod(e.SeaLevel), -1e5, 1e5));
+    Check(Within(e.WindDirection, -360.0, 360.0) && Within(e.WindStrength, 0.0, 1000.0));
+    Check(Within(e.EvaporationScale, 0.0, 1e9));
   }
   if (c == "plants")
   {

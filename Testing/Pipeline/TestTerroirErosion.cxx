@@ -222,6 +222,48 @@ TEST(TerroirErosion, VegetationHoldsTheSoil)
 }
 
 // Bad parameters: one clear line, an empty output.
+// Dunn's weather through the filter: a warm west (20 degC) and a cold east (-30 degC) given as
+// `Temperature`, wind from the west: water evaporates into the vapour (Vapour output) and it
+// rains (WeatherVolumes). Weiss's K_e is then off, so water + vapour = the water at the start
+// less the rain still in flight (condensed on the last step, falling on the next), which lies
+// between 0 and all the rain: the sum is checked between those bounds (float rounding 1e-6).
+// Without Weather there is no Vapour array.
+TEST(TerroirErosion, WeatherEvaporatesCarriesAndRains)
+{
+  vtkSmartPointer<vtkImageData> in =
+    Terrain(30, 16, [](int i, int j) { return 20.0 + 0.3 * std::sin(0.5 * i + 0.3 * j); });
+  auto temperature = vtkSmartPointer<vtkFloatArray>::New();
+  temperature->SetName("Temperature");
+  for (vtkIdType k = 0; k < in->GetNumberOfPoints(); ++k)
+  {
+    temperature->InsertNextValue(k % 30 > 20 ? -30.0f : 20.0f);
+  }
+  in->GetPointData()->AddArray(temperature);
+  vtkNew<vtkTerroirErosion> f;
+  f->SetInputData(in);
+  f->SetSteps(400);
+  f->SetInitialWater(0.2);
+  f->SetTimeStep(0.05);
+  f->WeatherOn();
+  f->SetWindStrength(5.0);
+  f->SetEvaporationScale(5e4);
+  f->Update();
+  vtkImageData* out = f->GetOutput();
+  ASSERT_NE(out->GetPointData()->GetArray("Vapour"), nullptr);
+  vtkDataArray* w = out->GetFieldData()->GetArray("WeatherVolumes");
+  ASSERT_NE(w, nullptr);
+  const double cell = 4.0; // 2 m spacing
+  const double start = 0.2 * 30 * 16 * cell;
+  EXPECT_GT(w->GetComponent(0, 0), 0.01 * start); // evaporated from the water
+  EXPECT_GT(w->GetComponent(0, 2), 0.0);          // rained
+  const double now = cell * (Sum(out, "ErosionWaterDepth") + Sum(out, "Vapour"));
+  EXPECT_LE(now, start * (1.0 + 1e-6));
+  EXPECT_GE(now, start * (1.0 - 1e-6) - w->GetComponent(0, 2));
+  f->WeatherOff();
+  f->Update();
+  EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("Vapour"), nullptr);
+}
+
 TEST(TerroirErosion, Errors)
 {
   vtkSmartPointer<vtkImageData> in = Terrain(8, 8, [](int, int) { return 1.0; });

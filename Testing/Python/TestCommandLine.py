@@ -452,7 +452,14 @@ class TerroirCommandLine(unittest.TestCase):
         self.assertEqual(after.shape, before.shape)
         self.assertGreater(float(np.abs(after - before).max()), 0.01)
         self.assertLess(float((before - after).sum()) * 100.0, eroded)  # 10 m cells: 100 m2
-        for bad in (["--sea", "high"], ["--steps", "-1"], ["--talus", "90"]):
+        # Dunn's weather: water evaporates (raised for effect) and the line says how much.
+        r = terroir("erosion", DEM, os.path.join(self.work, "w.tif"), "--steps", "5",
+                    "--weather", "--evaporation-scale", "1e5")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertRegex(r.stdout, r"weather: evaporated [0-9.e+]+ m3 from the water")
+        self.assertGreater(float(r.stdout.split("weather: evaporated ")[1].split(" ")[0]), 0.0)
+        for bad in (["--sea", "high"], ["--steps", "-1"], ["--talus", "90"],
+                    ["--wind-strength", "-1"]):
             r = terroir("erosion", DEM, os.path.join(self.work, "x.tif"), *bad)
             self.assertEqual(r.returncode, 2, bad)  # a usage error
             self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)

@@ -240,6 +240,81 @@ TEST(TerroirErosionSimulationCore, AVegetationDabStartsTheAutomaton)
   EXPECT_GT(tr::VegetationMeasure(sim.Vegetation()).stored, 0.0);
 }
 
+TEST(TerroirErosionSimulationCore, WeatherClosesTheWaterCycle)
+{
+  // Dunn's water cycle on a closed grid: what evaporates (eq. 2.6, raised 5e4 times for effect
+  // as Dunn raised his) becomes vapour, the wind carries it, and it rains on the cold east
+  // (-30 degC) where it exceeds the capacity; surface water + vapour + rain in flight stays
+  // the same (float rounding), water did evaporate and rain did fall, and the rain fell where
+  // it was cold.
+  const Terrain t(20, 14, 10.0, 23);
+  tr::ErosionSimulation sim(t.view, 0.05);
+  std::vector<float> temperature(t.z.size());
+  for (std::size_t k = 0; k < temperature.size(); ++k)
+  {
+    temperature[k] = (k % 20) > 13 ? -30.0f : 20.0f;
+  }
+  sim.SetTemperature(temperature);
+  tr::ErosionSimulationParams p;
+  p.weather = true;
+  p.hydraulic.timeStep = 0.1; // 10 m cells: the vapour must cross 6 columns in 60 s
+  p.evaporation.scale = 5e4;
+  p.atmosphere.windStrength = 5.0;
+  auto total = [&]()
+  {
+    double falling = 0.0;
+    const std::vector<float>& f = sim.RainInFlight();
+    for (float v : f)
+    {
+      falling += 100.0 * v; // 10 m cells
+    }
+    const double vapour =
+      sim.HasWeather() ? tr::AtmosphereMeasure(sim.Atmosphere()).vapour : 0.0; // none yet
+    return tr::ErosionMeasure(sim.State()).water + vapour + falling;
+  };
+  const double w0 = total();
+  for (int step = 0; step < 600; ++step)
+  {
+    sim.Step(p);
+  }
+  ASSERT_TRUE(sim.HasWeather());
+  const tr::ErosionVolumes& v = sim.Volumes();
+  EXPECT_GT(v.evaporated, 1e-3 * w0);
+  EXPECT_GT(v.weatherRain, 0.0);
+  EXPECT_NEAR(total(), w0, 1e-6 * w0);
+  // The rain fell on the cold columns: the vapour there is below the warm columns' (by area).
+  double coldVapour = 0.0, warmVapour = 0.0;
+  const std::vector<float>& q = sim.Atmosphere().vapour;
+  for (std::size_t k = 0; k < q.size(); ++k)
+  {
+    ((k % 20) > 13 ? coldVapour : warmVapour) += q[k];
+  }
+  EXPECT_LT(coldVapour / 6.0, 0.5 * warmVapour / 14.0);
+}
+
+TEST(TerroirErosionSimulationCore, WeatherReplacesWeissEvaporation)
+{
+  // With weather on and its evaporation scaled to 0, no water leaves (Weiss's K_e is off);
+  // without weather K_e takes (1 - K_e dt) of the water every step.
+  const Terrain t(12, 10, 5.0, 29);
+  tr::ErosionSimulation with(t.view, 0.05), without(t.view, 0.05);
+  tr::ErosionSimulationParams p;
+  const double w0 = tr::ErosionMeasure(with.State()).water;
+  for (int step = 0; step < 50; ++step)
+  {
+    without.Step(p);
+  }
+  p.weather = true;
+  p.evaporation.scale = 0.0;
+  for (int step = 0; step < 50; ++step)
+  {
+    with.Step(p);
+  }
+  EXPECT_NEAR(tr::ErosionMeasure(with.State()).water, w0, 1e-7 * w0);
+  EXPECT_NEAR(tr::ErosionMeasure(without.State()).water, w0 * std::pow(1.0 - 5e-5, 50), 1e-6 * w0);
+  EXPECT_EQ(with.Volumes().evaporated, 0.0);
+}
+
 TEST(TerroirErosionSimulationCore, BadArgumentsAreRefused)
 {
   const Terrain t(6, 6, 1.0, 19);

@@ -66,16 +66,7 @@ void ErosionSimulation::StartVegetation(const float* density)
     const float d = density ? density[k] : 0.0f;
     v[k] = s.IsValid(k) && std::isfinite(d) ? std::min(1.0f, std::max(0.0f, d)) : 0.0f;
   }
-  GridView<float> view;
-  view.nx = s.nx;
-  view.ny = s.ny;
-  view.dx = s.rowDx[0];
-  view.dy = s.rowDy[0];
-  view.rowDx = s.rowDx.data();
-  view.rowDy = s.rowDy.data();
-  view.data = v.data();
-  view.valid = s.valid.empty() ? nullptr : s.valid.data();
-  this->PlantState = MakeVegetationState(view);
+  this->PlantState = MakeVegetationState(this->View(v.data()));
   this->Erosion.erosionFactor.assign(n, 1.0f);
   this->Erosion.talusFactor.assign(n, 1.0f);
   this->Plants = true;
@@ -93,10 +84,21 @@ void ErosionSimulation::Step(const ErosionSimulationParams& p, const ErosionPara
     detail::BadParameter(kModel, "thermalInterval", p.thermalInterval, ">= 0");
   }
   ErosionState& s = this->Erosion;
-  if (p.rainRate != this->RainRate)
+  const float* rain = this->RainField(p.rainRate);
+  ErosionParams hydraulic = p.hydraulic;
+  if (p.weather)
   {
-    this->Rain.assign(p.rainRate > 0.0 ? s.Size() : 0, static_cast<float>(p.rainRate));
-    this->RainRate = p.rainRate;
+    // Dunn's evaporation replaces Weiss's K_e; the atmosphere's rain of the last step falls now.
+    hydraulic.evaporation = 0.0;
+    this->StartWeather(p);
+    const std::size_t n = s.Size();
+    this->RainRates.resize(n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      this->RainRates[k] = static_cast<float>((rain ? rain[k] : 0.0f) +
+        static_cast<double>(this->Falling[k]) / p.hydraulic.timeStep);
+    }
+    rain = this->RainRates.data();
   }
   if (this->Plants)
   {
@@ -104,8 +106,8 @@ void ErosionSimulation::Step(const ErosionSimulationParams& p, const ErosionPara
       this->PlantState, p.vegetation, s.erosionFactor.data(), s.talusFactor.data());
   }
   const ErosionStepStats stats = ErosionHydraulicStep(s,
-    p.hydraulic,
-    this->Rain.empty() ? nullptr : this->Rain.data(),
+    hydraulic,
+    rain,
     this->Factor.empty() ? nullptr : this->Factor.data(),
     rows);
   this->Sums.eroded += stats.eroded;
@@ -134,6 +136,124 @@ void ErosionSimulation::Step(const ErosionSimulationParams& p, const ErosionPara
         this->PlantState, this->BedBefore.data(), s.terrain.data(), p.vegetation, rows);
     }
   }
+  if (p.weather)
+  {
+    this->WeatherStep(p, rows);
+  }
+}
+
+//------------------------------------------------------------------------------
+void ErosionSimulation::StartWeather(const ErosionSimulationParams& p)
+{
+  if (this->Weather)
+  {
+    return;
+  }
+  const ErosionState& s = this->Erosion;
+  GridView<float> view = this->View(s.terrain.data());
+  this->Air = MakeAtmosphereState(view, p.airHeight);
+  const std::vector<float> none(s.Size(), 0.0f);
+  view.data = none.data();
+  this->Bare = MakeVegetationState(view);
+  this->Falling.assign(s.Size(), 0.0f);
+  this->Weather = true;
+}
+
+//------------------------------------------------------------------------------
+void ErosionSimulation::WeatherStep(const ErosionSimulationParams& p, const ErosionParallelFor& rows)
+{
+  ErosionState& s = this->Erosion;
+  const std::size_t n = s.Size();
+  AtmosphereParams air = p.atmosphere;
+  air.timeStep = p.hydraulic.timeStep;
+  const float* temperature = this->Temperature.empty() ? nullptr : this->Temperature.data();
+  this->Xs.resize(n);
+  this->X.resize(n);
+  this->Wind.resize(n);
+  AtmosphereEvaporationFields(this->Air,
+    air,
+    s.terrain.data(),
+    temperature,
+    this->Xs.data(),
+    this->X.data(),
+    this->Wind.data(),
+    rows);
+  EvaporationFields fields;
+  fields.saturationRatio = this->Xs.data();
+  fields.humidityRatio = this->X.data();
+  fields.windSpeed = this->Wind.data();
+  fields.vapour = this->Air.vapour.data();
+  VegetationWater water;
+  water.surface = s.water.data();
+  water.surfaceResidue = s.waterResidue.data();
+  const EvaporationStats e = EvaporationDunn2015Step(this->Plants ? this->PlantState : this->Bare,
+    water,
+    p.hydraulic.timeStep,
+    p.vegetation,
+    p.evaporation,
+    fields,
+    rows);
+  this->Sums.evaporated += e.fromWater;
+  this->Sums.canopyEvaporated += e.fromCanopy;
+  std::fill(this->Falling.begin(), this->Falling.end(), 0.0f);
+  this->Sums.weatherRain +=
+    AtmosphereStep(this->Air, air, s.terrain.data(), temperature, this->Falling.data(), rows).rain;
+}
+
+//------------------------------------------------------------------------------
+GridView<float> ErosionSimulation::View(const float* data) const
+{
+  const ErosionState& s = this->Erosion;
+  GridView<float> view;
+  view.nx = s.nx;
+  view.ny = s.ny;
+  view.dx = s.rowDx[0];
+  view.dy = s.rowDy[0];
+  view.rowDx = s.rowDx.data();
+  view.rowDy = s.rowDy.data();
+  view.data = data;
+  view.valid = s.valid.empty() ? nullptr : s.valid.data();
+  return view;
+}
+
+//------------------------------------------------------------------------------
+void ErosionSimulation::SetTemperature(std::vector<float> temperature)
+{
+  if (!temperature.empty() && temperature.size() != this->Erosion.Size())
+  {
+    detail::BadParameter(kModel,
+      "temperature values",
+      static_cast<double>(temperature.size()),
+      "one per cell (or none)");
+  }
+  this->Temperature = std::move(temperature);
+}
+
+//------------------------------------------------------------------------------
+const float* ErosionSimulation::RainField(double rate)
+{
+  if (rate != this->RainRate)
+  {
+    this->Rain.assign(rate > 0.0 ? this->Erosion.Size() : 0, static_cast<float>(rate));
+    this->RainRate = rate;
+  }
+  return this->Rain.empty() ? nullptr : this->Rain.data();
+}
+
+//------------------------------------------------------------------------------
+void ErosionSimulation::AddSteps(long long steps, const ErosionStepStats& sums)
+{
+  if (this->Plants || this->Weather)
+  {
+    throw std::logic_error("erosion simulation: steps run outside cannot couple vegetation or "
+                           "weather");
+  }
+  this->Sums.eroded += sums.eroded;
+  this->Sums.deposited += sums.deposited;
+  this->Sums.rain += sums.rain;
+  this->Sums.evaporated += sums.evaporated;
+  this->Sums.toSea += sums.waterToSea;
+  this->StepCount += steps;
 }
 
 //------------------------------------------------------------------------------

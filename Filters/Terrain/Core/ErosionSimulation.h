@@ -9,7 +9,13 @@
  * 2. the hydraulic step (ErosionHydraulicStep) with the rain and evaporation factors;
  * 3. with vegetation, the automaton (VegetationStep) on the surface water;
  * 4. every thermalInterval steps the thermal step (ErosionThermalStep), and with vegetation the
- *    damage soil slip does to it (VegetationSlipDamage).
+ *    damage soil slip does to it (VegetationSlipDamage);
+ * 5. with weather (Dunn section 3.5, Atmosphere.h): the erosion step's own evaporation K_e is
+ *    off and its rain is the rain rate plus what the atmosphere rained on the step before;
+ *    after the step, Dunn's eq. 2.6 evaporation from the water and the canopy
+ *    (EvaporationDunn2015Step, fed by AtmosphereEvaporationFields) goes into the vapour, and
+ *    AtmosphereStep carries the vapour on the wind and rains where it exceeds the capacity.
+ *    Surface water + vegetation stores + vapour + rain in flight is conserved.
  *
  * Brushes (Dunn section 4.3: the user paints soil, water and vegetation onto the world): a dab
  * at a cell position (i east, j north, fractional) with a radius R in cells changes each valid
@@ -33,6 +39,7 @@
 #ifndef terroir_terrain_ErosionSimulation_h
 #define terroir_terrain_ErosionSimulation_h
 
+#include "Atmosphere.h"
 #include "Erosion.h"
 #include "GridView.h"
 #include "Vegetation.h"
@@ -52,6 +59,11 @@ struct ErosionSimulationParams
   int thermalInterval = 1; ///< a thermal step after every this many steps (>= 0; 0: none)
   VegetationParams vegetation;
   double rainRate = 0.0; ///< rain on every valid cell, m/s (>= 0, finite)
+  /// Dunn's weather (item 5 of the file comment): off by default.
+  bool weather = false;
+  AtmosphereParams atmosphere;    ///< its timeStep is the hydraulic one's
+  EvaporationParams evaporation;  ///< eq. 2.6 and Table 2.1 (scale: Dunn raised his for effect)
+  double airHeight = 10.0;        ///< the atmosphere's air column at the start, m (ours)
 };
 
 /// Volumes summed over the steps and the brushes, m^3.
@@ -64,6 +76,8 @@ struct ErosionVolumes
   double toSea = 0.0;      ///< water removed by the sea boundary
   double brushWater = 0.0; ///< water added by brushes (negative: removed)
   double brushBed = 0.0;   ///< bed added by brushes (negative: dug)
+  double canopyEvaporated = 0.0; ///< weather: water evaporated from the vegetation's stores
+  double weatherRain = 0.0;      ///< weather: vapour condensed into rain (falls on the next step)
 };
 
 /// What a brush dab paints.
@@ -110,9 +124,33 @@ public:
   const ErosionState& State() const { return this->Erosion; }
   bool HasVegetation() const { return this->Plants; }
   const VegetationState& Vegetation() const { return this->PlantState; }
+  /// Weather: the atmosphere (vapour, wind; made on the first step with weather) and the rain
+  /// it condensed on the last step, falling on the next (m per cell).
+  bool HasWeather() const { return this->Weather; }
+  const AtmosphereState& Atmosphere() const { return this->Air; }
+  const std::vector<float>& RainInFlight() const { return this->Falling; }
+  /// Air temperatures for the weather, degC per cell (nx*ny; empty: from the height with the
+  /// atmosphere's lapse rate).
+  void SetTemperature(std::vector<float> temperature);
+  /// The rain field of a step at `rate` m/s on every valid cell (nullptr for none) and the
+  /// evaporation factors (nullptr for 1): what the GPU path takes.
+  const float* RainField(double rate);
+  const float* EvaporationFactor() const
+  {
+    return this->Factor.empty() ? nullptr : this->Factor.data();
+  }
+  /**
+   * @brief Counts `steps` hydraulic (and thermal) steps that ran outside Step on State() (the
+   * GPU path) with the volumes `sums` of their hydraulic steps; only without vegetation and
+   * weather (std::logic_error otherwise).
+   */
+  void AddSteps(long long steps, const ErosionStepStats& sums);
 
 private:
   void StartVegetation(const float* density);
+  void StartWeather(const ErosionSimulationParams& params);
+  GridView<float> View(const float* data) const;
+  void WeatherStep(const ErosionSimulationParams& params, const ErosionParallelFor& rows);
 
   ErosionState Erosion;
   VegetationState PlantState;
@@ -121,6 +159,10 @@ private:
   std::vector<float> Rain;
   double RainRate = -1.0;
   std::vector<float> BedBefore;
+  bool Weather = false;
+  AtmosphereState Air;
+  VegetationState Bare; ///< a canopy of density 0 for the evaporation without vegetation
+  std::vector<float> Falling, RainRates, Temperature, Xs, X, Wind;
   long long StepCount = 0;
   ErosionVolumes Sums;
 };
