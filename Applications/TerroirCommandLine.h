@@ -308,15 +308,15 @@ struct CommandLine
   // erosion (vtkTerroirErosion)
   struct ErosionSettings
   {
-    int Steps = 100;            ///< --steps N
-    double TimeStep = 0.01;     ///< --time-step S (Weiss's dt)
-    double InitialWater = 0.05; ///< --water M on every cell at the start
-    double RainRate = 0.0;      ///< --rain MM per hour
-    double TalusAngle = 33.0;   ///< --talus DEG
-    int ThermalInterval = 1;    ///< --thermal-interval N (0: no soil slip)
-    double CapacityDepth = 0.0; ///< --capacity-depth M (0: off)
-    double Vegetation = -1.0;   ///< --vegetation V: Dunn's vegetation from density V (< 0: off)
-    std::string SeaLevel;       ///< --sea M: the Sea boundary at this level (empty: Closed)
+    int Steps = 100;               ///< --steps N
+    double TimeStep = 0.01;        ///< --time-step S (Weiss's dt)
+    double InitialWater = 0.05;    ///< --water M on every cell at the start
+    double RainRate = 0.0;         ///< --rain MM per hour
+    double TalusAngle = 33.0;      ///< --talus DEG
+    int ThermalInterval = 1;       ///< --thermal-interval N (0: no soil slip)
+    double CapacityDepth = 0.0;    ///< --capacity-depth M (0: off)
+    double Vegetation = -1.0;      ///< --vegetation V: Dunn's vegetation from density V (< 0: off)
+    std::string SeaLevel;          ///< --sea M: the Sea boundary at this level (empty: Closed)
     bool Weather = false;          ///< --weather: Dunn's wind, vapour and rain
     double WindDirection = 270.0;  ///< --wind-direction DEG (blowing from)
     double WindStrength = 1.0;     ///< --wind-strength M/S

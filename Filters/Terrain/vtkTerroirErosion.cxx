@@ -17,10 +17,10 @@
 
 #include "Erosion.h"
 #include "ErosionSimulation.h"
-#include "vtkTerroirComputeContext.h"
-#include "vtkTerroirErosionGPU.h"
 #include "NumberText.h"
 #include "Vegetation.h"
+#include "vtkTerroirComputeContext.h"
+#include "vtkTerroirErosionGPU.h"
 
 #include <algorithm>
 #include <cmath>
@@ -420,8 +420,7 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
       terroir::NewOutputArray(VapourName(), 1, static_cast<long long>(n), "m"));
     for (std::size_t k = 0; k < n; ++k)
     {
-      vapour->SetValue(
-        static_cast<vtkIdType>(k), s.IsValid(k) ? sim.Atmosphere().vapour[k] : nan);
+      vapour->SetValue(static_cast<vtkIdType>(k), s.IsValid(k) ? sim.Atmosphere().vapour[k] : nan);
     }
     pd->AddArray(vapour);
     const te::ErosionVolumes& w = sim.Volumes();

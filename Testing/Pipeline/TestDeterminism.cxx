@@ -379,12 +379,15 @@ const std::map<std::string, std::function<Bytes()>>& Runners()
     { "vtkTerroirErosion",
       []
       {
-        // 10 steps of water, erosion, soil slip and vegetation on the terrain with holes (rows
-        // in parallel; the sanitizer build runs this case on every SMP backend too).
+        // 10 steps of water, erosion, soil slip, vegetation and weather (wind, vapour, rain) on
+        // the terrain with holes (rows in parallel; the sanitizer build runs this case on every
+        // SMP backend too).
         vtkNew<vtkTerroirErosion> f;
         f->SetInputData(TerrainWithHoles());
         f->SetSteps(10);
         f->VegetationOn();
+        f->WeatherOn();
+        f->SetEvaporationScale(1e4);
         f->SetInitialWater(0.5);
         f->SetRainRate(5000.0);
         f->Update();

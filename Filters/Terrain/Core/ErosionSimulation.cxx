@@ -95,8 +95,8 @@ void ErosionSimulation::Step(const ErosionSimulationParams& p, const ErosionPara
     this->RainRates.resize(n);
     for (std::size_t k = 0; k < n; ++k)
     {
-      this->RainRates[k] = static_cast<float>((rain ? rain[k] : 0.0f) +
-        static_cast<double>(this->Falling[k]) / p.hydraulic.timeStep);
+      this->RainRates[k] = static_cast<float>(
+        (rain ? rain[k] : 0.0f) + static_cast<double>(this->Falling[k]) / p.hydraulic.timeStep);
     }
     rain = this->RainRates.data();
   }
@@ -105,11 +105,8 @@ void ErosionSimulation::Step(const ErosionSimulationParams& p, const ErosionPara
     VegetationResistance(
       this->PlantState, p.vegetation, s.erosionFactor.data(), s.talusFactor.data());
   }
-  const ErosionStepStats stats = ErosionHydraulicStep(s,
-    hydraulic,
-    rain,
-    this->Factor.empty() ? nullptr : this->Factor.data(),
-    rows);
+  const ErosionStepStats stats = ErosionHydraulicStep(
+    s, hydraulic, rain, this->Factor.empty() ? nullptr : this->Factor.data(), rows);
   this->Sums.eroded += stats.eroded;
   this->Sums.deposited += stats.deposited;
   this->Sums.rain += stats.rain;
@@ -160,7 +157,8 @@ void ErosionSimulation::StartWeather(const ErosionSimulationParams& p)
 }
 
 //------------------------------------------------------------------------------
-void ErosionSimulation::WeatherStep(const ErosionSimulationParams& p, const ErosionParallelFor& rows)
+void ErosionSimulation::WeatherStep(const ErosionSimulationParams& p,
+  const ErosionParallelFor& rows)
 {
   ErosionState& s = this->Erosion;
   const std::size_t n = s.Size();

@@ -61,21 +61,21 @@ struct ErosionSimulationParams
   double rainRate = 0.0; ///< rain on every valid cell, m/s (>= 0, finite)
   /// Dunn's weather (item 5 of the file comment): off by default.
   bool weather = false;
-  AtmosphereParams atmosphere;    ///< its timeStep is the hydraulic one's
-  EvaporationParams evaporation;  ///< eq. 2.6 and Table 2.1 (scale: Dunn raised his for effect)
-  double airHeight = 10.0;        ///< the atmosphere's air column at the start, m (ours)
+  AtmosphereParams atmosphere;   ///< its timeStep is the hydraulic one's
+  EvaporationParams evaporation; ///< eq. 2.6 and Table 2.1 (scale: Dunn raised his for effect)
+  double airHeight = 10.0;       ///< the atmosphere's air column at the start, m (ours)
 };
 
 /// Volumes summed over the steps and the brushes, m^3.
 struct ErosionVolumes
 {
-  double eroded = 0.0;     ///< bed taken into suspension
-  double deposited = 0.0;  ///< suspended sediment settled
-  double rain = 0.0;       ///< water added by rain
-  double evaporated = 0.0; ///< water removed by evaporation
-  double toSea = 0.0;      ///< water removed by the sea boundary
-  double brushWater = 0.0; ///< water added by brushes (negative: removed)
-  double brushBed = 0.0;   ///< bed added by brushes (negative: dug)
+  double eroded = 0.0;           ///< bed taken into suspension
+  double deposited = 0.0;        ///< suspended sediment settled
+  double rain = 0.0;             ///< water added by rain
+  double evaporated = 0.0;       ///< water removed by evaporation
+  double toSea = 0.0;            ///< water removed by the sea boundary
+  double brushWater = 0.0;       ///< water added by brushes (negative: removed)
+  double brushBed = 0.0;         ///< bed added by brushes (negative: dug)
   double canopyEvaporated = 0.0; ///< weather: water evaporated from the vegetation's stores
   double weatherRain = 0.0;      ///< weather: vapour condensed into rain (falls on the next step)
 };
