@@ -222,6 +222,7 @@ bool ParseChoice(ScriptLine& s)
     : a.Verb == "card"          ? std::vector<std::string>{ "none", "climate", "settings" }
     : a.Verb == "erosion"       ? std::vector<std::string>{ "start", "stop", "keep" }
     : a.Verb == "erosion-brush" ? std::vector<std::string>{ "soil", "water", "vegetation" }
+    : a.Verb == "texture"       ? std::vector<std::string>{ "on", "off" }
                                 : std::vector<std::string>{ "relief", "map" };
   std::string list;
   for (const std::string& name : allowed)
@@ -411,7 +412,8 @@ bool ParseArguments(ScriptLine& s)
     return ParseOverlay(s);
   }
   else if (a.Verb == "style" || a.Verb == "tool" || a.Verb == "view" || a.Verb == "button" ||
-    a.Verb == "flow-mode" || a.Verb == "card" || a.Verb == "erosion" || a.Verb == "erosion-brush")
+    a.Verb == "flow-mode" || a.Verb == "card" || a.Verb == "erosion" || a.Verb == "erosion-brush" ||
+    a.Verb == "texture")
   {
     return ParseChoice(s);
   }
@@ -468,7 +470,7 @@ bool ParseArguments(ScriptLine& s)
       "drag, wheel, key, flow, undo, wait, camera, state, screenshot, cluster-weight, table-csv, "
       "flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance, sea, "
       "coldest, warmest, lapse-rate, precipitation, intensity, climate-load, climate-save, "
-      "erosion, erosion-brush, erosion-amount, erosion-rain, wait-erosion, quit)");
+      "erosion, erosion-brush, erosion-amount, erosion-rain, wait-erosion, texture, quit)");
   }
   return true;
 }

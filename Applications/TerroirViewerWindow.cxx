@@ -101,6 +101,7 @@ bool ViewerWindow::Build(const std::string& title, std::string& error)
   {
     return false;
   }
+  this->Relief->GetBaseColor(this->ReliefBaseColor);
   this->Scene->AddActor(this->Relief->GetSurfaceActor());
   this->Scene->AddActor(this->Relief->GetHoleActor());
   if (!this->BuildLevelOfDetail(v.LodPoints, error))

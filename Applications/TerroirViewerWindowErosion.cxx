@@ -1,6 +1,7 @@
-// The window of `terroir view` (TerroirViewerWindowPrivate.h): live erosion. F5 starts or stops
-// it, F6 picks what the Brush tool paints while it runs (soil, water, vegetation), F7 keeps the
-// eroded terrain; the relief follows the bed and the water layer shows the erosion's water.
+// The window of `terroir view` (TerroirViewerWindowPrivate.h): live erosion and the terrain
+// texture. F5 starts or stops the erosion, F6 picks what the Brush tool paints while it runs
+// (soil, water, vegetation), F7 keeps the eroded terrain; the relief follows the bed and the
+// water layer shows the erosion's water. F8 puts Jensen's terrain texture on the relief.
 #include "TerroirViewerWindowPrivate.h"
 
 #include "vtkFloatArray.h"
@@ -36,6 +37,10 @@ bool ViewerWindow::ErosionKey(const std::string& sym)
   else if (sym == "F7")
   {
     this->ErosionCommand("keep");
+  }
+  else if (sym == "F8")
+  {
+    this->SetTexturing(!this->Texturing);
   }
   else
   {
@@ -146,7 +151,45 @@ void ViewerWindow::ShowErosionFrame(bool force)
     }
   }
   this->SurfaceLocator->BuildLocator();
+  this->ApplyTexturing();
   this->Recolour();
+}
+
+void ViewerWindow::SetTexturing(bool on)
+{
+  this->Texturing = on;
+  this->ApplyTexturing();
+  this->Recolour();
+  if (this->Message.rfind("error:", 0) != 0)
+  {
+    this->Message = on ? "Terrain texture (Jensen 2011): F8 takes it off"
+                       : "Terrain texture off: the overlay's colours";
+  }
+  this->UpdateTexts();
+}
+
+void ViewerWindow::ApplyTexturing()
+{
+  std::string error;
+  for (vtkTerroirReliefSurface* s : { this->Relief.Get(), this->Coarse.Get() })
+  {
+    if (s == this->Coarse.Get() && !this->HaveCoarse)
+    {
+      continue;
+    }
+    if (!this->Texturing)
+    {
+      vtkTerroirTerrainTexture::Remove(s);
+      s->SetBaseColor(this->ReliefBaseColor);
+    }
+    else if (!this->Texturer->ApplyTo(s, this->Session.GetTerrain(), error))
+    {
+      this->Texturing = false;
+      this->Message = "error: " + error;
+      this->ApplyTexturing();
+      return;
+    }
+  }
 }
 
 void ViewerWindow::PaintErosionAlong(double i0, double j0, double i1, double j1)

@@ -264,7 +264,8 @@ void ViewerWindow::Recolour()
   vtkDataArray* values = this->Shown.GetValues();
   const char* preset = this->Shown.Preset.c_str();
   bool legend = false;
-  if (values && this->Shown.Overlay != ViewerOverlay::Water &&
+  // With the terrain texture (F8) the texture replaces the overlay's colours.
+  if (values && !this->Texturing && this->Shown.Overlay != ViewerOverlay::Water &&
     vtkTerroirColorPresets::HasPreset(preset))
   {
     double range[2] = { 0.0, 1.0 };

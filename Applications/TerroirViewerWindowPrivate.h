@@ -29,6 +29,7 @@
 #include "vtkTerroirInteractorStyleFirstPerson.h"
 #include "vtkTerroirInteractorStyleTerrain.h"
 #include "vtkTerroirReliefSurface.h"
+#include "vtkTerroirTerrainTexture.h"
 #include "vtkTerroirXDisplay.h"
 #include "vtkTextActor.h"
 
@@ -242,6 +243,16 @@ private:
   void PaintErosionAlong(double i0, double j0, double i1, double j1);
   std::chrono::steady_clock::time_point LastBedShown;
   unsigned long ErosionShown = 0; ///< erosion frame version on screen
+  ///@}
+  ///@{
+  /// Jensen's terrain texture (F8, `texture on|off`; vtkTerroirTerrainTexture) on the relief
+  /// surfaces instead of the overlay's colours; SetTexturing puts it on or takes it off and
+  /// redraws, ApplyTexturing puts it back after the geometry was rebuilt.
+  void SetTexturing(bool on);
+  void ApplyTexturing();
+  vtkNew<vtkTerroirTerrainTexture> Texturer;
+  bool Texturing = false;
+  double ReliefBaseColor[3] = { 0.0, 0.0, 0.0 }; ///< the surfaces' colour without the texture
   ///@}
   /// flow-mode, flow-iterations, flow-water, flow-rain-rate, flow-stop, flow-balance.
   void SetFlowParameter(const ViewerAction& a);

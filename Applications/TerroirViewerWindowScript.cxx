@@ -86,7 +86,7 @@ void ViewerWindow::PrintState()
               "sensitivity %.6g move-speed %.6g sea-level %.9g precipitation-months %s "
               "intensity-months %s style %s detail %s erosion %s erosion-steps %lld "
               "erosion-brush %s erosion-amount %.6g erosion-water-sum %.9g erosion-bed-sum %.9g "
-              "erosion-rate %.4g\n",
+              "erosion-rate %.4g texture %s\n",
     terroir::viewer::OverlayName(this->Session.GetCurrentOverlay()),
     ToolName(this->CurrentTool),
     p.Latitude,
@@ -146,7 +146,8 @@ void ViewerWindow::PrintState()
     p.ErosionAmount,
     this->Session.GetErosionWater() ? sum(this->Session.GetErosionWater()) : 0.0,
     this->Session.GetErosionBed() ? sum(this->Session.GetErosionBed()) : 0.0,
-    this->Session.GetErosionStepsPerSecond());
+    this->Session.GetErosionStepsPerSecond(),
+    this->Texturing ? "on" : "off");
   std::fflush(stdout);
 }
 
@@ -340,6 +341,10 @@ bool ViewerWindow::RunAction(const ViewerAction& a,
   else if (a.Verb == "erosion")
   {
     this->ErosionCommand(a.Text);
+  }
+  else if (a.Verb == "texture")
+  {
+    this->SetTexturing(a.Text == "on");
   }
   else if (a.Verb == "erosion-brush" || a.Verb == "erosion-amount" || a.Verb == "erosion-rain")
   {

@@ -2,7 +2,6 @@
 
 #include "ClusterPalette.h"
 #include "TerroirSafeOutput.h"
-#include "TriangleTexturing.h"
 
 #include "vtkActor.h"
 #include "vtkActor2D.h"
@@ -40,6 +39,7 @@
 #include "vtkTerroirGeoreference.h"
 #include "vtkTerroirOverlayLegend.h"
 #include "vtkTerroirReliefSurface.h"
+#include "vtkTerroirTerrainTexture.h"
 #include "vtkTerroirXDisplay.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
@@ -118,27 +118,7 @@ struct vtkTerroirOverlayView::Internals
   // is turned off, so that the untextured surface is exactly the one without the option), and
   // the last texture with what it was built from.
   bool Textured = false;
-  struct TextureKey
-  {
-    vtkSmartPointer<vtkDataArray> Elevation, Mask, Zones;
-    vtkMTimeType ElevationTime = 0, MaskTime = 0, ZonesTime = 0;
-    int Dims[2] = { 0, 0 };
-    double Spacing[2] = { 0, 0 };
-    int Seed = 0, Texels = 0, MaxSize = 0;
-    double SeaLevel = 0, SnowLine = 0;
-    bool operator==(const TextureKey& o) const
-    {
-      return this->Elevation == o.Elevation && this->Mask == o.Mask && this->Zones == o.Zones &&
-        this->ElevationTime == o.ElevationTime && this->MaskTime == o.MaskTime &&
-        this->ZonesTime == o.ZonesTime && this->Dims[0] == o.Dims[0] &&
-        this->Dims[1] == o.Dims[1] && this->Spacing[0] == o.Spacing[0] &&
-        this->Spacing[1] == o.Spacing[1] && this->Seed == o.Seed && this->Texels == o.Texels &&
-        this->MaxSize == o.MaxSize && this->SeaLevel == o.SeaLevel &&
-        (this->SnowLine == o.SnowLine || (std::isnan(this->SnowLine) && std::isnan(o.SnowLine)));
-    }
-  } TextureBuilt;
-  vtkSmartPointer<vtkTexture> Texture;
-  terroir::rendering::TextureLayout Layout;
+  vtkNew<vtkTerroirTerrainTexture> Texture;
 
   // The window goes first: it must not outlive the connection it draws through.
   void ReleaseWindow()
@@ -488,161 +468,22 @@ bool vtkTerroirOverlayView::Render()
 }
 
 //------------------------------------------------------------------------------
-namespace
-{
-/// The heights of a terrain as floats, NaN where masked.
-std::vector<float> MaskedHeights(vtkDataArray* elevation, vtkDataArray* mask, vtkIdType n)
-{
-  std::vector<float> z(n);
-  for (vtkIdType k = 0; k < n; ++k)
-  {
-    const bool ok = !mask || mask->GetComponent(k, 0) != 0.0;
-    z[k] = ok ? static_cast<float>(elevation->GetComponent(k, 0))
-              : std::numeric_limits<float>::quiet_NaN();
-  }
-  return z;
-}
-
-/// The biome zone of each point from a one-component `ClusterId` array (-1 where not finite
-/// or negative); empty without one.
-std::vector<int> ZonesOf(vtkDataArray* zones, vtkIdType n)
-{
-  std::vector<int> out;
-  if (!zones || zones->GetNumberOfComponents() != 1 || zones->GetNumberOfTuples() != n)
-  {
-    return out;
-  }
-  out.resize(n);
-  for (vtkIdType k = 0; k < n; ++k)
-  {
-    const double v = zones->GetComponent(k, 0);
-    out[k] = std::isfinite(v) && v >= 0.0 && v < 1e9 ? static_cast<int>(v) : -1;
-  }
-  return out;
-}
-
-/// The material rules of the view: sea level as given; the snow line as given, or at 85 % of
-/// the valid elevation range, with a band of 1/10 of the range (200 m for a flat terrain).
-terroir::rendering::MaterialRules RulesFor(const std::vector<float>& z,
-  double seaLevel,
-  double snowLine)
-{
-  terroir::rendering::MaterialRules rules;
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-  for (float v : z)
-  {
-    if (std::isfinite(v))
-    {
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-  }
-  const double range = hi > lo ? static_cast<double>(hi) - lo : 0.0;
-  rules.SeaLevel = seaLevel;
-  rules.SnowBand = range > 0.0 ? 0.1 * range : 200.0;
-  rules.SnowLine =
-    std::isfinite(snowLine) ? snowLine : (range > 0.0 ? lo + 0.85 * range : hi + 1e3);
-  return rules;
-}
-} // namespace
-
 bool vtkTerroirOverlayView::ApplyTexture(vtkImageData* image, vtkTerroirReliefSurface* relief)
 {
   Internals& in = *this->Internal;
-  vtkPointData* pd = image->GetPointData();
-  int dims[3];
-  image->GetDimensions(dims);
-  double spacing[3], origin[3];
-  image->GetSpacing(spacing);
-  image->GetOrigin(origin);
-  Internals::TextureKey key;
-  key.Elevation = pd->GetArray(vtkTerroirGeoreference::ElevationName());
-  key.Mask = pd->GetArray(vtkTerroirGeoreference::ValidMaskName());
-  key.Zones = pd->GetArray("ClusterId");
-  key.ElevationTime = key.Elevation->GetMTime();
-  key.MaskTime = key.Mask ? key.Mask->GetMTime() : 0;
-  key.ZonesTime = key.Zones ? key.Zones->GetMTime() : 0;
-  key.Dims[0] = dims[0];
-  key.Dims[1] = dims[1];
-  key.Spacing[0] = spacing[0];
-  key.Spacing[1] = spacing[1];
-  key.Seed = this->TextureSeed;
-  key.Texels = this->TexelsPerCell;
-  key.MaxSize = this->MaxTextureSize;
-  key.SeaLevel = this->TextureSeaLevel;
-  key.SnowLine = this->TextureSnowLine;
-  if (!in.Texture || !(in.TextureBuilt == key))
+  vtkTerroirTerrainTexture* texture = in.Texture;
+  texture->SetSeed(this->TextureSeed);
+  texture->SetTexelsPerCell(this->TexelsPerCell);
+  texture->SetMaxTextureSize(this->MaxTextureSize);
+  texture->SetSeaLevel(this->TextureSeaLevel);
+  texture->SetSnowLine(this->TextureSnowLine);
+  std::string error;
+  if (!texture->ApplyTo(relief, image, error))
   {
-    const vtkIdType n = static_cast<vtkIdType>(dims[0]) * dims[1];
-    const std::vector<float> z = MaskedHeights(key.Elevation, key.Mask, n);
-    try
-    {
-      const auto rules = RulesFor(z, this->TextureSeaLevel, this->TextureSnowLine);
-      const std::vector<float> weights = terroir::rendering::MaterialWeights(dims[0],
-        dims[1],
-        std::abs(spacing[0]),
-        std::abs(spacing[1]),
-        z,
-        ZonesOf(key.Zones, n),
-        rules);
-      const auto built = terroir::rendering::BuildTerrainTexture(dims[0],
-        dims[1],
-        weights,
-        terroir::rendering::DefaultMaterials(),
-        this->TexelsPerCell,
-        static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->TextureSeed)),
-        this->MaxTextureSize);
-      vtkNew<vtkImageData> picture;
-      picture->SetDimensions(built.Layout.Width, built.Layout.Height, 1);
-      vtkNew<vtkUnsignedCharArray> rgb;
-      rgb->SetNumberOfComponents(3);
-      rgb->SetNumberOfTuples(static_cast<vtkIdType>(built.Layout.Width) * built.Layout.Height);
-      std::copy(built.Rgb.begin(), built.Rgb.end(), rgb->GetPointer(0));
-      picture->GetPointData()->SetScalars(rgb);
-      in.Texture = vtkSmartPointer<vtkTexture>::New();
-      in.Texture->SetInputData(picture);
-      in.Texture->InterpolateOn();
-      in.Texture->MipmapOn();
-      in.Texture->RepeatOff();
-      in.Texture->EdgeClampOn();
-      in.Layout = built.Layout;
-      in.TextureBuilt = key;
-    }
-    catch (const std::exception& e)
-    {
-      in.Texture = nullptr;
-      return this->Fail(std::string("vtkTerroirOverlayView: texturing: ") + e.what());
-    }
+    return this->Fail("vtkTerroirOverlayView: " + error);
   }
-  this->LastTextureSize[0] = in.Layout.Width;
-  this->LastTextureSize[1] = in.Layout.Height;
-  this->LastCellsPerTile = in.Layout.CellsPerTile;
-
-  // Texture coordinates of the drawn points (every point, or every Stride-th).
-  vtkActor* actor = relief->GetSurfaceActor();
-  vtkPolyData* surface = vtkPolyData::SafeDownCast(actor->GetMapper()->GetInputDataObject(0, 0));
-  if (!surface)
-  {
-    return this->Fail("vtkTerroirOverlayView: texturing: the surface has no polygons");
-  }
-  vtkNew<vtkFloatArray> tcoords;
-  tcoords->SetName("TextureCoordinates");
-  tcoords->SetNumberOfComponents(2);
-  tcoords->SetNumberOfTuples(surface->GetNumberOfPoints());
-  for (vtkIdType p = 0; p < surface->GetNumberOfPoints(); ++p)
-  {
-    double x[3];
-    surface->GetPoint(p, x);
-    const double cx = spacing[0] != 0.0 ? (x[0] - origin[0]) / spacing[0] : 0.0;
-    const double cy = spacing[1] != 0.0 ? (x[1] - origin[1]) / spacing[1] : 0.0;
-    tcoords->SetTypedComponent(p, 0, static_cast<float>(in.Layout.TextureU(cx)));
-    tcoords->SetTypedComponent(p, 1, static_cast<float>(in.Layout.TextureV(cy)));
-  }
-  surface->GetPointData()->SetTCoords(tcoords);
-  actor->SetTexture(in.Texture);
-  // The texture replaces the overlay: the surface's own colour is white.
-  relief->SetBaseColor(1.0, 1.0, 1.0);
-  relief->SetUniformColor();
+  texture->GetTextureSize(this->LastTextureSize);
+  this->LastCellsPerTile = texture->GetCellsPerTile();
   in.Textured = true;
   return true;
 }

@@ -489,6 +489,27 @@ class TerroirViewer(unittest.TestCase):
         self.assertNotEqual(proc.returncode, 0)
         self.assertIn("the erosion did not reach 5 steps", proc.stderr)
 
+    def test_the_terrain_texture_comes_and_goes(self):
+        """F8 (and `texture on|off`) puts Jensen's terrain texture on the relief instead of the
+        overlay's colours and takes it off again: the textured picture differs from the plain
+        one over much of the terrain, and after `texture off` the terrain view (above the status
+        line, whose message differs) has exactly the plain picture's pixels."""
+        need_display(self)
+        proc, folder, _ = run_view("texture", [
+            "wait", "screenshot plain.png", "key F8", "state", "screenshot textured.png",
+            "texture off", "state", "screenshot off.png", "quit"], dem=bowl_dem())
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        s = states(proc.stdout)
+        self.assertEqual((s[0]["texture"], s[1]["texture"]), ("on", "off"))
+        shots = {}
+        for name in ("plain", "textured", "off"):
+            (w, h, _), values = pixels(os.path.join(folder, name + ".png"))
+            image = values.reshape(h, w, -1)
+            shots[name] = image[int(0.2 * h):, :int(0.78 * w)]  # rows from the bottom: skip it
+        changed = np.any(shots["plain"] != shots["textured"], axis=2).sum()
+        self.assertGreater(changed, 5000)
+        self.assertTrue(np.array_equal(shots["plain"], shots["off"]))
+
     def test_the_sea_floods_from_the_edge_and_is_undone(self):
         """`sea 2003` on BowlDEM covers what a breadth-first search from the edge cells at or
         below 2003 m reaches through such cells (8 neighbours), each with 2003 - z m: the

@@ -79,7 +79,7 @@ TEST(TerroirViewerScript, BadLinesNameTheFileTheLineAndTheProblem)
     "cluster-weight, table-csv, flow-mode, flow-iterations, flow-water, flow-rain-rate, "
     "flow-stop, flow-balance, sea, coldest, warmest, lapse-rate, precipitation, intensity, "
     "climate-load, climate-save, erosion, erosion-brush, erosion-amount, erosion-rain, "
-    "wait-erosion, quit)");
+    "wait-erosion, texture, quit)");
   EXPECT_EQ(ErrorOf("card map"), "s.txt:1: 'card': unknown value 'map' (none, climate, settings)");
   EXPECT_EQ(ErrorOf("erosion go"), "s.txt:1: 'erosion': unknown value 'go' (start, stop, keep)");
   EXPECT_EQ(ErrorOf("erosion-brush rock"),
