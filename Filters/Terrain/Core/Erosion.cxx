@@ -757,104 +757,396 @@ struct ThermalContext
   }
 };
 
-/// Thermal pass 1 for rows [j0, j1): each giver's scale (soil limit) and the largest excess.
+/// Thermal: the talus tangent of cell c, as ThermalContext::TanTalus, with the soil layer and the
+/// per-cell factor fixed at compile time (no per-cell tests of the options).
+template<bool Layered, bool Factor>
+struct TalusOf
+{
+  static constexpr bool kLayered = Layered;
+  const float* soil;
+  const float* factor;
+  float tanSoil, tanRock;
+
+  float operator()(std::size_t c) const
+  {
+    const float tan = (!Layered || soil[c] > 0.0f) ? tanSoil : tanRock;
+    return Factor ? tan * factor[c] : tan;
+  }
+  /// The same, indexed from the start of a row.
+  TalusOf Row(std::size_t row) const
+  {
+    return { Layered ? soil + row : soil, Factor ? factor + row : factor, tanSoil, tanRock };
+  }
+};
+
+/// Calls f(talus) with the TalusOf that matches the state's options.
+template<typename F>
+void WithTalus(const ThermalContext& t, F&& f)
+{
+  const float* soil = t.st.soil.data();
+  const float* factor = t.st.talusFactor.data();
+  if (t.layered && !t.st.talusFactor.empty())
+  {
+    f(TalusOf<true, true>{ soil, factor, t.tanSoil, t.tanRock });
+  }
+  else if (t.layered)
+  {
+    f(TalusOf<true, false>{ soil, factor, t.tanSoil, t.tanRock });
+  }
+  else if (!t.st.talusFactor.empty())
+  {
+    f(TalusOf<false, true>{ soil, factor, t.tanSoil, t.tanRock });
+  }
+  else
+  {
+    f(TalusOf<false, false>{ soil, factor, t.tanSoil, t.tanRock });
+  }
+}
+
+/// The eight neighbours of a cell of row j that has all of them (not on the grid's edge, no
+/// no-data cells): index offsets, distances and area ratios (neighbour's row / row j).
+struct SlipStencil
+{
+  std::ptrdiff_t offset[8];
+  float distance[8];
+  float areaRatio[8];
+};
+
+SlipStencil MakeStencil(const ThermalContext& t, int j)
+{
+  SlipStencil s;
+  for (int k = 0; k < 8; ++k)
+  {
+    s.offset[k] = static_cast<std::ptrdiff_t>(kDj[k]) * t.st.nx + kDi[k];
+    s.distance[k] = t.Distance(j, k);
+    s.areaRatio[k] = t.area[j + kDj[k]] / t.area[j];
+  }
+  return s;
+}
+
+/// Whether row j's cells 1..nx-2 have all eight neighbours (the vectorisable loops).
+bool HasInterior(const ErosionState& st, int j)
+{
+  return st.valid.empty() && j > 0 && j + 1 < st.ny && st.nx >= 3;
+}
+
+/// A soil giver never gives more than its soil: the factor on its pipes.
+inline float SoilScale(bool layered, const float* soil, std::size_t c, float total)
+{
+  return (layered && soil[c] > 0.0f && total > soil[c]) ? soil[c] / total : 1.0f;
+}
+
+/// Thermal pass 1 of cell (i, j), any cell: its scale and its largest excess (-inf if none).
+template<typename Talus>
+void SlipScaleCell(const ThermalContext& t,
+  const Talus& talus,
+  int i,
+  int j,
+  float* scale,
+  float& maxExcess)
+{
+  const ErosionState& st = t.st;
+  const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
+  scale[c] = 0.0f;
+  maxExcess = -std::numeric_limits<float>::infinity();
+  if (!st.IsValid(c))
+  {
+    return;
+  }
+  const float tanTalus = talus(c);
+  float total = 0.0f;
+  for (int k = 0; k < 8; ++k)
+  {
+    std::size_t n = 0;
+    if (t.Neighbour(i, j, k, n))
+    {
+      const float d = t.Distance(j, k);
+      total += SlipHeight(st.terrain[c], st.terrain[n], tanTalus, d, t.rate16);
+      maxExcess = std::max(maxExcess, (st.terrain[c] - st.terrain[n]) - tanTalus * d);
+    }
+  }
+  scale[c] = SoilScale(t.layered, st.soil.data(), c, total);
+}
+
+/// Thermal pass 1 over cells 1..nx-2 of a row that has all eight neighbours (see
+/// SlipScaleCell; separate pointers, so that the loop vectorises). bed: rows j-1, j, j+1;
+/// the other pointers: row j.
+template<typename Talus>
+void SlipScaleInterior(int nx,
+  const float* __restrict bedS,
+  const float* __restrict bedC,
+  const float* __restrict bedN,
+  const Talus& talus,
+  const SlipStencil& s,
+  float rate16,
+  const float* __restrict soil,
+  float* __restrict scale,
+  float* __restrict rowMax)
+{
+  const float* const bed[3] = { bedS, bedC, bedN };
+  float distance[8];
+  std::copy(s.distance, s.distance + 8, distance);
+  for (int i = 1; i < nx - 1; ++i)
+  {
+    const float b = bed[1][i];
+    const float tanTalus = talus(i);
+    float total = 0.0f;
+    float m = -std::numeric_limits<float>::infinity();
+#pragma GCC unroll 8
+    for (int k = 0; k < 8; ++k)
+    {
+      const float excess = (b - bed[1 + kDj[k]][i + kDi[k]]) - tanTalus * distance[k];
+      total += excess > 0.0f ? excess * rate16 : 0.0f; // SlipHeight
+      m = std::max(m, excess);
+    }
+    scale[i] = SoilScale(Talus::kLayered, soil, i, total);
+    rowMax[i] = m;
+  }
+}
+
+/// Thermal pass 1 for row j: each giver's scale (soil limit); rowMax[i] its largest excess.
+template<typename Talus>
+void SlipScaleRow(const ThermalContext& t, const Talus& talus, int j, float* scale, float* rowMax)
+{
+  const ErosionState& st = t.st;
+  const int nx = st.nx;
+  if (!HasInterior(st, j))
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      SlipScaleCell(t, talus, i, j, scale, rowMax[i]);
+    }
+    return;
+  }
+  SlipScaleCell(t, talus, 0, j, scale, rowMax[0]);
+  SlipScaleCell(t, talus, nx - 1, j, scale, rowMax[nx - 1]);
+  const std::size_t row = static_cast<std::size_t>(j) * nx;
+  const float* bed = st.terrain.data() + row;
+  SlipScaleInterior(nx,
+    bed - nx,
+    bed,
+    bed + nx,
+    talus.Row(row),
+    MakeStencil(t, j),
+    t.rate16,
+    t.layered ? st.soil.data() + row : nullptr,
+    scale + row,
+    rowMax);
+}
+
+/// Thermal pass 1 for rows [j0, j1): scales, and each row's largest excess (>= 0).
 void SlipScaleRows(const ThermalContext& t,
   float* scale,
   std::vector<double>& rowExcess,
   int j0,
   int j1)
 {
-  const ErosionState& st = t.st;
-  for (int j = j0; j < j1; ++j)
-  {
-    double excess = 0.0;
-    for (int i = 0; i < st.nx; ++i)
+  std::vector<float> rowMax(static_cast<std::size_t>(t.st.nx));
+  WithTalus(t,
+    [&](const auto& talus)
     {
-      const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
-      scale[c] = 0.0f;
-      if (!st.IsValid(c))
+      for (int j = j0; j < j1; ++j)
       {
-        continue;
-      }
-      const float tanTalus = t.TanTalus(c);
-      float total = 0.0f;
-      for (int k = 0; k < 8; ++k)
-      {
-        std::size_t n = 0;
-        if (t.Neighbour(i, j, k, n))
+        SlipScaleRow(t, talus, j, scale, rowMax.data());
+        double excess = 0.0;
+        for (float m : rowMax)
         {
-          const float d = t.Distance(j, k);
-          total += SlipHeight(st.terrain[c], st.terrain[n], tanTalus, d, t.rate16);
-          excess =
-            std::max(excess, static_cast<double>((st.terrain[c] - st.terrain[n]) - tanTalus * d));
+          excess = std::max(excess, static_cast<double>(m));
         }
+        rowExcess[j] = excess;
       }
-      float sc = 1.0f;
-      if (t.layered && st.soil[c] > 0.0f && total > st.soil[c])
-      {
-        sc = st.soil[c] / total;
-      }
-      scale[c] = sc;
-    }
-    rowExcess[j] = excess;
+    });
+}
+
+/// Where thermal pass 2 writes: the new bed (its residue in place) and soil.
+struct SlipOutput
+{
+  float* bed;
+  float* bedLo;
+  float* soil; ///< null without a soil layer
+};
+
+/// New bed and soil of a cell that gives `out` and gets `in` (the end of thermal pass 2).
+inline void SlipUpdate(const ErosionState& st,
+  const SlipOutput& o,
+  std::size_t c,
+  float out,
+  float in)
+{
+  o.bed[c] = st.terrain[c];
+  AddCompensated(o.bed[c], o.bedLo[c], in - out);
+  if (o.soil)
+  {
+    const float fromSoil = st.soil[c] > 0.0f ? std::min(out, st.soil[c]) : 0.0f;
+    o.soil[c] = (st.soil[c] - fromSoil) + in;
   }
+}
+
+/// Thermal pass 2 of cell (i, j), any cell: returns what it gives (0 for no-data cells).
+template<typename Talus>
+float SlipCell(const ThermalContext& t,
+  const Talus& talus,
+  const float* scale,
+  const SlipOutput& o,
+  int i,
+  int j)
+{
+  const ErosionState& st = t.st;
+  const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
+  o.bed[c] = st.terrain[c];
+  if (o.soil)
+  {
+    o.soil[c] = st.soil[c];
+  }
+  if (!st.IsValid(c))
+  {
+    return 0.0f;
+  }
+  const float tanTalus = talus(c);
+  float out = 0.0f;
+  float in = 0.0f;
+  for (int k = 0; k < 8; ++k)
+  {
+    std::size_t n = 0;
+    if (!t.Neighbour(i, j, k, n))
+    {
+      continue;
+    }
+    const float d = t.Distance(j, k);
+    out += SlipHeight(st.terrain[c], st.terrain[n], tanTalus, d, t.rate16);
+    const int jn = j + kDj[k];
+    const float got = scale[n] * SlipHeight(st.terrain[n], st.terrain[c], talus(n), d, t.rate16);
+    in += got * (t.area[jn] / t.area[j]);
+  }
+  out *= scale[c];
+  SlipUpdate(st, o, c, out, in);
+  return out;
+}
+
+/// Thermal pass 2 over cells 1..nx-2 of a row that has all eight neighbours (see
+/// SlipCell; separate pointers, so that the loop vectorises). bed, scale, talus: rows j-1, j,
+/// j+1; the other pointers: row j; given[i]: what cell i gives.
+template<typename Talus>
+void SlipInterior(int nx,
+  const float* __restrict bedS,
+  const float* __restrict bedC,
+  const float* __restrict bedN,
+  const float* __restrict scaleS,
+  const float* __restrict scaleC,
+  const float* __restrict scaleN,
+  const Talus* talus,
+  const SlipStencil& s,
+  float rate16,
+  const float* __restrict soil,
+  float* __restrict newBed,
+  float* __restrict bedLo,
+  float* __restrict newSoil,
+  float* __restrict given)
+{
+  const float* const bed[3] = { bedS, bedC, bedN };
+  const float* const sc[3] = { scaleS, scaleC, scaleN };
+  float distance[8], areaRatio[8];
+  std::copy(s.distance, s.distance + 8, distance);
+  std::copy(s.areaRatio, s.areaRatio + 8, areaRatio);
+  for (int i = 1; i < nx - 1; ++i)
+  {
+    const float b = bed[1][i];
+    const float tanTalus = talus[1](i);
+    float out = 0.0f;
+    float in = 0.0f;
+#pragma GCC unroll 8
+    for (int k = 0; k < 8; ++k)
+    {
+      const int r = 1 + kDj[k];
+      const int n = i + kDi[k];
+      const float bn = bed[r][n];
+      out += SlipHeight(b, bn, tanTalus, distance[k], rate16);
+      in += (sc[r][n] * SlipHeight(bn, b, talus[r](n), distance[k], rate16)) * areaRatio[k];
+    }
+    out *= sc[1][i];
+    float hi = b;
+    float lo = bedLo[i];
+    AddCompensated(hi, lo, in - out);
+    newBed[i] = hi;
+    bedLo[i] = lo;
+    if constexpr (Talus::kLayered)
+    {
+      const float fromSoil = soil[i] > 0.0f ? std::min(out, soil[i]) : 0.0f;
+      newSoil[i] = (soil[i] - fromSoil) + in;
+    }
+    given[i] = out;
+  }
+}
+
+/// Thermal pass 2 for row j: the new bed (and soil); rowOut[i] what cell i gives.
+template<typename Talus>
+void SlipRow(const ThermalContext& t,
+  const Talus& talus,
+  const float* scale,
+  const SlipOutput& o,
+  int j,
+  float* rowOut)
+{
+  const ErosionState& st = t.st;
+  const int nx = st.nx;
+  if (!HasInterior(st, j))
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      rowOut[i] = SlipCell(t, talus, scale, o, i, j);
+    }
+    return;
+  }
+  rowOut[0] = SlipCell(t, talus, scale, o, 0, j);
+  rowOut[nx - 1] = SlipCell(t, talus, scale, o, nx - 1, j);
+  const std::size_t row = static_cast<std::size_t>(j) * nx;
+  const float* bed = st.terrain.data() + row;
+  const float* sc = scale + row;
+  const Talus rowTalus[3] = { talus.Row(row - nx), talus.Row(row), talus.Row(row + nx) };
+  SlipInterior(nx,
+    bed - nx,
+    bed,
+    bed + nx,
+    sc - nx,
+    sc,
+    sc + nx,
+    rowTalus,
+    MakeStencil(t, j),
+    t.rate16,
+    t.layered ? st.soil.data() + row : nullptr,
+    o.bed + row,
+    o.bedLo + row,
+    t.layered ? o.soil + row : nullptr,
+    rowOut);
 }
 
 /// Thermal pass 2 for rows [j0, j1): the new bed (and soil) from what each cell gives and gets.
 void SlipRows(const ThermalContext& t,
   const float* scale,
-  float* bed,
-  float* bedLo,
-  float* soil,
+  const SlipOutput& o,
   std::vector<double>& rowMoved,
   int j0,
   int j1)
 {
   const ErosionState& st = t.st;
-  for (int j = j0; j < j1; ++j)
-  {
-    double moved = 0.0;
-    for (int i = 0; i < st.nx; ++i)
+  std::vector<float> rowOut(static_cast<std::size_t>(st.nx));
+  WithTalus(t,
+    [&](const auto& talus)
     {
-      const std::size_t c = static_cast<std::size_t>(j) * st.nx + i;
-      bed[c] = st.terrain[c];
-      if (t.layered)
+      for (int j = j0; j < j1; ++j)
       {
-        soil[c] = st.soil[c];
-      }
-      if (!st.IsValid(c))
-      {
-        continue;
-      }
-      const float tanTalus = t.TanTalus(c);
-      float out = 0.0f;
-      float in = 0.0f;
-      for (int k = 0; k < 8; ++k)
-      {
-        std::size_t n = 0;
-        if (!t.Neighbour(i, j, k, n))
+        SlipRow(t, talus, scale, o, j, rowOut.data());
+        double moved = 0.0;
+        for (int i = 0; i < st.nx; ++i)
         {
-          continue;
+          if (st.IsValid(static_cast<std::size_t>(j) * st.nx + i))
+          {
+            moved += static_cast<double>(rowOut[i]) * t.area[j];
+          }
         }
-        const float d = t.Distance(j, k);
-        out += SlipHeight(st.terrain[c], st.terrain[n], tanTalus, d, t.rate16);
-        const int jn = j + kDj[k];
-        const float got =
-          scale[n] * SlipHeight(st.terrain[n], st.terrain[c], t.TanTalus(n), d, t.rate16);
-        in += got * (t.area[jn] / t.area[j]);
+        rowMoved[j] = moved;
       }
-      out *= scale[c];
-      bed[c] = st.terrain[c];
-      AddCompensated(bed[c], bedLo[c], in - out);
-      if (t.layered)
-      {
-        const float fromSoil = st.soil[c] > 0.0f ? std::min(out, st.soil[c]) : 0.0f;
-        soil[c] = (st.soil[c] - fromSoil) + in;
-      }
-      moved += static_cast<double>(out) * t.area[j];
-    }
-    rowMoved[j] = moved;
-  }
+    });
 }
 
 /// Throws std::invalid_argument when an array of the state does not have nx*ny entries (or
@@ -1150,8 +1442,9 @@ ThermalStepStats ErosionThermalStep(ErosionState& st,
   float* soil = t.layered ? st.scratch[2].data() : nullptr;
   ForRows(parallelFor,
     ny,
-    [&](int j0, int j1)
-    { SlipRows(t, scale, bed, st.terrainResidue.data(), soil, rowMoved, j0, j1); });
+    [&](int j0, int j1) {
+      SlipRows(t, scale, SlipOutput{ bed, st.terrainResidue.data(), soil }, rowMoved, j0, j1);
+    });
   std::swap(st.terrain, st.scratch[1]);
   if (t.layered)
   {
