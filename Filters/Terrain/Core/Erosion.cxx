@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "ParameterCheck.h"
@@ -41,6 +43,19 @@ inline void AddCompensated(float& hi, float& lo, float delta)
   const float back = sum - hi;
   lo = (hi - (sum - back)) + (t - back);
   hi = sum;
+}
+
+/// m ? a : b by bit masks: no branch, so that loops with it vectorise (the same bits).
+inline float Select(bool m, float a, float b)
+{
+  std::uint32_t ua, ub;
+  std::memcpy(&ua, &a, sizeof ua);
+  std::memcpy(&ub, &b, sizeof ub);
+  const std::uint32_t mask = 0u - static_cast<std::uint32_t>(m);
+  const std::uint32_t r = (ua & mask) | (ub & ~mask);
+  float out;
+  std::memcpy(&out, &r, sizeof out);
+  return out;
 }
 
 /// Runs body over all rows, through parallelFor when given.
@@ -484,6 +499,209 @@ inline float Dissolve(const CellRates& r, float deficit, float* soil, float limi
   return fromSoil + fromRock;
 }
 
+/// Whether row j's cells 1..nx-2 have all eight neighbours, all valid (the rows that the
+/// vectorised loops run; the others, and the first and last cell of a row, run cell by cell).
+bool HasInterior(const ErosionState& st, int j)
+{
+  return st.valid.empty() && j > 0 && j + 1 < st.ny && st.nx >= 3;
+}
+
+/// The constants of pass 3, in float.
+struct ErodeConstants
+{
+  float kc, rampDepth, maxChange, minTilt, maxTilt;
+  bool layered;
+
+  explicit ErodeConstants(const HydraulicContext& h)
+    : kc(static_cast<float>(h.p.capacity))
+    , rampDepth(static_cast<float>(h.p.capacityDepth))
+    , maxChange(h.p.maxBedChange > 0.0 ? static_cast<float>(h.p.maxBedChange)
+                                       : std::numeric_limits<float>::infinity())
+    , minTilt(static_cast<float>(h.p.minTilt))
+    , maxTilt(static_cast<float>(h.p.maxTilt))
+    , layered(!h.st.soil.empty())
+  {
+  }
+};
+
+/// Pass 3 of cell (i, j), any cell: new bed into `bed`, s' into state.sediment, soil in place;
+/// eroded[i] and deposited[i] the volumes it took and dropped (0 if none), per cell area.
+void ErodeCell(const HydraulicContext& h,
+  const ErodeConstants& k,
+  ErosionState& st,
+  float* bed,
+  int i,
+  int j,
+  float* eroded,
+  float* deposited)
+{
+  const std::size_t c = h.Index(i, j);
+  const float b = st.terrain[c];
+  bed[c] = b;
+  eroded[i] = 0.0f;
+  deposited[i] = 0.0f;
+  if (!h.IsLand(c))
+  {
+    return;
+  }
+  const float u = st.velocityU[c];
+  const float v = st.velocityV[c];
+  float capacity = k.kc * Tilt(h, i, j) * std::sqrt(u * u + v * v);
+  if (k.rampDepth > 0.0f)
+  {
+    capacity *= std::min(1.0f, st.water[c] / k.rampDepth);
+  }
+  const float original = st.original[c];
+  CellRates r = RatesAt(h, original - b);
+  if (!st.erosionFactor.empty())
+  {
+    r.ks *= st.erosionFactor[c]; // vegetation holds the soil (a multiplier <= 1)
+    r.ksRock *= st.erosionFactor[c];
+  }
+  const float s = st.sediment[c];
+  if (capacity > s)
+  {
+    // Weiss's cap on the total change: the bed stays above original - maxBedChange.
+    const float limit = std::max(0.0f, b - (original - k.maxChange));
+    const float take = Dissolve(r, capacity - s, k.layered ? &st.soil[c] : nullptr, limit);
+    bed[c] = b;
+    AddCompensated(bed[c], st.terrainResidue[c], -take);
+    st.sediment[c] = s + take;
+    eroded[i] = take;
+  }
+  else
+  {
+    const float limit = std::max(0.0f, (original + k.maxChange) - b);
+    const float drop = std::min(r.kd * (s - capacity), limit);
+    bed[c] = b;
+    AddCompensated(bed[c], st.terrainResidue[c], drop);
+    st.sediment[c] = s - drop;
+    if (k.layered)
+    {
+      st.soil[c] += drop;
+    }
+    deposited[i] = drop;
+  }
+}
+
+/// Calls f(std::true_type) or f(std::false_type): a run-time flag made a compile-time one.
+template<typename F>
+void WithFlag(bool flag, F&& f)
+{
+  if (flag)
+  {
+    f(std::true_type{});
+  }
+  else
+  {
+    f(std::false_type{});
+  }
+}
+
+/// Row pointers of pass 3's vectorised loop (row j; terrain also rows j - 1 and j + 1).
+struct ErodeRowArrays
+{
+  const float *bedS, *bedC, *bedN;
+  const std::uint8_t* kind;
+  const float *u, *v, *water, *original, *factor;
+  float *sediment, *residue, *soil, *bed, *eroded, *deposited;
+};
+
+/// Pass 3 over cells 1..nx-2 of a row with all four neighbours valid: ErodeCell's arithmetic,
+/// both branches computed and the result selected (so that the loop vectorises; the same
+/// bits). Options fixed at compile time; with Weiss's eq. 24 (exp2) it stays scalar.
+template<bool Layered, bool Factor, bool Ramp, bool Halving>
+void ErodeInterior(const HydraulicContext& h,
+  const ErodeConstants& k,
+  int nx,
+  int j,
+  const float* __restrict bedS,
+  const float* __restrict bedC,
+  const float* __restrict bedN,
+  const std::uint8_t* __restrict kind,
+  const float* __restrict uu,
+  const float* __restrict vv,
+  const float* __restrict water,
+  const float* __restrict originalBed,
+  const float* __restrict factor,
+  float* __restrict sediment,
+  float* __restrict residue,
+  float* __restrict soil,
+  float* __restrict bed,
+  float* __restrict eroded,
+  float* __restrict deposited)
+{
+  const float lx = h.geo.lx[j];
+  const float lS = h.geo.lNorth[j - 1];
+  const float lN = h.geo.lNorth[j];
+  const CellRates base = RatesAt(h, 0.0f);
+  for (int i = 1; i < nx - 1; ++i)
+  {
+    const float b = bedC[i];
+    float t = 0.0f;
+    t = std::max(t, std::fabs(b - bedC[i - 1]) / lx);
+    t = std::max(t, std::fabs(b - bedC[i + 1]) / lx);
+    t = std::max(t, std::fabs(b - bedS[i]) / lS);
+    t = std::max(t, std::fabs(b - bedN[i]) / lN);
+    const float sine = t / std::sqrt(1.0f + t * t);
+    const float tilt = std::min(std::max(sine, k.minTilt), k.maxTilt);
+    const float u = uu[i];
+    const float v = vv[i];
+    float capacity = k.kc * tilt * std::sqrt(u * u + v * v);
+    if constexpr (Ramp)
+    {
+      capacity *= std::min(1.0f, water[i] / k.rampDepth);
+    }
+    const float original = originalBed[i];
+    CellRates r = base;
+    if constexpr (Halving)
+    {
+      r = RatesAt(h, original - b);
+    }
+    if constexpr (Factor)
+    {
+      r.ks *= factor[i];
+      r.ksRock *= factor[i];
+    }
+    const float s = sediment[i];
+    const float soil0 = Layered ? soil[i] : 0.0f;
+    // Erosion (Dissolve, inlined without branches).
+    const float limitE = std::max(0.0f, b - (original - k.maxChange));
+    const float deficit = capacity - s;
+    const float want = r.ks * deficit;
+    float take = std::min(want, limitE);
+    float soilE = soil0;
+    if constexpr (Layered)
+    {
+      float fromSoil = std::min(soil0, want);
+      const float rest = r.ks > 0.0f ? deficit - fromSoil / r.ks : deficit;
+      float fromRock = fromSoil < want ? r.ksRock * std::max(rest, 0.0f) : 0.0f;
+      fromSoil = std::min(fromSoil, limitE);
+      fromRock = std::min(fromRock, limitE - fromSoil);
+      soilE = soil0 - fromSoil;
+      take = fromSoil + fromRock;
+    }
+    // Deposition.
+    const float limitD = std::max(0.0f, (original + k.maxChange) - b);
+    const float drop = std::min(r.kd * (s - capacity), limitD);
+    const bool land = kind[i] == kLand;
+    const bool erodes = capacity > s;
+    const float lo0 = residue[i];
+    float hi = b;
+    float lo = lo0;
+    AddCompensated(hi, lo, Select(erodes, -take, drop));
+    bed[i] = Select(land, hi, b);
+    residue[i] = Select(land, lo, lo0);
+    sediment[i] = Select(land, Select(erodes, s + take, s - drop), s);
+    if constexpr (Layered)
+    {
+      soil[i] = Select(land, Select(erodes, soilE, soil0 + drop), soil0);
+    }
+    eroded[i] = Select(land && erodes, take, 0.0f);
+    deposited[i] = Select(land && !erodes, drop, 0.0f);
+  }
+}
+
 /// Pass 3 (eq. 17-20, 24) for rows [j0, j1): new bed into `bed`, s' into state.sediment, soil
 /// in place (both pointwise).
 void ErodeRows(const HydraulicContext& h,
@@ -493,66 +711,88 @@ void ErodeRows(const HydraulicContext& h,
   int j0,
   int j1)
 {
-  const float kc = static_cast<float>(h.p.capacity);
-  const float rampDepth = static_cast<float>(h.p.capacityDepth);
-  const float maxChange = h.p.maxBedChange > 0.0 ? static_cast<float>(h.p.maxBedChange)
-                                                 : std::numeric_limits<float>::infinity();
-  const bool layered = !st.soil.empty();
+  const ErodeConstants k(h);
+  const int nx = st.nx;
+  std::vector<float> eroded(static_cast<std::size_t>(nx)), deposited(eroded.size());
+  const bool halving = h.p.halvingDepthErosion > 0.0 || h.p.halvingDepthDeposition > 0.0;
   for (int j = j0; j < j1; ++j)
   {
-    const float area = h.geo.area[j];
-    double eroded = 0.0;
-    double deposited = 0.0;
-    for (int i = 0; i < st.nx; ++i)
+    if (HasInterior(st, j))
     {
-      const std::size_t c = h.Index(i, j);
-      const float b = st.terrain[c];
-      bed[c] = b;
-      if (!h.IsLand(c))
-      {
-        continue;
-      }
-      const float u = st.velocityU[c];
-      const float v = st.velocityV[c];
-      float capacity = kc * Tilt(h, i, j) * std::sqrt(u * u + v * v);
-      if (rampDepth > 0.0f)
-      {
-        capacity *= std::min(1.0f, st.water[c] / rampDepth);
-      }
-      const float original = st.original[c];
-      CellRates r = RatesAt(h, original - b);
-      if (!st.erosionFactor.empty())
-      {
-        r.ks *= st.erosionFactor[c]; // vegetation holds the soil (a multiplier <= 1)
-        r.ksRock *= st.erosionFactor[c];
-      }
-      const float s = st.sediment[c];
-      if (capacity > s)
-      {
-        // Weiss's cap on the total change: the bed stays above original - maxBedChange.
-        const float limit = std::max(0.0f, b - (original - maxChange));
-        const float take = Dissolve(r, capacity - s, layered ? &st.soil[c] : nullptr, limit);
-        bed[c] = b;
-        AddCompensated(bed[c], st.terrainResidue[c], -take);
-        st.sediment[c] = s + take;
-        eroded += static_cast<double>(take) * area;
-      }
-      else
-      {
-        const float limit = std::max(0.0f, (original + maxChange) - b);
-        const float drop = std::min(r.kd * (s - capacity), limit);
-        bed[c] = b;
-        AddCompensated(bed[c], st.terrainResidue[c], drop);
-        st.sediment[c] = s - drop;
-        if (layered)
+      ErodeCell(h, k, st, bed, 0, j, eroded.data(), deposited.data());
+      ErodeCell(h, k, st, bed, nx - 1, j, eroded.data(), deposited.data());
+      const std::size_t row = h.Index(0, j);
+      const ErodeRowArrays a{ st.terrain.data() + row - nx,
+        st.terrain.data() + row,
+        st.terrain.data() + row + nx,
+        h.kind + row,
+        st.velocityU.data() + row,
+        st.velocityV.data() + row,
+        st.water.data() + row,
+        st.original.data() + row,
+        st.erosionFactor.empty() ? nullptr : st.erosionFactor.data() + row,
+        st.sediment.data() + row,
+        st.terrainResidue.data() + row,
+        k.layered ? st.soil.data() + row : nullptr,
+        bed + row,
+        eroded.data(),
+        deposited.data() };
+      WithFlag(k.layered,
+        [&](auto layered)
         {
-          st.soil[c] += drop;
-        }
-        deposited += static_cast<double>(drop) * area;
+          WithFlag(!st.erosionFactor.empty(),
+            [&](auto factor)
+            {
+              WithFlag(k.rampDepth > 0.0f,
+                [&](auto ramp)
+                {
+                  WithFlag(halving,
+                    [&](auto halv)
+                    {
+                      ErodeInterior<decltype(layered)::value,
+                        decltype(factor)::value,
+                        decltype(ramp)::value,
+                        decltype(halv)::value>(h,
+                        k,
+                        nx,
+                        j,
+                        a.bedS,
+                        a.bedC,
+                        a.bedN,
+                        a.kind,
+                        a.u,
+                        a.v,
+                        a.water,
+                        a.original,
+                        a.factor,
+                        a.sediment,
+                        a.residue,
+                        a.soil,
+                        a.bed,
+                        a.eroded,
+                        a.deposited);
+                    });
+                });
+            });
+        });
+    }
+    else
+    {
+      for (int i = 0; i < nx; ++i)
+      {
+        ErodeCell(h, k, st, bed, i, j, eroded.data(), deposited.data());
       }
     }
-    sums.eroded[j] = eroded;
-    sums.deposited[j] = deposited;
+    const float area = h.geo.area[j];
+    double er = 0.0;
+    double dep = 0.0;
+    for (int i = 0; i < nx; ++i)
+    {
+      er += static_cast<double>(eroded[i]) * area;
+      dep += static_cast<double>(deposited[i]) * area;
+    }
+    sums.eroded[j] = er;
+    sums.deposited[j] = dep;
   }
 }
 
@@ -822,12 +1062,6 @@ SlipStencil MakeStencil(const ThermalContext& t, int j)
     s.areaRatio[k] = t.area[j + kDj[k]] / t.area[j];
   }
   return s;
-}
-
-/// Whether row j's cells 1..nx-2 have all eight neighbours (the vectorisable loops).
-bool HasInterior(const ErosionState& st, int j)
-{
-  return st.valid.empty() && j > 0 && j + 1 < st.ny && st.nx >= 3;
 }
 
 /// A soil giver never gives more than its soil: the factor on its pipes.
