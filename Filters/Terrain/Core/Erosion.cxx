@@ -227,6 +227,138 @@ void SurfaceRows(const HydraulicContext& h,
   }
 }
 
+/// Whether row j's cells 1..nx-2 have all eight neighbours, all valid (the rows that the
+/// vectorised loops run; the others, and the first and last cell of a row, run cell by cell).
+bool HasInterior(const ErosionState& st, int j)
+{
+  return st.valid.empty() && j > 0 && j + 1 < st.ny && st.nx >= 3;
+}
+
+/// Calls f(std::true_type) or f(std::false_type): a run-time flag made a compile-time one.
+template<typename F>
+void WithFlag(bool flag, F&& f)
+{
+  if (flag)
+  {
+    f(std::true_type{});
+  }
+  else
+  {
+    f(std::false_type{});
+  }
+}
+
+/// Pass 1b's per-row constants: the pipe coefficients (W, E, S, N), the row's cell area, dt
+/// and the soft threshold.
+struct FluxRowConstants
+{
+  float coef[4];
+  float area, dt;
+  SoftThreshold soft;
+};
+
+FluxRowConstants MakeFluxRow(const HydraulicContext& h, int j)
+{
+  const ErosionState& st = h.st;
+  // North-south pipes: between rows, the mean spacing; through the grid's edge (Sea
+  // boundary), the row's own.
+  const float coefEdge = static_cast<float>(
+    h.p.timeStep * h.p.gravity * (h.p.pipeArea > 0.0 ? h.p.pipeArea / st.rowDy[j] : st.rowDy[j]));
+  return { { h.geo.coefEW[j],
+             h.geo.coefEW[j],
+             j > 0 ? h.geo.coefNorth[j - 1] : coefEdge,
+             j + 1 < st.ny ? h.geo.coefNorth[j] : coefEdge },
+    h.geo.area[j],
+    h.dt,
+    { h.p.softOutflow,
+      static_cast<float>(h.p.softOutflowMin),
+      static_cast<float>(h.p.softOutflowScale) } };
+}
+
+/// Pass 1b of cell (i, j), any cell.
+void FluxCell(const HydraulicContext& h,
+  const FluxRowConstants& k,
+  const float* d1,
+  const float* surface,
+  float* const out[4],
+  int i,
+  int j)
+{
+  const ErosionState& st = h.st;
+  const std::size_t nx = static_cast<std::size_t>(st.nx);
+  const std::size_t c = h.Index(i, j);
+  float f[4] = { 0.0f, 0.0f, 0.0f, 0.0f }; // W, E, S, N
+  if (h.kind[c] == kLand)
+  {
+    const bool inside[4] = { i > 0, i + 1 < st.nx, j > 0, j + 1 < st.ny };
+    const std::size_t n[4] = { c - 1, c + 1, c - nx, c + nx };
+    const float old[4] = { st.fluxW[c], st.fluxE[c], st.fluxS[c], st.fluxN[c] };
+    for (int p = 0; p < 4; ++p)
+    {
+      const bool open = inside[p] ? h.kind[n[p]] != kWall : h.sea;
+      if (open)
+      {
+        const float level = inside[p] ? surface[n[p]] : h.seaLevel;
+        f[p] = PipeFlux(k.soft, old[p], k.coef[p], surface[c] - level);
+      }
+    }
+    const float sum = (f[0] + f[1]) + (f[2] + f[3]);
+    if (sum > 0.0f)
+    {
+      const float scale = std::min(1.0f, d1[c] * k.area / (sum * k.dt));
+      for (float& v : f)
+      {
+        v *= scale;
+      }
+    }
+  }
+  for (int p = 0; p < 4; ++p)
+  {
+    out[p][c] = f[p];
+  }
+}
+
+/// Pass 1b over cells 1..nx-2 of a row whose cells are all valid, as are the rows on either
+/// side (so every pipe is open): FluxCell's arithmetic without branches (the same bits).
+/// Pointers from the row's start (surface also rows j - 1 and j + 1).
+template<bool Soft>
+void FluxInterior(const FluxRowConstants& k,
+  int nx,
+  const std::uint8_t* __restrict kind,
+  const float* __restrict d1,
+  const float* __restrict surfS,
+  const float* __restrict surfC,
+  const float* __restrict surfN,
+  const float* __restrict oldW,
+  const float* __restrict oldE,
+  const float* __restrict oldS,
+  const float* __restrict oldN,
+  float* __restrict fw,
+  float* __restrict fe,
+  float* __restrict fs,
+  float* __restrict fn)
+{
+  const float cW = k.coef[0], cE = k.coef[1], cS = k.coef[2], cN = k.coef[3];
+  const float area = k.area, dt = k.dt;
+  const SoftThreshold soft{ Soft, k.soft.min, k.soft.scale };
+  for (int i = 1; i < nx - 1; ++i)
+  {
+    const float level = surfC[i];
+    float w = PipeFlux(soft, oldW[i], cW, level - surfC[i - 1]);
+    float e = PipeFlux(soft, oldE[i], cE, level - surfC[i + 1]);
+    float s = PipeFlux(soft, oldS[i], cS, level - surfS[i]);
+    float n = PipeFlux(soft, oldN[i], cN, level - surfN[i]);
+    const float sum = (w + e) + (s + n);
+    const float scale = std::min(1.0f, d1[i] * area / (sum * dt));
+    const bool scaled = sum > 0.0f;
+    const bool land = kind[i] == kLand;
+    fw[i] = Select(land, Select(scaled, w * scale, w), 0.0f);
+    fe[i] = Select(land, Select(scaled, e * scale, e), 0.0f);
+    fs[i] = Select(land, Select(scaled, s * scale, s), 0.0f);
+    fn[i] = Select(land, Select(scaled, n * scale, n), 0.0f);
+  }
+}
+
 /// Pass 1b (flux, eq. 11-13) for rows [j0, j1): the new fluxes of land cells (0 elsewhere).
 /// A pipe is open towards any cell but a wall; through the grid's edge only with the Sea
 /// boundary, where it sees seaLevel.
@@ -241,54 +373,41 @@ void FluxRows(const HydraulicContext& h,
   int j1)
 {
   const ErosionState& st = h.st;
-  const std::size_t nx = static_cast<std::size_t>(st.nx);
-  const SoftThreshold soft{ h.p.softOutflow,
-    static_cast<float>(h.p.softOutflowMin),
-    static_cast<float>(h.p.softOutflowScale) };
+  const int nx = st.nx;
+  float* const out[4] = { fw, fe, fs, fn };
   for (int j = j0; j < j1; ++j)
   {
-    const float area = h.geo.area[j];
-    // North-south pipes: between rows, the mean spacing; through the grid's edge (Sea
-    // boundary), the row's own.
-    const float coefEdge = static_cast<float>(
-      h.p.timeStep * h.p.gravity * (h.p.pipeArea > 0.0 ? h.p.pipeArea / st.rowDy[j] : st.rowDy[j]));
-    const float coef[4] = { h.geo.coefEW[j],
-      h.geo.coefEW[j],
-      j > 0 ? h.geo.coefNorth[j - 1] : coefEdge,
-      j + 1 < st.ny ? h.geo.coefNorth[j] : coefEdge };
-    for (int i = 0; i < st.nx; ++i)
+    const FluxRowConstants k = MakeFluxRow(h, j);
+    if (!HasInterior(st, j))
     {
-      const std::size_t c = h.Index(i, j);
-      float f[4] = { 0.0f, 0.0f, 0.0f, 0.0f }; // W, E, S, N
-      if (h.kind[c] == kLand)
+      for (int i = 0; i < nx; ++i)
       {
-        const bool inside[4] = { i > 0, i + 1 < st.nx, j > 0, j + 1 < st.ny };
-        const std::size_t n[4] = { c - 1, c + 1, c - nx, c + nx };
-        const float old[4] = { st.fluxW[c], st.fluxE[c], st.fluxS[c], st.fluxN[c] };
-        for (int k = 0; k < 4; ++k)
-        {
-          const bool open = inside[k] ? h.kind[n[k]] != kWall : h.sea;
-          if (open)
-          {
-            const float level = inside[k] ? surface[n[k]] : h.seaLevel;
-            f[k] = PipeFlux(soft, old[k], coef[k], surface[c] - level);
-          }
-        }
-        const float sum = (f[0] + f[1]) + (f[2] + f[3]);
-        if (sum > 0.0f)
-        {
-          const float scale = std::min(1.0f, d1[c] * area / (sum * h.dt));
-          for (float& v : f)
-          {
-            v *= scale;
-          }
-        }
+        FluxCell(h, k, d1, surface, out, i, j);
       }
-      fw[c] = f[0];
-      fe[c] = f[1];
-      fs[c] = f[2];
-      fn[c] = f[3];
+      continue;
     }
+    FluxCell(h, k, d1, surface, out, 0, j);
+    FluxCell(h, k, d1, surface, out, nx - 1, j);
+    const std::size_t r = h.Index(0, j);
+    const auto run = [&](auto soft)
+    {
+      FluxInterior<decltype(soft)::value>(k,
+        nx,
+        h.kind + r,
+        d1 + r,
+        surface + r - nx,
+        surface + r,
+        surface + r + nx,
+        st.fluxW.data() + r,
+        st.fluxE.data() + r,
+        st.fluxS.data() + r,
+        st.fluxN.data() + r,
+        fw + r,
+        fe + r,
+        fs + r,
+        fn + r);
+    };
+    WithFlag(k.soft.on, run);
   }
 }
 
@@ -353,6 +472,139 @@ struct WaterRowSums
   std::vector<double> toSea, clamped;
 };
 
+/// m ? a : b for doubles, by bit masks (see Select).
+inline double SelectD(bool m, double a, double b)
+{
+  std::uint64_t ua, ub;
+  std::memcpy(&ua, &a, sizeof ua);
+  std::memcpy(&ub, &b, sizeof ub);
+  const std::uint64_t mask = 0u - static_cast<std::uint64_t>(m);
+  const std::uint64_t r = (ua & mask) | (ub & ~mask);
+  double out;
+  std::memcpy(&out, &r, sizeof out);
+  return out;
+}
+
+/// Pass 2 of cell (i, j), any cell: d2 (into state.water), velocity; toSea[i] the water it
+/// sends to the sea and clamped[i] the negative water it had clamped (area-weighted, 0 if
+/// none; the row sums add them in order).
+void WaterCell(const HydraulicContext& h,
+  ErosionState& st,
+  const float* d1,
+  const float* const f[4],
+  int i,
+  int j,
+  double* toSea,
+  double* clamped)
+{
+  const float *fw = f[0], *fe = f[1], *fs = f[2], *fn = f[3];
+  const float area = h.geo.area[j];
+  const std::size_t c = h.Index(i, j);
+  toSea[i] = 0.0;
+  clamped[i] = 0.0;
+  float d2 = 0.0f;
+  float depth = 0.0f; // the depth the velocity divides by
+  if (!st.IsValid(c))
+  {
+    st.water[c] = 0.0f;
+    st.waterResidue[c] = 0.0f;
+    st.velocityU[c] = 0.0f;
+    st.velocityV[c] = 0.0f;
+    return;
+  }
+  const float in = Inflow(h, fw, fe, fs, fn, i, j);
+  if (h.IsSea(c))
+  {
+    toSea[i] =
+      (static_cast<double>(d1[c]) + st.waterResidue[c]) * area + static_cast<double>(h.dt * in);
+    st.waterResidue[c] = 0.0f;
+    depth = std::max(h.seaLevel - st.terrain[c], h.dryDepth);
+  }
+  else
+  {
+    const float out = (fw[c] + fe[c]) + (fs[c] + fn[c]);
+    d2 = d1[c];
+    AddCompensated(d2, st.waterResidue[c], h.dt * (in - out) / area);
+    const double total = static_cast<double>(d2) + st.waterResidue[c];
+    if (total < 0.0 || d2 < 0.0f)
+    {
+      clamped[i] = total * area;
+      d2 = 0.0f;
+      st.waterResidue[c] = 0.0f;
+    }
+    if (h.sea)
+    {
+      toSea[i] = static_cast<double>(h.dt * OutflowToOutside(h, fw, fe, fs, fn, i, j));
+    }
+    depth = 0.5f * (d1[c] + d2);
+  }
+  st.water[c] = d2;
+  float u = 0.0f;
+  float v = 0.0f;
+  if (depth >= h.dryDepth && depth > 0.0f)
+  {
+    u = NetFluxX(h, fw, fe, i, j) / (h.geo.ly[j] * depth);
+    v = NetFluxY(h, fs, fn, i, j) / (h.geo.lx[j] * depth);
+  }
+  st.velocityU[c] = u;
+  st.velocityV[c] = v;
+}
+
+/// Pass 2's constants for one row.
+struct WaterRowConstants
+{
+  float area, dt, seaLevel, dryDepth, lx, ly;
+};
+
+/// Pass 2 over cells 1..nx-2 of a row with all cells valid, and the rows on either side:
+/// WaterCell's arithmetic, both kinds computed and selected (the same bits). Pointers from the
+/// row's start; fnS: fn of row j - 1, fsN: fs of row j + 1.
+void WaterInterior(const WaterRowConstants& k,
+  int nx,
+  const std::uint8_t* __restrict kind,
+  const float* __restrict terrain,
+  const float* __restrict d1,
+  const float* __restrict fw,
+  const float* __restrict fe,
+  const float* __restrict fs,
+  const float* __restrict fn,
+  const float* __restrict fnS,
+  const float* __restrict fsN,
+  float* __restrict water,
+  float* __restrict residue,
+  float* __restrict velocityU,
+  float* __restrict velocityV,
+  double* __restrict toSea,
+  double* __restrict clamped)
+{
+  for (int i = 1; i < nx - 1; ++i)
+  {
+    const float in = (fe[i - 1] + fw[i + 1]) + (fnS[i] + fsN[i]);
+    const float out = (fw[i] + fe[i]) + (fs[i] + fn[i]);
+    const float lo0 = residue[i];
+    float hi = d1[i];
+    float lo = lo0;
+    AddCompensated(hi, lo, k.dt * (in - out) / k.area);
+    const double total = static_cast<double>(hi) + lo;
+    const bool clamp = total < 0.0 || hi < 0.0f;
+    const bool sea = kind[i] == kSea;
+    const float landD2 = Select(clamp, 0.0f, hi);
+    const float d2 = Select(sea, 0.0f, landD2);
+    const float depth =
+      Select(sea, std::max(k.seaLevel - terrain[i], k.dryDepth), 0.5f * (d1[i] + landD2));
+    toSea[i] = SelectD(
+      sea, (static_cast<double>(d1[i]) + lo0) * k.area + static_cast<double>(k.dt * in), 0.0);
+    clamped[i] = SelectD(!sea && clamp, total * k.area, 0.0);
+    residue[i] = Select(sea || clamp, 0.0f, lo);
+    water[i] = d2;
+    const bool wet = depth >= k.dryDepth && depth > 0.0f;
+    const float netX = 0.5f * ((fe[i - 1] - fw[i]) + (fe[i] - fw[i + 1]));
+    const float netY = 0.5f * ((fnS[i] - fs[i]) + (fn[i] - fsN[i]));
+    velocityU[i] = Select(wet, netX / (k.ly * depth), 0.0f);
+    velocityV[i] = Select(wet, netY / (k.lx * depth), 0.0f);
+  }
+}
+
 /// Pass 2 (eq. 14-16) for rows [j0, j1): d2 (into state.water), velocity, water to the sea.
 void WaterRows(const HydraulicContext& h,
   ErosionState& st,
@@ -365,63 +617,53 @@ void WaterRows(const HydraulicContext& h,
   int j0,
   int j1)
 {
+  const int nx = st.nx;
+  const float* const f[4] = { fw, fe, fs, fn };
+  std::vector<double> toSea(static_cast<std::size_t>(nx)), clamped(toSea.size());
   for (int j = j0; j < j1; ++j)
   {
-    const float area = h.geo.area[j];
-    double toSea = 0.0;
-    double clamped = 0.0;
-    for (int i = 0; i < st.nx; ++i)
+    if (HasInterior(st, j))
     {
-      const std::size_t c = h.Index(i, j);
-      float d2 = 0.0f;
-      float depth = 0.0f; // the depth the velocity divides by
-      if (!st.IsValid(c))
-      {
-        st.water[c] = 0.0f;
-        st.waterResidue[c] = 0.0f;
-        st.velocityU[c] = 0.0f;
-        st.velocityV[c] = 0.0f;
-        continue;
-      }
-      const float in = Inflow(h, fw, fe, fs, fn, i, j);
-      if (h.IsSea(c))
-      {
-        toSea +=
-          (static_cast<double>(d1[c]) + st.waterResidue[c]) * area + static_cast<double>(h.dt * in);
-        st.waterResidue[c] = 0.0f;
-        depth = std::max(h.seaLevel - st.terrain[c], h.dryDepth);
-      }
-      else
-      {
-        const float out = (fw[c] + fe[c]) + (fs[c] + fn[c]);
-        d2 = d1[c];
-        AddCompensated(d2, st.waterResidue[c], h.dt * (in - out) / area);
-        const double total = static_cast<double>(d2) + st.waterResidue[c];
-        if (total < 0.0 || d2 < 0.0f)
-        {
-          clamped -= total * area;
-          d2 = 0.0f;
-          st.waterResidue[c] = 0.0f;
-        }
-        if (h.sea)
-        {
-          toSea += static_cast<double>(h.dt * OutflowToOutside(h, fw, fe, fs, fn, i, j));
-        }
-        depth = 0.5f * (d1[c] + d2);
-      }
-      st.water[c] = d2;
-      float u = 0.0f;
-      float v = 0.0f;
-      if (depth >= h.dryDepth && depth > 0.0f)
-      {
-        u = NetFluxX(h, fw, fe, i, j) / (h.geo.ly[j] * depth);
-        v = NetFluxY(h, fs, fn, i, j) / (h.geo.lx[j] * depth);
-      }
-      st.velocityU[c] = u;
-      st.velocityV[c] = v;
+      WaterCell(h, st, d1, f, 0, j, toSea.data(), clamped.data());
+      WaterCell(h, st, d1, f, nx - 1, j, toSea.data(), clamped.data());
+      const std::size_t r = h.Index(0, j);
+      const WaterRowConstants k{
+        h.geo.area[j], h.dt, h.seaLevel, h.dryDepth, h.geo.lx[j], h.geo.ly[j]
+      };
+      WaterInterior(k,
+        nx,
+        h.kind + r,
+        st.terrain.data() + r,
+        d1 + r,
+        fw + r,
+        fe + r,
+        fs + r,
+        fn + r,
+        fn + r - nx,
+        fs + r + nx,
+        st.water.data() + r,
+        st.waterResidue.data() + r,
+        st.velocityU.data() + r,
+        st.velocityV.data() + r,
+        toSea.data(),
+        clamped.data());
     }
-    sums.toSea[j] = toSea;
-    sums.clamped[j] = clamped;
+    else
+    {
+      for (int i = 0; i < nx; ++i)
+      {
+        WaterCell(h, st, d1, f, i, j, toSea.data(), clamped.data());
+      }
+    }
+    double sea = 0.0;
+    double clamp = 0.0;
+    for (int i = 0; i < nx; ++i)
+    {
+      sea += toSea[i];
+      clamp -= clamped[i];
+    }
+    sums.toSea[j] = sea;
+    sums.clamped[j] = clamp;
   }
 }
 
@@ -499,13 +741,6 @@ inline float Dissolve(const CellRates& r, float deficit, float* soil, float limi
   return fromSoil + fromRock;
 }
 
-/// Whether row j's cells 1..nx-2 have all eight neighbours, all valid (the rows that the
-/// vectorised loops run; the others, and the first and last cell of a row, run cell by cell).
-bool HasInterior(const ErosionState& st, int j)
-{
-  return st.valid.empty() && j > 0 && j + 1 < st.ny && st.nx >= 3;
-}
-
 /// The constants of pass 3, in float.
 struct ErodeConstants
 {
@@ -581,20 +816,6 @@ void ErodeCell(const HydraulicContext& h,
       st.soil[c] += drop;
     }
     deposited[i] = drop;
-  }
-}
-
-/// Calls f(std::true_type) or f(std::false_type): a run-time flag made a compile-time one.
-template<typename F>
-void WithFlag(bool flag, F&& f)
-{
-  if (flag)
-  {
-    f(std::true_type{});
-  }
-  else
-  {
-    f(std::false_type{});
   }
 }
 
