@@ -183,48 +183,44 @@ inline float PipeFlux(const SoftThreshold& soft, float old, float coef, float dh
   return f;
 }
 
-/// Pass 1a (rain, eq. 10) for rows [j0, j1): each cell's kind, d1 (its residue in place) and
-/// water surface (b + d1 on land, seaLevel on sea).
-void SurfaceRows(const HydraulicContext& h,
+/// Pass 1a (rain, eq. 10) for row j, cell by cell (any grid): each cell's kind, d1 (its
+/// residue in place) and water surface (b + d1 on land, seaLevel on sea).
+void SurfaceCells(const HydraulicContext& h,
   const float* rain,
   float* waterLo,
   std::uint8_t* kind,
   float* d1,
   float* surface,
   std::vector<double>& rowRain,
-  int j0,
-  int j1)
+  int j)
 {
   const ErosionState& st = h.st;
-  for (int j = j0; j < j1; ++j)
+  const float area = h.geo.area[j];
+  double rained = 0.0;
+  for (int i = 0; i < st.nx; ++i)
   {
-    const float area = h.geo.area[j];
-    double rained = 0.0;
-    for (int i = 0; i < st.nx; ++i)
+    const std::size_t c = h.Index(i, j);
+    if (!st.IsValid(c))
     {
-      const std::size_t c = h.Index(i, j);
-      if (!st.IsValid(c))
-      {
-        kind[c] = h.sea ? kSea : kWall;
-        d1[c] = 0.0f;
-        waterLo[c] = 0.0f;
-        surface[c] = h.seaLevel;
-        continue;
-      }
-      float depth = st.water[c];
-      if (rain)
-      {
-        const float added = h.dt * rain[c];
-        AddCompensated(depth, waterLo[c], added);
-        rained += static_cast<double>(added) * area;
-      }
-      const bool sea = h.sea && st.terrain[c] <= h.seaLevel;
-      kind[c] = sea ? kSea : kLand;
-      d1[c] = depth;
-      surface[c] = sea ? h.seaLevel : st.terrain[c] + depth;
+      kind[c] = h.sea ? kSea : kWall;
+      d1[c] = 0.0f;
+      waterLo[c] = 0.0f;
+      surface[c] = h.seaLevel;
+      continue;
     }
-    rowRain[j] = rained;
+    float depth = st.water[c];
+    if (rain)
+    {
+      const float added = h.dt * rain[c];
+      AddCompensated(depth, waterLo[c], added);
+      rained += static_cast<double>(added) * area;
+    }
+    const bool sea = h.sea && st.terrain[c] <= h.seaLevel;
+    kind[c] = sea ? kSea : kLand;
+    d1[c] = depth;
+    surface[c] = sea ? h.seaLevel : st.terrain[c] + depth;
   }
+  rowRain[j] = rained;
 }
 
 /// Whether row j's cells 1..nx-2 have all eight neighbours, all valid (the rows that the
@@ -245,6 +241,88 @@ void WithFlag(bool flag, F&& f)
   else
   {
     f(std::false_type{});
+  }
+}
+
+/// Pass 1a over a whole row of a grid without no-data cells: SurfaceRows' arithmetic without
+/// branches (the same bits); rained[i] the depth of rain added. Pointers from the row's start.
+template<bool Rain>
+void SurfaceRow(const HydraulicContext& h,
+  const float* __restrict terrain,
+  const float* __restrict water,
+  const float* __restrict rain,
+  float* __restrict waterLo,
+  std::uint8_t* __restrict kind,
+  float* __restrict d1,
+  float* __restrict surface,
+  float* __restrict rained)
+{
+  const float dt = h.dt;
+  const float seaLevel = h.seaLevel;
+  const bool seaBoundary = h.sea;
+  for (int i = 0; i < h.st.nx; ++i)
+  {
+    float depth = water[i];
+    if constexpr (Rain)
+    {
+      const float added = dt * rain[i];
+      float lo = waterLo[i];
+      AddCompensated(depth, lo, added);
+      waterLo[i] = lo;
+      rained[i] = added;
+    }
+    const bool sea = seaBoundary && terrain[i] <= seaLevel;
+    kind[i] = sea ? kSea : kLand;
+    d1[i] = depth;
+    surface[i] = Select(sea, seaLevel, terrain[i] + depth);
+  }
+}
+
+/// Pass 1a (rain, eq. 10) for rows [j0, j1): each cell's kind, d1 (its residue in place) and
+/// water surface (b + d1 on land, seaLevel on sea).
+void SurfaceRows(const HydraulicContext& h,
+  const float* rain,
+  float* waterLo,
+  std::uint8_t* kind,
+  float* d1,
+  float* surface,
+  std::vector<double>& rowRain,
+  int j0,
+  int j1)
+{
+  const ErosionState& st = h.st;
+  std::vector<float> rained(static_cast<std::size_t>(st.nx));
+  for (int j = j0; j < j1; ++j)
+  {
+    if (!st.valid.empty())
+    {
+      SurfaceCells(h, rain, waterLo, kind, d1, surface, rowRain, j);
+      continue;
+    }
+    const std::size_t r = h.Index(0, j);
+    const auto run = [&](auto withRain)
+    {
+      SurfaceRow<decltype(withRain)::value>(h,
+        st.terrain.data() + r,
+        st.water.data() + r,
+        rain ? rain + r : nullptr,
+        waterLo + r,
+        kind + r,
+        d1 + r,
+        surface + r,
+        rained.data());
+    };
+    WithFlag(rain != nullptr, run);
+    double sum = 0.0;
+    if (rain)
+    {
+      const float area = h.geo.area[j];
+      for (float a : rained)
+      {
+        sum += static_cast<double>(a) * area;
+      }
+    }
+    rowRain[j] = sum;
   }
 }
 
@@ -1040,6 +1118,54 @@ struct AdvectRowSums
   std::vector<double> before, after;
 };
 
+/// Pass 4 over a whole row of a grid without no-data cells: AdvectRows' arithmetic without
+/// branches (the same bits); before[i], after[i] the cell's area-weighted terms.
+void AdvectRow(const HydraulicContext& h,
+  int j,
+  const float* __restrict s,
+  const float* __restrict velocityU,
+  const float* __restrict velocityV,
+  const std::uint8_t* __restrict kind,
+  float* __restrict moved,
+  double* __restrict before,
+  double* __restrict after)
+{
+  const int nx = h.st.nx;
+  const int ny = h.st.ny;
+  const float dt = h.dt;
+  const float lx = h.geo.lx[j];
+  const float ly = h.geo.ly[j];
+  const float area = h.geo.area[j];
+  const float* __restrict row = s + static_cast<std::size_t>(j) * nx;
+  for (int i = 0; i < nx; ++i)
+  {
+    float di = velocityU[i] * dt / lx;
+    float dj = velocityV[i] * dt / ly;
+    const bool sea = kind[i] == kSea;
+    di = Select(sea, std::min(std::max(di, -1.0f), 1.0f), di);
+    dj = Select(sea, std::min(std::max(dj, -1.0f), 1.0f), dj);
+    // Sample(h, s, i - di, j - dj), inlined.
+    const float x =
+      std::min(std::max(static_cast<float>(i) - di, 0.0f), static_cast<float>(nx - 1));
+    const float y =
+      std::min(std::max(static_cast<float>(j) - dj, 0.0f), static_cast<float>(ny - 1));
+    const int i0 = std::min(static_cast<int>(x), nx - 1);
+    const int j0 = std::min(static_cast<int>(y), ny - 1);
+    const int i1 = std::min(i0 + 1, nx - 1);
+    const int j1 = std::min(j0 + 1, ny - 1);
+    const float fx = x - static_cast<float>(i0);
+    const float fy = y - static_cast<float>(j0);
+    const std::ptrdiff_t r0 = static_cast<std::ptrdiff_t>(j0) * nx;
+    const std::ptrdiff_t r1 = static_cast<std::ptrdiff_t>(j1) * nx;
+    const float south = s[r0 + i0] + fx * (s[r0 + i1] - s[r0 + i0]);
+    const float north = s[r1 + i0] + fx * (s[r1 + i1] - s[r1 + i0]);
+    const float m = south + fy * (north - south);
+    moved[i] = m;
+    before[i] = static_cast<double>(row[i]) * area;
+    after[i] = static_cast<double>(m) * area;
+  }
+}
+
 /// Pass 4 (eq. 21) for rows [j0, j1): back-traced sediment into `moved`, area-weighted sums.
 void AdvectRows(const HydraulicContext& h,
   const float* s,
@@ -1049,11 +1175,33 @@ void AdvectRows(const HydraulicContext& h,
   int j1)
 {
   const ErosionState& st = h.st;
+  std::vector<double> rowBefore(static_cast<std::size_t>(st.nx)), rowAfter(rowBefore.size());
   for (int j = j0; j < j1; ++j)
   {
     const float area = h.geo.area[j];
     double before = 0.0;
     double after = 0.0;
+    if (st.valid.empty())
+    {
+      const std::size_t r = h.Index(0, j);
+      AdvectRow(h,
+        j,
+        s,
+        st.velocityU.data() + r,
+        st.velocityV.data() + r,
+        h.kind + r,
+        moved + r,
+        rowBefore.data(),
+        rowAfter.data());
+      for (int i = 0; i < st.nx; ++i)
+      {
+        before += rowBefore[i];
+        after += rowAfter[i];
+      }
+      sums.before[j] = before;
+      sums.after[j] = after;
+      continue;
+    }
     for (int i = 0; i < st.nx; ++i)
     {
       const std::size_t c = h.Index(i, j);
@@ -1083,10 +1231,109 @@ struct FinishRowSums
   std::vector<double> evaporated, deposited;
 };
 
-/// Pass 5 (Dunn's rescaling; eq. 22-23; dry and sea cells settle) for rows [j0, j1).
+/// Pass 5 of cell c of row j, any cell: evaporation, then dry and sea cells settle; the bed is
+/// already state.terrain. evaporated[i], deposited[i]: the cell's terms of the row sums.
+void FinishCell(const HydraulicContext& h,
+  ErosionState& st,
+  const float* moved,
+  double k,
+  const float* evaporationFactor,
+  int i,
+  int j,
+  double* evaporated,
+  float* deposited)
+{
+  const float ke = static_cast<float>(h.p.evaporation) * h.dt;
+  const float area = h.geo.area[j];
+  const std::size_t c = h.Index(i, j);
+  const bool seaCell = h.IsSea(c); // before the bed changes, as in the other passes
+  evaporated[i] = 0.0;
+  deposited[i] = 0.0f;
+  if (!st.IsValid(c))
+  {
+    st.sediment[c] = 0.0f;
+    return;
+  }
+  const float s = static_cast<float>(static_cast<double>(moved[c]) * k);
+  const float d2 = st.water[c];
+  const float lo2 = st.waterResidue[c];
+  const float factor = evaporationFactor ? std::max(evaporationFactor[c], 0.0f) : 1.0f;
+  const float keep = std::max(0.0f, 1.0f - ke * factor);
+  const float d3 = d2 * keep;
+  const float lo3 = lo2 * keep;
+  evaporated[i] = ((static_cast<double>(d2) + lo2) - (static_cast<double>(d3) + lo3)) * area;
+  st.water[c] = d3;
+  st.waterResidue[c] = lo3;
+  if (seaCell || d3 < h.dryDepth)
+  {
+    AddCompensated(st.terrain[c], st.terrainResidue[c], s);
+    if (!st.soil.empty())
+    {
+      st.soil[c] += s;
+    }
+    st.sediment[c] = 0.0f;
+    deposited[i] = s;
+  }
+  else
+  {
+    st.sediment[c] = s;
+  }
+}
+
+/// Pass 5 over a whole row of a grid without no-data cells: FinishCell's arithmetic without
+/// branches (the same bits). Pointers from the row's start; `moved` may be `sediment`.
+template<bool Layered, bool Evaporation>
+void FinishRow(const HydraulicContext& h,
+  int j,
+  double k,
+  const std::uint8_t* __restrict kind,
+  const float* moved,
+  const float* __restrict evaporationFactor,
+  float* __restrict water,
+  float* __restrict waterLo,
+  float* __restrict bed,
+  float* __restrict bedLo,
+  float* __restrict soil,
+  float* sediment,
+  double* __restrict evaporated,
+  float* __restrict deposited)
+{
+  const float ke = static_cast<float>(h.p.evaporation) * h.dt;
+  const float area = h.geo.area[j];
+  const float dryDepth = h.dryDepth;
+  for (int i = 0; i < h.st.nx; ++i)
+  {
+    const float s = static_cast<float>(static_cast<double>(moved[i]) * k);
+    const float d2 = water[i];
+    const float lo2 = waterLo[i];
+    const float factor = Evaporation ? std::max(evaporationFactor[i], 0.0f) : 1.0f;
+    const float keep = std::max(0.0f, 1.0f - ke * factor);
+    const float d3 = d2 * keep;
+    const float lo3 = lo2 * keep;
+    evaporated[i] = ((static_cast<double>(d2) + lo2) - (static_cast<double>(d3) + lo3)) * area;
+    water[i] = d3;
+    waterLo[i] = lo3;
+    const bool settle = kind[i] == kSea || d3 < dryDepth;
+    const float b = bed[i];
+    const float blo = bedLo[i];
+    float hi = b;
+    float lo = blo;
+    AddCompensated(hi, lo, s);
+    bed[i] = Select(settle, hi, b);
+    bedLo[i] = Select(settle, lo, blo);
+    if constexpr (Layered)
+    {
+      soil[i] = Select(settle, soil[i] + s, soil[i]);
+    }
+    sediment[i] = Select(settle, 0.0f, s);
+    deposited[i] = Select(settle, s, 0.0f);
+  }
+}
+
+/// Pass 5 (Dunn's rescaling; eq. 22-23; dry and sea cells settle) for rows [j0, j1); the new
+/// bed is already state.terrain.
 void FinishRows(const HydraulicContext& h,
   ErosionState& st,
-  const float* bed,
   const float* moved,
   double k,
   const float* evaporationFactor,
@@ -1094,50 +1341,55 @@ void FinishRows(const HydraulicContext& h,
   int j0,
   int j1)
 {
-  const float ke = static_cast<float>(h.p.evaporation) * h.dt;
+  const int nx = st.nx;
   const bool layered = !st.soil.empty();
+  std::vector<double> evaporated(static_cast<std::size_t>(nx));
+  std::vector<float> deposited(evaporated.size());
   for (int j = j0; j < j1; ++j)
   {
-    const float area = h.geo.area[j];
-    double evaporated = 0.0;
-    double deposited = 0.0;
-    for (int i = 0; i < st.nx; ++i)
+    if (st.valid.empty())
     {
-      const std::size_t c = h.Index(i, j);
-      const bool seaCell = h.IsSea(c); // before the bed changes, as in the other passes
-      st.terrain[c] = bed[c];
-      if (!st.IsValid(c))
-      {
-        st.sediment[c] = 0.0f;
-        continue;
-      }
-      const float s = static_cast<float>(static_cast<double>(moved[c]) * k);
-      const float d2 = st.water[c];
-      const float lo2 = st.waterResidue[c];
-      const float factor = evaporationFactor ? std::max(evaporationFactor[c], 0.0f) : 1.0f;
-      const float keep = std::max(0.0f, 1.0f - ke * factor);
-      const float d3 = d2 * keep;
-      const float lo3 = lo2 * keep;
-      evaporated += ((static_cast<double>(d2) + lo2) - (static_cast<double>(d3) + lo3)) * area;
-      st.water[c] = d3;
-      st.waterResidue[c] = lo3;
-      if (seaCell || d3 < h.dryDepth)
-      {
-        AddCompensated(st.terrain[c], st.terrainResidue[c], s);
-        if (layered)
+      const std::size_t r = h.Index(0, j);
+      WithFlag(layered,
+        [&](auto soil)
         {
-          st.soil[c] += s;
-        }
-        st.sediment[c] = 0.0f;
-        deposited += static_cast<double>(s) * area;
-      }
-      else
+          WithFlag(evaporationFactor != nullptr,
+            [&](auto evap)
+            {
+              FinishRow<decltype(soil)::value, decltype(evap)::value>(h,
+                j,
+                k,
+                h.kind + r,
+                moved + r,
+                evaporationFactor ? evaporationFactor + r : nullptr,
+                st.water.data() + r,
+                st.waterResidue.data() + r,
+                st.terrain.data() + r,
+                st.terrainResidue.data() + r,
+                layered ? st.soil.data() + r : nullptr,
+                st.sediment.data() + r,
+                evaporated.data(),
+                deposited.data());
+            });
+        });
+    }
+    else
+    {
+      for (int i = 0; i < nx; ++i)
       {
-        st.sediment[c] = s;
+        FinishCell(h, st, moved, k, evaporationFactor, i, j, evaporated.data(), deposited.data());
       }
     }
-    sums.evaporated[j] = evaporated;
-    sums.deposited[j] = deposited;
+    const float area = h.geo.area[j];
+    double evap = 0.0;
+    double dep = 0.0;
+    for (int i = 0; i < nx; ++i)
+    {
+      evap += evaporated[i];
+      dep += static_cast<double>(deposited[i]) * area;
+    }
+    sums.evaporated[j] = evap;
+    sums.deposited[j] = dep;
   }
 }
 
@@ -1851,6 +2103,7 @@ ErosionStepStats ErosionHydraulicStep(ErosionState& st,
   ErodeRowSums erode{ std::vector<double>(ny, 0.0), std::vector<double>(ny, 0.0) };
   ForRows(parallelFor, ny, [&](int j0, int j1) { ErodeRows(h, st, bed, erode, j0, j1); });
   stats.eroded = SumRows(erode.eroded);
+  std::swap(st.terrain, sc[0]); // the new bed is the state's (no pass below reads the old one)
 
   // 4. Transport: the back-traced field into scratch 1; Dunn's k from the two totals.
   float* moved = sc[1].data();
@@ -1875,7 +2128,7 @@ ErosionStepStats ErosionHydraulicStep(ErosionState& st,
   FinishRowSums finish{ std::vector<double>(ny, 0.0), std::vector<double>(ny, 0.0) };
   ForRows(parallelFor,
     ny,
-    [&](int j0, int j1) { FinishRows(h, st, bed, moved, k, evaporationFactor, finish, j0, j1); });
+    [&](int j0, int j1) { FinishRows(h, st, moved, k, evaporationFactor, finish, j0, j1); });
   stats.evaporated = SumRows(finish.evaporated);
   stats.deposited = SumRows(erode.deposited) + SumRows(finish.deposited);
   return stats;
