@@ -1118,6 +1118,76 @@ struct AdvectRowSums
   std::vector<double> before, after;
 };
 
+/// Pass 4's back-traced value at cell (i, j) of a grid without no-data cells (AdvectRows'
+/// arithmetic; u, v, kind from the row's start).
+inline float AdvectCell(const HydraulicContext& h,
+  int i,
+  int j,
+  const float* s,
+  const float* velocityU,
+  const float* velocityV,
+  const std::uint8_t* kind)
+{
+  float di = velocityU[i] * h.dt / h.geo.lx[j];
+  float dj = velocityV[i] * h.dt / h.geo.ly[j];
+  if (kind[i] == kSea)
+  {
+    di = std::min(std::max(di, -1.0f), 1.0f);
+    dj = std::min(std::max(dj, -1.0f), 1.0f);
+  }
+  return Sample(h, s, static_cast<float>(i) - di, static_cast<float>(j) - dj);
+}
+
+/// Pass 4 over cells 1..nx-2 of row j (0 < j < ny - 1) of a grid without no-data cells: where
+/// the back-traced point lies within one cell (i0 in {i - 1, i}, j0 in {j - 1, j}: almost every
+/// cell), Sample's four values are picked from rows j - 1, j, j + 1 by masks instead of
+/// gathered, so the loop vectorises; far[i] = 1 marks the other cells, which the caller redoes
+/// with AdvectCell. The same arithmetic, the same bits.
+void AdvectInterior(const HydraulicContext& h,
+  int j,
+  const float* __restrict sS,
+  const float* __restrict sC,
+  const float* __restrict sN,
+  const float* __restrict velocityU,
+  const float* __restrict velocityV,
+  const std::uint8_t* __restrict kind,
+  float* __restrict moved,
+  std::uint8_t* __restrict far)
+{
+  const int nx = h.st.nx;
+  const int ny = h.st.ny;
+  const float dt = h.dt;
+  const float lx = h.geo.lx[j];
+  const float ly = h.geo.ly[j];
+  for (int i = 1; i < nx - 1; ++i)
+  {
+    float di = velocityU[i] * dt / lx;
+    float dj = velocityV[i] * dt / ly;
+    const bool sea = kind[i] == kSea;
+    di = Select(sea, std::min(std::max(di, -1.0f), 1.0f), di);
+    dj = Select(sea, std::min(std::max(dj, -1.0f), 1.0f), dj);
+    const float x =
+      std::min(std::max(static_cast<float>(i) - di, 0.0f), static_cast<float>(nx - 1));
+    const float y =
+      std::min(std::max(static_cast<float>(j) - dj, 0.0f), static_cast<float>(ny - 1));
+    const int i0 = std::min(static_cast<int>(x), nx - 1);
+    const int j0 = std::min(static_cast<int>(y), ny - 1);
+    const float fx = x - static_cast<float>(i0);
+    const float fy = y - static_cast<float>(j0);
+    const bool east = i0 == i;  // else i0 == i - 1
+    const bool north = j0 == j; // else j0 == j - 1
+    far[i] = !((east || i0 == i - 1) && (north || j0 == j - 1));
+    // Rows j0 and j0 + 1, columns i0 and i0 + 1.
+    const float a00 = Select(north, Select(east, sC[i], sC[i - 1]), Select(east, sS[i], sS[i - 1]));
+    const float a01 = Select(north, Select(east, sC[i + 1], sC[i]), Select(east, sS[i + 1], sS[i]));
+    const float a10 = Select(north, Select(east, sN[i], sN[i - 1]), Select(east, sC[i], sC[i - 1]));
+    const float a11 = Select(north, Select(east, sN[i + 1], sN[i]), Select(east, sC[i + 1], sC[i]));
+    const float south = a00 + fx * (a01 - a00);
+    const float northValue = a10 + fx * (a11 - a10);
+    moved[i] = south + fy * (northValue - south);
+  }
+}
+
 /// Pass 4 over a whole row of a grid without no-data cells: AdvectRows' arithmetic without
 /// branches (the same bits); before[i], after[i] the cell's area-weighted terms.
 void AdvectRow(const HydraulicContext& h,
@@ -1176,11 +1246,34 @@ void AdvectRows(const HydraulicContext& h,
 {
   const ErosionState& st = h.st;
   std::vector<double> rowBefore(static_cast<std::size_t>(st.nx)), rowAfter(rowBefore.size());
+  std::vector<std::uint8_t> far(rowBefore.size());
   for (int j = j0; j < j1; ++j)
   {
     const float area = h.geo.area[j];
     double before = 0.0;
     double after = 0.0;
+    if (HasInterior(st, j))
+    {
+      const std::size_t r = h.Index(0, j);
+      const float* u = st.velocityU.data() + r;
+      const float* v = st.velocityV.data() + r;
+      AdvectInterior(
+        h, j, s + r - st.nx, s + r, s + r + st.nx, u, v, h.kind + r, moved + r, far.data());
+      far[0] = 1;
+      far[st.nx - 1] = 1;
+      for (int i = 0; i < st.nx; ++i)
+      {
+        if (far[i])
+        {
+          moved[r + i] = AdvectCell(h, i, j, s, u, v, h.kind + r);
+        }
+        before += static_cast<double>(s[r + i]) * area;
+        after += static_cast<double>(moved[r + i]) * area;
+      }
+      sums.before[j] = before;
+      sums.after[j] = after;
+      continue;
+    }
     if (st.valid.empty())
     {
       const std::size_t r = h.Index(0, j);
