@@ -45,6 +45,15 @@ inline void AddCompensated(float& hi, float& lo, float delta)
   hi = sum;
 }
 
+/// The vectorised loops are also built for AVX2 and picked at run time where the CPU has it
+/// (GCC's target_clones): the same IEEE operations on wider vectors, so the same bits (the
+/// library is built with -ffp-contract=off, and "avx2" does not enable FMA).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define TERROIR_EROSION_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define TERROIR_EROSION_CLONES
+#endif
+
 /// m ? a : b by bit masks: no branch, so that loops with it vectorise (the same bits).
 inline float Select(bool m, float a, float b)
 {
@@ -247,7 +256,7 @@ void WithFlag(bool flag, F&& f)
 /// Pass 1a over a whole row of a grid without no-data cells: SurfaceRows' arithmetic without
 /// branches (the same bits); rained[i] the depth of rain added. Pointers from the row's start.
 template<bool Rain>
-void SurfaceRow(const HydraulicContext& h,
+TERROIR_EROSION_CLONES void SurfaceRow(const HydraulicContext& h,
   const float* __restrict terrain,
   const float* __restrict water,
   const float* __restrict rain,
@@ -400,7 +409,7 @@ void FluxCell(const HydraulicContext& h,
 /// side (so every pipe is open): FluxCell's arithmetic without branches (the same bits).
 /// Pointers from the row's start (surface also rows j - 1 and j + 1).
 template<bool Soft>
-void FluxInterior(const FluxRowConstants& k,
+TERROIR_EROSION_CLONES void FluxInterior(const FluxRowConstants& k,
   int nx,
   const std::uint8_t* __restrict kind,
   const float* __restrict d1,
@@ -637,6 +646,7 @@ struct WaterRowConstants
 /// Pass 2 over cells 1..nx-2 of a row with all cells valid, and the rows on either side:
 /// WaterCell's arithmetic, both kinds computed and selected (the same bits). Pointers from the
 /// row's start; fnS: fn of row j - 1, fsN: fs of row j + 1.
+TERROIR_EROSION_CLONES
 void WaterInterior(const WaterRowConstants& k,
   int nx,
   const std::uint8_t* __restrict kind,
@@ -910,7 +920,7 @@ struct ErodeRowArrays
 /// both branches computed and the result selected (so that the loop vectorises; the same
 /// bits). Options fixed at compile time; with Weiss's eq. 24 (exp2) it stays scalar.
 template<bool Layered, bool Factor, bool Ramp, bool Halving>
-void ErodeInterior(const HydraulicContext& h,
+TERROIR_EROSION_CLONES void ErodeInterior(const HydraulicContext& h,
   const ErodeConstants& k,
   int nx,
   int j,
@@ -1143,6 +1153,7 @@ inline float AdvectCell(const HydraulicContext& h,
 /// cell), Sample's four values are picked from rows j - 1, j, j + 1 by masks instead of
 /// gathered, so the loop vectorises; far[i] = 1 marks the other cells, which the caller redoes
 /// with AdvectCell. The same arithmetic, the same bits.
+TERROIR_EROSION_CLONES
 void AdvectInterior(const HydraulicContext& h,
   int j,
   const float* __restrict sS,
@@ -1376,7 +1387,7 @@ void FinishCell(const HydraulicContext& h,
 /// Pass 5 over a whole row of a grid without no-data cells: FinishCell's arithmetic without
 /// branches (the same bits). Pointers from the row's start; `moved` may be `sediment`.
 template<bool Layered, bool Evaporation>
-void FinishRow(const HydraulicContext& h,
+TERROIR_EROSION_CLONES void FinishRow(const HydraulicContext& h,
   int j,
   double k,
   const std::uint8_t* __restrict kind,
@@ -1672,7 +1683,7 @@ void SlipScaleCell(const ThermalContext& t,
 /// SlipScaleCell; separate pointers, so that the loop vectorises). bed: rows j-1, j, j+1;
 /// the other pointers: row j.
 template<typename Talus>
-void SlipScaleInterior(int nx,
+TERROIR_EROSION_CLONES void SlipScaleInterior(int nx,
   const float* __restrict bedS,
   const float* __restrict bedC,
   const float* __restrict bedN,
@@ -1827,7 +1838,7 @@ float SlipCell(const ThermalContext& t,
 /// SlipCell; separate pointers, so that the loop vectorises). bed, scale, talus: rows j-1, j,
 /// j+1; the other pointers: row j; given[i]: what cell i gives.
 template<typename Talus>
-void SlipInterior(int nx,
+TERROIR_EROSION_CLONES void SlipInterior(int nx,
   const float* __restrict bedS,
   const float* __restrict bedC,
   const float* __restrict bedN,
