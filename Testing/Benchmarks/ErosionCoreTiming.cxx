@@ -116,6 +116,7 @@ struct Case
   int nx, ny;
   bool sea, mask, soil, factors, rain, evapField, soft, halving, cap, ramp, pipeArea, rows;
   bool thermal;
+  bool disc = false; ///< with mask: a disc of no-data cells instead of scattered ones
 };
 
 struct Setup
@@ -143,7 +144,9 @@ Setup MakeCase(const Case& k, std::uint64_t seed)
       z[c] = static_cast<float>(20.0 * std::sin(0.21 * i) * std::cos(0.17 * j) + 0.3 * i - 0.2 * j +
         6.0 * Uniform(rng) + (Uniform(rng) < 0.03 ? 30.0 : 0.0));
       soil[c] = static_cast<float>(Uniform(rng) < 0.2 ? 0.0 : 2.0 * Uniform(rng));
-      if (k.mask && Uniform(rng) < 0.06)
+      const double di = i - k.nx / 3.0, dj = j - k.ny / 2.0;
+      const bool hole = k.disc ? di * di + dj * dj < k.ny * k.ny / 16.0 : Uniform(rng) < 0.06;
+      if (k.mask && hole)
       {
         valid[c] = 0;
         z[c] = std::nanf("");
@@ -366,6 +369,40 @@ int HashMode(int steps)
       false,
       true,
       false },
+    { "closed-disc",
+      71,
+      63,
+      false,
+      true,
+      true,
+      false,
+      true,
+      false,
+      false,
+      false,
+      false,
+      false,
+      false,
+      false,
+      true,
+      true },
+    { "sea-disc",
+      64,
+      80,
+      true,
+      true,
+      false,
+      true,
+      true,
+      true,
+      true,
+      true,
+      true,
+      false,
+      false,
+      true,
+      true,
+      true },
     { "sea-norain-soil",
       57,
       49,

@@ -133,6 +133,40 @@ RowGeometry MakeGeometry(const ErosionState& st, double dt, double g, double pip
   return geo;
 }
 
+/// Which rows have no no-data cell: the rows that the vectorised loops run (the others, and
+/// the first and last cell of a row, run cell by cell).
+class RowValidity
+{
+public:
+  explicit RowValidity(const ErosionState& st)
+    : nx(st.nx)
+    , valid(static_cast<std::size_t>(st.ny), 1)
+  {
+    if (st.valid.empty())
+    {
+      return;
+    }
+    for (int j = 0; j < st.ny; ++j)
+    {
+      const std::uint8_t* row = st.valid.data() + static_cast<std::size_t>(j) * st.nx;
+      valid[j] = std::all_of(row, row + st.nx, [](std::uint8_t v) { return v != 0; });
+    }
+  }
+  /// Row j has only valid cells.
+  bool Valid(int j) const { return this->valid[j] != 0; }
+  /// Cells 1..nx-2 of row j have all eight neighbours, all valid.
+  bool Interior(int j) const
+  {
+    const int ny = static_cast<int>(this->valid.size());
+    return j > 0 && j + 1 < ny && this->nx >= 3 && this->Valid(j - 1) && this->Valid(j) &&
+      this->Valid(j + 1);
+  }
+
+private:
+  int nx;
+  std::vector<std::uint8_t> valid;
+};
+
 /// What a cell is during one hydraulic step (fixed at the step's start).
 enum CellKind : std::uint8_t
 {
@@ -150,6 +184,7 @@ struct HydraulicContext
   bool sea;
   float seaLevel, dt, dryDepth;
   const std::uint8_t* kind; ///< CellKind of every cell, written by pass 1a (SurfaceRows)
+  RowValidity rows;
 
   HydraulicContext(const ErosionState& state, const ErosionParams& params)
     : st(state)
@@ -160,6 +195,7 @@ struct HydraulicContext
     , dt(static_cast<float>(params.timeStep))
     , dryDepth(static_cast<float>(params.dryDepth))
     , kind(state.scratchKind.data())
+    , rows(state)
   {
   }
 
@@ -232,13 +268,6 @@ void SurfaceCells(const HydraulicContext& h,
   rowRain[j] = rained;
 }
 
-/// Whether row j's cells 1..nx-2 have all eight neighbours, all valid (the rows that the
-/// vectorised loops run; the others, and the first and last cell of a row, run cell by cell).
-bool HasInterior(const ErosionState& st, int j)
-{
-  return st.valid.empty() && j > 0 && j + 1 < st.ny && st.nx >= 3;
-}
-
 /// Calls f(std::true_type) or f(std::false_type): a run-time flag made a compile-time one.
 template<typename F>
 void WithFlag(bool flag, F&& f)
@@ -303,7 +332,7 @@ void SurfaceRows(const HydraulicContext& h,
   std::vector<float> rained(static_cast<std::size_t>(st.nx));
   for (int j = j0; j < j1; ++j)
   {
-    if (!st.valid.empty())
+    if (!h.rows.Valid(j))
     {
       SurfaceCells(h, rain, waterLo, kind, d1, surface, rowRain, j);
       continue;
@@ -465,7 +494,7 @@ void FluxRows(const HydraulicContext& h,
   for (int j = j0; j < j1; ++j)
   {
     const FluxRowConstants k = MakeFluxRow(h, j);
-    if (!HasInterior(st, j))
+    if (!h.rows.Interior(j))
     {
       for (int i = 0; i < nx; ++i)
       {
@@ -710,7 +739,7 @@ void WaterRows(const HydraulicContext& h,
   std::vector<double> toSea(static_cast<std::size_t>(nx)), clamped(toSea.size());
   for (int j = j0; j < j1; ++j)
   {
-    if (HasInterior(st, j))
+    if (h.rows.Interior(j))
     {
       WaterCell(h, st, d1, f, 0, j, toSea.data(), clamped.data());
       WaterCell(h, st, d1, f, nx - 1, j, toSea.data(), clamped.data());
@@ -1026,7 +1055,7 @@ void ErodeRows(const HydraulicContext& h,
   const bool halving = h.p.halvingDepthErosion > 0.0 || h.p.halvingDepthDeposition > 0.0;
   for (int j = j0; j < j1; ++j)
   {
-    if (HasInterior(st, j))
+    if (h.rows.Interior(j))
     {
       ErodeCell(h, k, st, bed, 0, j, eroded.data(), deposited.data());
       ErodeCell(h, k, st, bed, nx - 1, j, eroded.data(), deposited.data());
@@ -1263,7 +1292,7 @@ void AdvectRows(const HydraulicContext& h,
     const float area = h.geo.area[j];
     double before = 0.0;
     double after = 0.0;
-    if (HasInterior(st, j))
+    if (h.rows.Interior(j))
     {
       const std::size_t r = h.Index(0, j);
       const float* u = st.velocityU.data() + r;
@@ -1285,7 +1314,7 @@ void AdvectRows(const HydraulicContext& h,
       sums.after[j] = after;
       continue;
     }
-    if (st.valid.empty())
+    if (h.rows.Valid(j))
     {
       const std::size_t r = h.Index(0, j);
       AdvectRow(h,
@@ -1451,7 +1480,7 @@ void FinishRows(const HydraulicContext& h,
   std::vector<float> deposited(evaporated.size());
   for (int j = j0; j < j1; ++j)
   {
-    if (st.valid.empty())
+    if (h.rows.Valid(j))
     {
       const std::size_t r = h.Index(0, j);
       WithFlag(layered,
@@ -1517,6 +1546,7 @@ struct ThermalContext
   std::vector<float> lx, area, lNorth, diagNorth; ///< per row; *North: rows j and j + 1
   float tanSoil, tanRock, rate16;
   bool layered;
+  RowValidity rows;
 
   ThermalContext(const ErosionState& state, const ThermalParams& p)
     : st(state)
@@ -1524,6 +1554,7 @@ struct ThermalContext
     , tanRock(static_cast<float>(std::tan(p.talusRockDeg * kDegree)))
     , rate16(static_cast<float>(p.rate / 16.0))
     , layered(!state.soil.empty())
+    , rows(state)
   {
     const int ny = st.ny;
     lx.resize(ny);
@@ -1721,7 +1752,7 @@ void SlipScaleRow(const ThermalContext& t, const Talus& talus, int j, float* sca
 {
   const ErosionState& st = t.st;
   const int nx = st.nx;
-  if (!HasInterior(st, j))
+  if (!t.rows.Interior(j))
   {
     for (int i = 0; i < nx; ++i)
     {
@@ -1900,7 +1931,7 @@ void SlipRow(const ThermalContext& t,
 {
   const ErosionState& st = t.st;
   const int nx = st.nx;
-  if (!HasInterior(st, j))
+  if (!t.rows.Interior(j))
   {
     for (int i = 0; i < nx; ++i)
     {
