@@ -3,7 +3,8 @@
 //
 //   ErosionCoreTiming hash [STEPS]
 //     Runs STEPS (default 40) hydraulic + thermal steps on a few random terrains that between them
-//     use every option of the core (Closed and Sea boundaries, no-data cells, a soil layer,
+//     use every option of the core (Closed and Sea boundaries, scattered no-data cells and a
+//     disc of them, a soil layer,
 //     per-cell erosion and talus factors, rain, an evaporation field, the soft outflow, Weiss's
 //     eq. 24 and bed cap, the capacity ramp, pipe areas, per-row spacings, 1-cell-wide grids) and
 //     prints an FNV-1a hash of every state array and of the step statistics, once with the rows
@@ -12,7 +13,8 @@
 //   ErosionCoreTiming bench [N] [STEPS] [ROUNDS]
 //     Steps per second at N^2 (default 1024) of the hydraulic step alone and of hydraulic +
 //     thermal, with 1 and 2 threads (std::thread over row blocks, as the filter's vtkSMPTools),
-//     best of ROUNDS interleaved rounds of STEPS steps each. The terrain is a fractal-like sum of
+//     best of ROUNDS interleaved rounds of STEPS steps each, and the process's CPU time per step
+//     (steadier than the wall clock on a shared machine). The terrain is a fractal-like sum of
 //     octaves with 10 m cells, the filter's defaults (Sea at 0 m below the whole terrain, rain
 //     50 mm/h, 0.05 m of initial water), as in Testing/Benchmarks/erosion_vs_grass.sh.
 //
