@@ -4,9 +4,9 @@
 //   ErosionCoreTiming hash [STEPS]
 //     Runs STEPS (default 40) hydraulic + thermal steps on a few random terrains that between them
 //     use every option of the core (Closed and Sea boundaries, scattered no-data cells and a
-//     disc of them, a soil layer,
-//     per-cell erosion and talus factors, rain, an evaporation field, the soft outflow, Weiss's
-//     eq. 24 and bed cap, the capacity ramp, pipe areas, per-row spacings, 1-cell-wide grids) and
+//     disc of them, a soil layer, per-cell erosion and talus factors, rain, an evaporation field,
+//     the soft outflow, Weiss's eq. 24 and bed cap, the capacity ramp, pipe areas, per-row
+//     spacings, 1-cell-wide grids) and
 //     prints an FNV-1a hash of every state array and of the step statistics, once with the rows
 //     in order and once with random row splits (the two lines must agree). An optimisation of the
 //     core must leave every line unchanged: record them before, compare after.
