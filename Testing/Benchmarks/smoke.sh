@@ -39,6 +39,13 @@ MINUTES=2 REPEAT=1 bash "$here/Testing/Benchmarks/erosion_vs_grass.sh" "$build" 
   >"$scratch/erosion_grass.log"
 grep -q "GRASS r.sim.sediment" "$scratch/erosion_grass.log" ||
   { cat "$scratch/erosion_grass.log"; exit 1; }
+# The erosion core's timing and bit-identity harness (built by hand, as its header says).
+g++ -O2 -std=c++17 -pthread -I"$here/Filters/Terrain/Core" -I"$here/Common/Core" \
+  "$here/Testing/Benchmarks/ErosionCoreTiming.cxx" "$build/lib/libTerroirTerrainCore.a" \
+  "$build/lib/libTerroirCommonCore.a" -o "$scratch/erosion_timing"
+"$scratch/erosion_timing" bench 64 2 1 >"$scratch/erosion_timing.log"
+grep -q "hydraulic + thermal" "$scratch/erosion_timing.log" ||
+  { cat "$scratch/erosion_timing.log"; exit 1; }
 bash "$here/Testing/Benchmarks/run_outputs.sh" "$build" 64 >"$scratch/run_outputs.log"
 grep -q "all identical" "$scratch/run_outputs.log" || { cat "$scratch/run_outputs.log"; exit 1; }
 bash "$here/Testing/Benchmarks/big_dem.sh" "$build" 64 >"$scratch/big_dem.log"
