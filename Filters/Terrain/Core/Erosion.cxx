@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "ParameterCheck.h"
+#include "RowKernels.h"
 
 namespace terroir
 {
@@ -32,18 +33,10 @@ void Require(bool ok, const char* name, double value, const char* range)
   }
 }
 
-/// hi + lo += delta with the rounding error kept in lo (Knuth's TwoSum on hi and delta + lo):
-/// a float value carried with about twice float's precision, so that many small changes to a
-/// large value (a millimetre of erosion on a 1000 m bed, a slow leak between two full cells)
-/// are not lost to rounding. Plain float operations: a shader can do the same (`precise`).
-inline void AddCompensated(float& hi, float& lo, float delta)
-{
-  const float t = delta + lo;
-  const float sum = hi + t;
-  const float back = sum - hi;
-  lo = (hi - (sum - back)) + (t - back);
-  hi = sum;
-}
+// AddCompensated, ForRows and SumRows: RowKernels.h (shared with the other terrain cores).
+using detail::AddCompensated;
+using detail::ForRows;
+using detail::SumRows;
 
 /// The vectorised loops are also built for AVX2 and picked at run time where the CPU has it
 /// (GCC's target_clones): the same IEEE operations on wider vectors, so the same bits (the
@@ -65,32 +58,6 @@ inline float Select(bool m, float a, float b)
   float out;
   std::memcpy(&out, &r, sizeof out);
   return out;
-}
-
-/// Runs body over all rows, through parallelFor when given.
-void ForRows(const ErosionParallelFor& parallelFor,
-  int ny,
-  const std::function<void(int, int)>& body)
-{
-  if (parallelFor)
-  {
-    parallelFor(0, ny, body);
-  }
-  else
-  {
-    body(0, ny);
-  }
-}
-
-/// Sum of per-row partial sums in row order (the same total for any row split).
-double SumRows(const std::vector<double>& rows)
-{
-  double total = 0.0;
-  for (double r : rows)
-  {
-    total += r;
-  }
-  return total;
 }
 
 /// Per-row float constants shared by the passes. Pipe k of row j: its length and its

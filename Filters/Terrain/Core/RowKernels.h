@@ -5,8 +5,7 @@
  * A core pass is a function of a row range [j0, j1); it writes one partial sum per row, and the
  * rows' sums are added in row order afterwards, so a total has the same bits for any split of
  * the rows between threads. AddCompensated is the TwoSum update of a float carried with its
- * rounding residue. (Erosion.cxx and Vegetation.cxx still carry their own copies of these
- * helpers; they can move here.)
+ * rounding residue. Used by Erosion.cxx, Vegetation.cxx and Atmosphere.cxx.
  */
 #ifndef terroir_terrain_RowKernels_h
 #define terroir_terrain_RowKernels_h

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "ParameterCheck.h"
+#include "RowKernels.h"
 
 namespace terroir
 {
@@ -59,19 +60,7 @@ inline void SubtractWater(float& hi, float* lo, float amount)
   }
 }
 
-void ForRows(const ErosionParallelFor& parallelFor,
-  int ny,
-  const std::function<void(int, int)>& body)
-{
-  if (parallelFor)
-  {
-    parallelFor(0, ny, body);
-  }
-  else
-  {
-    body(0, ny);
-  }
-}
+using detail::ForRows; // RowKernels.h
 
 /// Sum of per-row partial sums in row order (the same total for any row split).
 template<typename T>
