@@ -48,6 +48,7 @@ const PresetInfo Presets[] = {
   { "RiverComparison", "RiverComparison", "", "Rivers", true, { 0.0, 3.0 } },
   { "Rivers", "RiverNetwork", "", "Rivers and lakes", true, { 0.0, 2.0 } },
   { "Erosion", "ErosionDepth", "m", "Erosion (-) / deposition (+)", false, { 0, 0 } },
+  { "Vegetation", "VegetationDensity", "", "Vegetation density", true, { 0.0, 1.0 } },
 };
 constexpr int NumberOfPresets = static_cast<int>(sizeof(Presets) / sizeof(Presets[0]));
 
@@ -345,6 +346,14 @@ void AddRampPoints(vtkColorTransferFunction* ctf,
     ctf->AddRGBPoint(0.0, 0.549, 0.318, 0.039);
     ctf->AddRGBPoint(mid, 0.961, 0.961, 0.961);
     ctf->AddRGBPoint(1.0, 0.004, 0.400, 0.369);
+  }
+  else if (name == "Vegetation")
+  {
+    // Bare ground to full cover, luminance falling monotonically: pale sand, olive, dark
+    // green (after ColorBrewer's YlGn ends, warmed at the bare end to read as soil).
+    ctf->AddRGBPoint(0.0, 0.929, 0.871, 0.702);
+    ctf->AddRGBPoint(0.5, 0.553, 0.702, 0.298);
+    ctf->AddRGBPoint(1.0, 0.051, 0.353, 0.102);
   }
   else if (name == "Insolation")
   {

@@ -35,6 +35,9 @@
  * - `Rivers`: `RiverNetwork` (unsigned char, `terroir run`): categorical, 1 "river" Okabe-Ito
  *   blue (0, 114, 178), 2 "lake" sky blue (86, 180, 233); class 0 (dry land) is left
  *   transparent by the overlay view (the mask array is `RiverNetwork` itself); 0 – 2.
+ * - `Erosion`: `ErosionDepth` (m); brown → near-white at 0 m → blue-green; data range.
+ * - `Vegetation`: `VegetationDensity` (0–1, vtkTerroirErosion with Vegetation); pale sand →
+ *   olive → dark green; 0 – 1.
  *
  * Continuous presets are 256-entry vtkLookupTable objects sampled from a
  * vtkColorTransferFunction (RGB interpolation, diverging space for Temperature); values

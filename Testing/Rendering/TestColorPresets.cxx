@@ -87,6 +87,22 @@ TEST(TerroirColorPresets, ErosionIsBrownWhereLostWhiteAtZeroGreenWhereGained)
   EXPECT_FALSE(vtkTerroirColorPresets::IsCategorical("Erosion"));
 }
 
+// Vegetation: pale sand (0.929, 0.871, 0.702) for bare ground, olive (0.553, 0.702, 0.298) at
+// half cover, dark green (0.051, 0.353, 0.102) at full cover, on 0..1 by default.
+TEST(TerroirColorPresets, VegetationGoesFromSandToDarkGreen)
+{
+  auto lut = Make("Vegetation", 0.0, 1.0);
+  ExpectRGBA(lut, 0.0, 237, 222, 179, 255, 1);
+  ExpectRGBA(lut, 0.5, 141, 179, 76, 255, 2);
+  ExpectRGBA(lut, 1.0, 13, 90, 26, 255, 1);
+  double range[2] = { -1.0, -1.0 };
+  EXPECT_TRUE(vtkTerroirColorPresets::GetDefaultRange("Vegetation", range));
+  EXPECT_EQ(range[0], 0.0);
+  EXPECT_EQ(range[1], 1.0);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetForArray("VegetationDensity"), "Vegetation");
+  EXPECT_FALSE(vtkTerroirColorPresets::IsCategorical("Vegetation"));
+}
+
 TEST(TerroirColorPresets, ElevationGoesFromGreenToWhite)
 {
   auto lut = Make("Elevation", 1900.0, 2700.0);
@@ -269,7 +285,7 @@ TEST(TerroirColorPresets, NaNMapsToTheNanColor)
 
 TEST(TerroirColorPresets, MetadataAndBadInput)
 {
-  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 14);
+  EXPECT_EQ(vtkTerroirColorPresets::GetNumberOfPresets(), 15);
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(0), "Elevation");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(6), "Clusters");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(7), "Sunlit");
@@ -278,7 +294,8 @@ TEST(TerroirColorPresets, MetadataAndBadInput)
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(11), "RiverComparison");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(12), "Rivers");
   EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(13), "Erosion");
-  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(14), nullptr);
+  EXPECT_STREQ(vtkTerroirColorPresets::GetPresetName(14), "Vegetation");
+  EXPECT_EQ(vtkTerroirColorPresets::GetPresetName(15), nullptr);
   EXPECT_STREQ(vtkTerroirColorPresets::GetMaskArrayName("Rivers"), "RiverNetwork");
   EXPECT_TRUE(vtkTerroirColorPresets::IsCategorical("Rivers"));
   // Rivers: 1 Okabe-Ito blue (0, 114, 178), 2 sky blue (86, 180, 233), annotated.

@@ -1,4 +1,4 @@
-// Image regression test of the erosion overlay (issue 27; label rendering, run under
+// Image regression tests of the erosion and vegetation overlays (issue 27; label rendering, run under
 // xvfb-run -a): vtkTerroirErosion's ErosionDepth on a hill with the Erosion preset, rendered at
 // 400 x 400 and compared with Testing/Baselines/TerroirErosionImages_<Test>.png
 // (TerroirImageCompare.h). The test also checks numbers that do not depend on the rendering.
@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using terroir::testing::CompareWithBaseline;
@@ -61,6 +62,65 @@ TEST(TerroirErosionImages, IslandErosionRelief)
   view->SetInputData(out);
   view->SetArrayName("ErosionDepth");
   view->SetPreset("Erosion");
+  view->SetModeToRelief();
+  view->ShowLegendOff();
+  CompareWithBaseline(view);
+}
+
+// Dunn's vegetation after erosion on a closed bowl (96 x 96 cells of 5 m, 20 m deep, sides
+// rising to the rim), 0.2 m of water everywhere and half cover at the start, 40 steps of 0.5 s:
+// the water runs down into the bottom of the bowl, where the plants drown (density falls by
+// r_drown dt = 0.25 a step once the water is deeper than 0.1 m), while on the sides they drink
+// what flows past and grow (g dt = 0.025 a step). The Vegetation preset shows bare sand at the
+// bottom and green sides.
+TEST(TerroirErosionImages, VegetationInABowlRelief)
+{
+  TERROIR_SKIP_WITHOUT_DISPLAY();
+  auto terrain = vtkSmartPointer<vtkImageData>::New();
+  terrain->SetDimensions(96, 96, 1);
+  terrain->SetSpacing(5.0, 5.0, 1.0);
+  auto z = vtkSmartPointer<vtkFloatArray>::New();
+  z->SetName("Elevation");
+  for (int j = 0; j < 96; ++j)
+  {
+    for (int i = 0; i < 96; ++i)
+    {
+      const double r2 = (i - 47.5) * (i - 47.5) + (j - 47.5) * (j - 47.5);
+      z->InsertNextValue(static_cast<float>(100.0 - 20.0 * std::exp(-r2 / (2.0 * 18.0 * 18.0))));
+    }
+  }
+  terrain->GetPointData()->AddArray(z);
+  vtkNew<vtkTerroirErosion> erosion;
+  erosion->SetInputData(terrain);
+  erosion->SetSteps(40);
+  erosion->SetTimeStep(0.5);
+  erosion->SetInitialWater(0.2);
+  erosion->VegetationOn();
+  erosion->SetInitialVegetation(0.5);
+  erosion->Update();
+  vtkImageData* out = erosion->GetOutput();
+  vtkDataArray* plants = out->GetPointData()->GetArray("VegetationDensity");
+  vtkDataArray* water = out->GetPointData()->GetArray("ErosionWaterDepth");
+  ASSERT_NE(plants, nullptr);
+  ASSERT_NE(water, nullptr);
+  double lo = 1.0, hi = 0.0;
+  for (vtkIdType k = 0; k < plants->GetNumberOfTuples(); ++k)
+  {
+    lo = std::min(lo, plants->GetComponent(k, 0));
+    hi = std::max(hi, plants->GetComponent(k, 0));
+  }
+  EXPECT_GE(lo, 0.0);
+  EXPECT_LE(hi, 1.0);
+  // The bottom of the bowl holds deep water and no plants; a cell on the side (24 cells out)
+  // kept more than the start.
+  const vtkIdType bottom = 47 * 96 + 47, side = 47 * 96 + 47 + 24;
+  EXPECT_GT(water->GetComponent(bottom, 0), 0.1);
+  EXPECT_LT(plants->GetComponent(bottom, 0), 0.05);
+  EXPECT_GT(plants->GetComponent(side, 0), 0.5);
+  vtkNew<vtkTerroirOverlayView> view;
+  view->SetInputData(out);
+  view->SetArrayName("VegetationDensity");
+  view->SetPreset("Vegetation");
   view->SetModeToRelief();
   view->ShowLegendOff();
   CompareWithBaseline(view);
