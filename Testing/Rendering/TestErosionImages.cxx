@@ -1,7 +1,8 @@
-// Image regression tests of the erosion and vegetation overlays (issue 27; label rendering, run under
-// xvfb-run -a): vtkTerroirErosion's ErosionDepth on a hill with the Erosion preset, rendered at
-// 400 x 400 and compared with Testing/Baselines/TerroirErosionImages_<Test>.png
-// (TerroirImageCompare.h). The test also checks numbers that do not depend on the rendering.
+// Image regression tests of the erosion and vegetation overlays (issue 27; label rendering, run
+// under xvfb-run -a): vtkTerroirErosion's ErosionDepth on a hill with the Erosion preset and its
+// VegetationDensity in a bowl with the Vegetation preset, rendered at 400 x 400 and compared
+// with Testing/Baselines/TerroirErosionImages_<Test>.png (TerroirImageCompare.h). The tests also
+// check numbers that do not depend on the rendering.
 #include "TerroirRenderingTestHelpers.h"
 
 #include "vtkDataArray.h"
