@@ -478,12 +478,23 @@ void GPURun::Thermal()
 //------------------------------------------------------------------------------
 void GPURun::Run(int steps, int interval)
 {
+  // A bounded queue: every kBlock steps a fence; before issuing past one, wait for the fence
+  // before it (never the one just issued, so the GPU keeps work), so at most two blocks of
+  // dispatches wait in the driver however many steps are asked for, and every wait is within
+  // the job's time budget.
+  constexpr int kBlock = 64;
+  gpu::Fence previous;
   for (int s = 1; s <= steps; ++s)
   {
     this->Hydraulic();
     if (interval > 0 && s % interval == 0)
     {
       this->Thermal();
+    }
+    if (s % kBlock == 0)
+    {
+      previous.Wait();
+      previous = gpu::Fence();
     }
   }
 }
