@@ -106,6 +106,19 @@ std::unique_ptr<te::ErosionSimulation> StartSimulation(vtkImageData* input,
   auto sim = std::unique_ptr<te::ErosionSimulation>(new te::ErosionSimulation(
     masked, initialWater, std::move(factor), density.empty() ? nullptr : density.data()));
   sim->SetTemperature(std::move(meanC));
+  // A rain map: the input's RainRate point array (mm/h), added to the RainRate property.
+  vtkDataArray* rain = input->GetPointData()->GetArray(vtkTerroirErosion::RainRateName());
+  if (rain && rain->GetNumberOfTuples() == static_cast<vtkIdType>(n))
+  {
+    std::vector<float> rates(n, 0.0f);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      rates[k] = mask[k]
+        ? static_cast<float>(rain->GetComponent(static_cast<vtkIdType>(k), 0) / 1000.0 / 3600.0)
+        : 0.0f;
+    }
+    sim->SetRainRates(std::move(rates));
+  }
   return sim;
 }
 /**

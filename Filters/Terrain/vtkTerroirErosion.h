@@ -7,7 +7,9 @@
  * `vtkValidPointMask`), optionally `Temperature` (degC, 1 or 12 components, e.g. from
  * vtkTerroirTemperature): its mean sets each cell's evaporation factor T = (mean - 0 degC) /
  * (30 degC - 0 degC), clamped to [0, 1] (Weiss's temperature from cold to hot; without the
- * array T = 1). Output: the input's arrays plus
+ * array T = 1), and optionally `RainRate` (mm/h per point, >= 0: a rain map, e.g. a month's
+ * precipitation intensity where it rains; added to the RainRate property). Output: the input's
+ * arrays plus
  * - `ErodedElevation` (float, m): the bed after the steps;
  * - `ErosionDepth` (float, m): ErodedElevation - Elevation (< 0 where material left);
  * - `ErosionWaterDepth` (float, m) and `SuspendedSediment` (float, m of bed);
@@ -182,6 +184,8 @@ public:
   static const char* SedimentName() { return "SuspendedSediment"; }
   static const char* VegetationName() { return "VegetationDensity"; }
   static const char* VapourName() { return "Vapour"; }
+  /// Optional input point array: rain per cell, mm/h, added to RainRate.
+  static const char* RainRateName() { return "RainRate"; }
 
 protected:
   vtkTerroirErosion();

@@ -264,6 +264,47 @@ TEST(TerroirErosion, WeatherEvaporatesCarriesAndRains)
   EXPECT_EQ(f->GetOutput()->GetPointData()->GetArray("Vapour"), nullptr);
 }
 
+// A rain map: the input's RainRate array (mm/h) rains 36 mm/h on the northern half only of a
+// flat closed plateau (no evaporation): after 50 steps of 0.1 s the water is 36 / 3.6e6 m/s x
+// 5 s on each northern cell (area 4 m^2) and the rain volume agrees; after one step the water
+// lies only where it rained; a negative rate is one error.
+TEST(TerroirErosion, ARainMapRainsWhereItSays)
+{
+  vtkSmartPointer<vtkImageData> in = Terrain(12, 10, [](int, int) { return 5.0; });
+  auto rain = vtkSmartPointer<vtkFloatArray>::New();
+  rain->SetName("RainRate");
+  for (vtkIdType k = 0; k < in->GetNumberOfPoints(); ++k)
+  {
+    rain->InsertNextValue(k / 12 >= 5 ? 36.0f : 0.0f);
+  }
+  in->GetPointData()->AddArray(rain);
+  vtkNew<vtkTerroirErosion> f;
+  f->SetInputData(in);
+  f->SetSteps(50);
+  f->SetTimeStep(0.1);
+  f->SetInitialWater(0.0);
+  f->SetEvaporation(0.0);
+  f->SetThermalInterval(0);
+  f->Update();
+  const double expected = 60 * 4.0 * (36.0 / 3.6e6) * 5.0; // 60 northern cells
+  EXPECT_NEAR(4.0 * Sum(f->GetOutput(), "ErosionWaterDepth"), expected, 1e-6 * expected);
+  EXPECT_NEAR(f->GetOutput()->GetFieldData()->GetArray("ErosionVolumes")->GetComponent(0, 2),
+    expected,
+    1e-6 * expected);
+  // After one step the rain lies where it fell: 1e-6 m on a northern cell whose neighbours got
+  // the same (nothing flows), none on the southern edge.
+  f->UpdateTimeStep(1.0);
+  vtkDataArray* water = f->GetOutput()->GetPointData()->GetArray("ErosionWaterDepth");
+  EXPECT_NEAR(water->GetComponent(8 * 12 + 6, 0), 1e-6, 1e-12);
+  EXPECT_EQ(water->GetComponent(6, 0), 0.0);
+  rain->SetValue(3, -1.0f);
+  rain->Modified();
+  vtkNew<terroir_test::ErrorObserver> observer;
+  f->AddObserver(vtkCommand::ErrorEvent, observer);
+  f->Update();
+  EXPECT_NE(observer->Errors.find("rain rate"), std::string::npos) << observer->Errors;
+}
+
 TEST(TerroirErosion, Errors)
 {
   vtkSmartPointer<vtkImageData> in = Terrain(8, 8, [](int, int) { return 1.0; });

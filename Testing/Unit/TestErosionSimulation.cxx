@@ -315,6 +315,35 @@ TEST(TerroirErosionSimulationCore, WeatherReplacesWeissEvaporation)
   EXPECT_EQ(with.Volumes().evaporated, 0.0);
 }
 
+TEST(TerroirErosionSimulationCore, RainRatesPerCellAddToTheUniformRain)
+{
+  // Rain on the western half only (2e-3 m/s) plus 1e-3 m/s everywhere, no evaporation, a closed
+  // grid: after n steps of dt the water is n dt (1e-3 x all cells + 2e-3 x western cells) x area,
+  // and the rain volume says the same.
+  const Terrain t(10, 8, 2.0, 31);
+  tr::ErosionSimulation sim(t.view, 0.0);
+  std::vector<float> rates(t.z.size(), 0.0f);
+  for (std::size_t k = 0; k < rates.size(); ++k)
+  {
+    rates[k] = (k % 10) < 5 ? 2e-3f : 0.0f;
+  }
+  sim.SetRainRates(rates);
+  tr::ErosionSimulationParams p;
+  p.hydraulic.evaporation = 0.0;
+  p.rainRate = 1e-3;
+  for (int step = 0; step < 20; ++step)
+  {
+    sim.Step(p);
+  }
+  const double perStep = 0.01 * 4.0 * (80 * 1e-3 + 40 * static_cast<double>(2e-3f));
+  EXPECT_NEAR(sim.Volumes().rain, 20 * perStep, 1e-6 * 20 * perStep);
+  EXPECT_NEAR(tr::ErosionMeasure(sim.State()).water, 20 * perStep, 1e-6 * 20 * perStep);
+  std::vector<float> bad(rates);
+  bad[3] = -1.0f;
+  EXPECT_THROW(sim.SetRainRates(bad), std::invalid_argument);
+  EXPECT_THROW(sim.SetRainRates(std::vector<float>(7, 0.0f)), std::invalid_argument);
+}
+
 TEST(TerroirErosionSimulationCore, BadArgumentsAreRefused)
 {
   const Terrain t(6, 6, 1.0, 19);

@@ -228,11 +228,43 @@ void ErosionSimulation::SetTemperature(std::vector<float> temperature)
 }
 
 //------------------------------------------------------------------------------
+void ErosionSimulation::SetRainRates(std::vector<float> rates)
+{
+  const std::size_t n = this->Erosion.Size();
+  if (!rates.empty() && rates.size() != n)
+  {
+    detail::BadParameter(
+      kModel, "rain rates", static_cast<double>(rates.size()), "one per cell (or none)");
+  }
+  for (std::size_t k = 0; k < rates.size(); ++k)
+  {
+    if (!(rates[k] >= 0.0f && std::isfinite(rates[k])))
+    {
+      detail::BadParameter(kModel, "rain rate (m/s) of a cell", rates[k], "a finite number >= 0");
+    }
+  }
+  this->RainMap = std::move(rates);
+  this->RainRate = -1.0; // the next RainField builds the field again
+}
+
+//------------------------------------------------------------------------------
 const float* ErosionSimulation::RainField(double rate)
 {
   if (rate != this->RainRate)
   {
-    this->Rain.assign(rate > 0.0 ? this->Erosion.Size() : 0, static_cast<float>(rate));
+    const std::size_t n = this->Erosion.Size();
+    if (this->RainMap.empty())
+    {
+      this->Rain.assign(rate > 0.0 ? n : 0, static_cast<float>(rate));
+    }
+    else
+    {
+      this->Rain.resize(n);
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        this->Rain[k] = static_cast<float>(static_cast<double>(this->RainMap[k]) + rate);
+      }
+    }
     this->RainRate = rate;
   }
   return this->Rain.empty() ? nullptr : this->Rain.data();

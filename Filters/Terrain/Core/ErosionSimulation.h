@@ -132,8 +132,11 @@ public:
   /// Air temperatures for the weather, degC per cell (nx*ny; empty: from the height with the
   /// atmosphere's lapse rate).
   void SetTemperature(std::vector<float> temperature);
-  /// The rain field of a step at `rate` m/s on every valid cell (nullptr for none) and the
-  /// evaporation factors (nullptr for 1): what the GPU path takes.
+  /// Rain per cell, m/s (nx*ny values >= 0; empty: none), added to the parameters' rainRate on
+  /// every step (e.g. a precipitation map); throws std::invalid_argument for a bad field.
+  void SetRainRates(std::vector<float> rates);
+  /// The rain field of a step: `rate` m/s on every cell plus SetRainRates' (nullptr for none),
+  /// and the evaporation factors (nullptr for 1): what the GPU path takes.
   const float* RainField(double rate);
   const float* EvaporationFactor() const
   {
@@ -156,7 +159,7 @@ private:
   VegetationState PlantState;
   bool Plants = false;
   std::vector<float> Factor;
-  std::vector<float> Rain;
+  std::vector<float> Rain, RainMap;
   double RainRate = -1.0;
   std::vector<float> BedBefore;
   bool Weather = false;
