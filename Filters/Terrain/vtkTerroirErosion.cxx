@@ -103,8 +103,23 @@ std::unique_ptr<te::ErosionSimulation> StartSimulation(vtkImageData* input,
       }
     }
   }
-  auto sim = std::unique_ptr<te::ErosionSimulation>(new te::ErosionSimulation(
-    masked, initialWater, std::move(factor), density.empty() ? nullptr : density.data()));
+  // A soil layer: the input's SoilThickness (m over rock; no data and NaN: none).
+  std::vector<float> soil;
+  vtkDataArray* layer = input->GetPointData()->GetArray(vtkTerroirErosion::SoilThicknessName());
+  if (layer && layer->GetNumberOfTuples() == static_cast<vtkIdType>(n))
+  {
+    soil.resize(n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      const double d = layer->GetComponent(static_cast<vtkIdType>(k), 0);
+      soil[k] = mask[k] && std::isfinite(d) ? static_cast<float>(d) : 0.0f;
+    }
+  }
+  auto sim = std::unique_ptr<te::ErosionSimulation>(new te::ErosionSimulation(masked,
+    initialWater,
+    std::move(factor),
+    density.empty() ? nullptr : density.data(),
+    soil.empty() ? nullptr : soil.data()));
   sim->SetTemperature(std::move(meanC));
   // A rain map: the input's RainRate point array (mm/h), added to the RainRate property.
   vtkDataArray* rain = input->GetPointData()->GetArray(vtkTerroirErosion::RainRateName());
@@ -195,6 +210,10 @@ void vtkTerroirErosion::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Evaporation: " << this->Evaporation << " 1/s\n";
   os << indent << "CapacityDepth: " << this->CapacityDepth << " m\n";
   os << indent << "TalusAngle: " << this->TalusAngle << " deg\n";
+  os << indent << "SoftOutflow: " << this->SoftOutflow << " (" << this->SoftOutflowMinimum
+     << " m3/s + " << this->SoftOutflowScale << " m2/s x |dh|)\n";
+  os << indent << "RockDissolving: " << this->RockDissolving << "\n";
+  os << indent << "RockTalusAngle: " << this->RockTalusAngle << " deg\n";
   os << indent << "ThermalInterval: " << this->ThermalInterval << "\n";
   os << indent << "Boundary: " << (this->Boundary == Sea ? "Sea" : "Closed") << "\n";
   os << indent << "SeaLevel: " << this->SeaLevel << " m\n";
@@ -230,13 +249,17 @@ void vtkTerroirErosion::MakeParams(te::ErosionSimulationParams& sp) const
   p.timeStep = this->TimeStep;
   p.capacity = this->Capacity;
   p.dissolving = this->Dissolving;
-  p.dissolvingRock = this->Dissolving;
+  p.dissolvingRock = this->RockDissolving;
+  p.softOutflow = this->SoftOutflow != 0;
+  p.softOutflowMin = this->SoftOutflowMinimum;
+  p.softOutflowScale = this->SoftOutflowScale;
   p.deposition = this->Deposition;
   p.evaporation = this->Evaporation;
   p.capacityDepth = this->CapacityDepth;
   p.boundary = this->Boundary == Sea ? te::ErosionBoundary::Sea : te::ErosionBoundary::Closed;
   p.seaLevel = this->SeaLevel;
   sp.thermal.talusSoilDeg = this->TalusAngle;
+  sp.thermal.talusRockDeg = this->RockTalusAngle;
   sp.thermalInterval = this->ThermalInterval;
   sp.rainRate = this->RainRate / 1000.0 / 3600.0;
   sp.weather = this->Weather != 0;
@@ -439,6 +462,16 @@ int vtkTerroirErosion::RequestTerrainData(vtkImageData* input,
     const te::ErosionVolumes& w = sim.Volumes();
     const double weather[] = { w.evaporated, w.canopyEvaporated, w.weatherRain };
     output->GetFieldData()->AddArray(FieldArray("WeatherVolumes", weather, 3));
+  }
+  if (!s.soil.empty())
+  {
+    vtkSmartPointer<vtkFloatArray> soil = vtkSmartPointer<vtkFloatArray>::Take(
+      terroir::NewOutputArray(SoilThicknessName(), 1, static_cast<long long>(n), "m"));
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      soil->SetValue(static_cast<vtkIdType>(k), s.IsValid(k) ? s.soil[k] : nan);
+    }
+    pd->AddArray(soil);
   }
   pd->AddArray(bed);
   pd->AddArray(change);

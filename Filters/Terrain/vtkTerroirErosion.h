@@ -17,6 +17,8 @@
  *   rain, evaporated, water to the sea, over all steps) and `ErosionTotals` (m^3: bed, water,
  *   suspended sediment now, area-weighted over the valid cells).
  * - with Vegetation on, `VegetationDensity` (float, 0..1);
+ * - with a `SoilThickness` input (m of soil over rock: layered constants, K_s and TalusAngle
+ *   for the soil, RockDissolving and RockTalusAngle for the rock), `SoilThickness` left (m);
  * - with Weather on, `Vapour` (float, m of water in the air) and field data `WeatherVolumes`
  *   (m^3: evaporated from the water, from the canopy, rained by the atmosphere).
  * No-data cells: NaN.
@@ -130,9 +132,31 @@ public:
   vtkGetMacro(CapacityDepth, double);
   ///@}
   ///@{
-  /// Talus angle of thermal erosion, degrees in (0, 90) (default 33).
+  /// Dunn's soft outflow threshold against oscillation (his eq. 3.1; default off): each pipe's
+  /// flux is capped at SoftOutflowMinimum (m^3/s, default 0) + SoftOutflowScale (m^2/s,
+  /// default 1) x |height difference|.
+  vtkSetMacro(SoftOutflow, vtkTypeBool);
+  vtkGetMacro(SoftOutflow, vtkTypeBool);
+  vtkBooleanMacro(SoftOutflow, vtkTypeBool);
+  vtkSetMacro(SoftOutflowMinimum, double);
+  vtkGetMacro(SoftOutflowMinimum, double);
+  vtkSetMacro(SoftOutflowScale, double);
+  vtkGetMacro(SoftOutflowScale, double);
+  ///@}
+  ///@{
+  /// Talus angle of thermal erosion, degrees in (0, 90) (default 33): of the soil when the input
+  /// has a `SoilThickness` layer, else of the one material.
   vtkSetMacro(TalusAngle, double);
   vtkGetMacro(TalusAngle, double);
+  ///@}
+  ///@{
+  /// Rock under a soil layer (the input's `SoilThickness` point array, m; Weiss section VI-B2:
+  /// soil erodes more easily than rock): its dissolving constant K_s,rock (per step, [0, 1],
+  /// default 0.1) and talus angle (degrees in (0, 90), default 60). Unused without the layer.
+  vtkSetMacro(RockDissolving, double);
+  vtkGetMacro(RockDissolving, double);
+  vtkSetMacro(RockTalusAngle, double);
+  vtkGetMacro(RockTalusAngle, double);
   ///@}
   ///@{
   /// A thermal step after every this many hydraulic steps (default 1; 0: none).
@@ -186,6 +210,8 @@ public:
   static const char* VapourName() { return "Vapour"; }
   /// Optional input point array: rain per cell, mm/h, added to RainRate.
   static const char* RainRateName() { return "RainRate"; }
+  /// Optional input point array (soil over rock, m) and, with it, the output's soil left (m).
+  static const char* SoilThicknessName() { return "SoilThickness"; }
 
 protected:
   vtkTerroirErosion();
@@ -212,6 +238,11 @@ protected:
   double Evaporation = 0.005;
   double CapacityDepth = 0.0;
   double TalusAngle = 33.0;
+  vtkTypeBool SoftOutflow = 0;
+  double SoftOutflowMinimum = 0.0;
+  double SoftOutflowScale = 1.0;
+  double RockDissolving = 0.1;
+  double RockTalusAngle = 60.0;
   int ThermalInterval = 1;
   int Boundary = Closed;
   double SeaLevel = 0.0;

@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -303,6 +304,105 @@ TEST(TerroirErosion, ARainMapRainsWhereItSays)
   f->AddObserver(vtkCommand::ErrorEvent, observer);
   f->Update();
   EXPECT_NE(observer->Errors.find("rain rate"), std::string::npos) << observer->Errors;
+}
+
+// Dunn's soft outflow (eq. 3.1) through the filter: on a flat closed 20 x 10 box (2 m cells) a
+// rain map puts 1 m of water a step on the western half only (3.6e8 mm/h for 0.01 s). With
+// each pipe capped at 0.001 m^2/s x |dh| and dh <= s m in step s, at most 10 pipes x 0.01 s x
+// 0.001 x s m^3 cross the middle in step s: after 5 steps the eastern half holds at most
+// 1e-4 x (1 + 2 + 3 + 4 + 5) = 1.5e-3 m^3; without the cap ten times more.
+TEST(TerroirErosion, SoftOutflowCapsThePipes)
+{
+  vtkSmartPointer<vtkImageData> in = Terrain(20, 10, [](int, int) { return 5.0; });
+  auto east = [](vtkImageData* out)
+  {
+    vtkDataArray* w = out->GetPointData()->GetArray("ErosionWaterDepth");
+    double v = 0.0;
+    for (vtkIdType k = 0; k < w->GetNumberOfTuples(); ++k)
+    {
+      v += (k % 20) >= 10 ? 4.0 * w->GetComponent(k, 0) : 0.0;
+    }
+    return v;
+  };
+  double results[2];
+  for (int soft = 0; soft < 2; ++soft)
+  {
+    vtkNew<vtkTerroirErosion> f;
+    f->SetInputData(in);
+    f->SetSteps(5);
+    f->SetInitialWater(0.0);
+    f->SetRainRate(0.0);
+    f->SetEvaporation(0.0);
+    f->SetThermalInterval(0);
+    f->SetSoftOutflow(soft);
+    f->SetSoftOutflowScale(0.001);
+    auto rain = vtkSmartPointer<vtkFloatArray>::New();
+    rain->SetName("RainRate");
+    for (vtkIdType k = 0; k < in->GetNumberOfPoints(); ++k)
+    {
+      rain->InsertNextValue((k % 20) < 10 ? 3.6e8f : 0.0f);
+    }
+    auto input = vtkSmartPointer<vtkImageData>::New();
+    input->ShallowCopy(in);
+    input->GetPointData()->AddArray(rain);
+    f->SetInputData(input);
+    f->Update();
+    results[soft] = east(f->GetOutput());
+  }
+  EXPECT_LE(results[1], 1.5e-3 * (1.0 + 1e-6));
+  EXPECT_GT(results[1], 0.0);
+  EXPECT_GT(results[0], 10.0 * 1.5e-3);
+}
+
+// A soil layer over rock: a gentle hill (slopes below the talus) with 2 cm of SoilThickness and
+// RockDissolving 0: the water takes the soil but never the rock, so the bed drops at most
+// 2 cm anywhere while some cells lose all their soil (output SoilThickness 0); the same run
+// without the layer carves deeper than 2 cm.
+TEST(TerroirErosion, ASoilLayerOverRockLimitsTheErosion)
+{
+  vtkSmartPointer<vtkImageData> in =
+    Terrain(30, 24, [](int i, int j) { return 50.0 + 3.0 * std::sin(0.2 * i) * std::cos(0.15 * j); });
+  double deepest[2];
+  for (int layered = 0; layered < 2; ++layered)
+  {
+    auto input = vtkSmartPointer<vtkImageData>::New();
+    input->DeepCopy(in);
+    if (layered)
+    {
+      auto soil = vtkSmartPointer<vtkFloatArray>::New();
+      soil->SetName("SoilThickness");
+      soil->SetNumberOfValues(input->GetNumberOfPoints());
+      soil->FillValue(0.02f);
+      input->GetPointData()->AddArray(soil);
+    }
+    vtkNew<vtkTerroirErosion> f;
+    f->SetInputData(input);
+    f->SetSteps(200);
+    f->SetInitialWater(0.2);
+    f->SetThermalInterval(0);
+    f->SetRockDissolving(0.0);
+    f->Update();
+    vtkDataArray* change = f->GetOutput()->GetPointData()->GetArray("ErosionDepth");
+    double lo = 0.0;
+    for (vtkIdType k = 0; k < change->GetNumberOfTuples(); ++k)
+    {
+      lo = std::min(lo, change->GetComponent(k, 0));
+    }
+    deepest[layered] = lo;
+    vtkDataArray* left = f->GetOutput()->GetPointData()->GetArray("SoilThickness");
+    ASSERT_EQ(left != nullptr, layered == 1);
+    if (left)
+    {
+      double thinnest = 1.0;
+      for (vtkIdType k = 0; k < left->GetNumberOfTuples(); ++k)
+      {
+        thinnest = std::min(thinnest, left->GetComponent(k, 0));
+      }
+      EXPECT_LT(thinnest, 1e-6);
+    }
+  }
+  EXPECT_GE(deepest[1], -0.02 - 1e-5);
+  EXPECT_LT(deepest[0], -0.02);
 }
 
 TEST(TerroirErosion, Errors)

@@ -31,8 +31,9 @@ void AddCompensated(float& value, float& residue, double delta)
 ErosionSimulation::ErosionSimulation(const GridView<float>& terrain,
   double initialWater,
   std::vector<float> evaporationFactor,
-  const float* vegetation)
-  : Erosion(MakeErosionState(terrain))
+  const float* vegetation,
+  const float* soil)
+  : Erosion(MakeErosionState(terrain, soil))
   , Factor(std::move(evaporationFactor))
 {
   if (!(initialWater >= 0.0 && std::isfinite(initialWater)))

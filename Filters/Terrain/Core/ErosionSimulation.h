@@ -97,13 +97,16 @@ public:
    * @param initialWater depth on every valid cell at the start, m (>= 0, finite)
    * @param evaporationFactor nx*ny factors T of Weiss's evaporation (>= 0), or empty for 1
    * @param vegetation nx*ny starting densities in [0, 1] (clamped; NaN: 0), or nullptr for none
+   * @param soil       nx*ny soil thicknesses over rock (m, >= 0; Erosion.h's layered
+   *                   constants), or nullptr for one material
    * @throws std::invalid_argument as MakeErosionState, or for a bad initialWater or a factor
    *         array of another size
    */
   ErosionSimulation(const GridView<float>& terrain,
     double initialWater,
     std::vector<float> evaporationFactor = {},
-    const float* vegetation = nullptr);
+    const float* vegetation = nullptr,
+    const float* soil = nullptr);
 
   /// One coupled step (see the file comment); throws std::invalid_argument for bad parameters.
   void Step(const ErosionSimulationParams& params, const ErosionParallelFor& parallelFor = {});
