@@ -11,7 +11,7 @@ ctest=$1
 build=$2
 only=${3:-}
 declare -A minimum=(
-  [unit]=417 [pipeline]=212 [gpu]=81 [rendering]=54 [python]=20 [examples]=16 [fuzz]=5
+  [unit]=417 [pipeline]=214 [gpu]=81 [rendering]=54 [python]=20 [examples]=16 [fuzz]=5
   [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=77 [mpi]=64
 )
 status=0

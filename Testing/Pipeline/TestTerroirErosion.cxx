@@ -310,7 +310,8 @@ TEST(TerroirErosion, ARainMapRainsWhereItSays)
 // rain map puts 1 m of water a step on the western half only (3.6e8 mm/h for 0.01 s). With
 // each pipe capped at 0.001 m^2/s x |dh| and dh <= s m in step s, at most 10 pipes x 0.01 s x
 // 0.001 x s m^3 cross the middle in step s: after 5 steps the eastern half holds at most
-// 1e-4 x (1 + 2 + 3 + 4 + 5) = 1.5e-3 m^3; without the cap ten times more.
+// 1e-4 x (1 + 2 + 3 + 4 + 5) = 1.5e-3 m^3; without the cap ten times more. (Capacity 0: no
+// erosion, so the bed stays flat and dh is the water's difference alone.)
 TEST(TerroirErosion, SoftOutflowCapsThePipes)
 {
   vtkSmartPointer<vtkImageData> in = Terrain(20, 10, [](int, int) { return 5.0; });
@@ -334,6 +335,7 @@ TEST(TerroirErosion, SoftOutflowCapsThePipes)
     f->SetRainRate(0.0);
     f->SetEvaporation(0.0);
     f->SetThermalInterval(0);
+    f->SetCapacity(0.0); // no erosion: the bed stays flat, dh is the water's alone
     f->SetSoftOutflow(soft);
     f->SetSoftOutflowScale(0.001);
     auto rain = vtkSmartPointer<vtkFloatArray>::New();
@@ -360,8 +362,8 @@ TEST(TerroirErosion, SoftOutflowCapsThePipes)
 // without the layer carves deeper than 2 cm.
 TEST(TerroirErosion, ASoilLayerOverRockLimitsTheErosion)
 {
-  vtkSmartPointer<vtkImageData> in =
-    Terrain(30, 24, [](int i, int j) { return 50.0 + 3.0 * std::sin(0.2 * i) * std::cos(0.15 * j); });
+  vtkSmartPointer<vtkImageData> in = Terrain(
+    30, 24, [](int i, int j) { return 50.0 + 3.0 * std::sin(0.2 * i) * std::cos(0.15 * j); });
   double deepest[2];
   for (int layered = 0; layered < 2; ++layered)
   {
