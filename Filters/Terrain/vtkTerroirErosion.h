@@ -57,10 +57,13 @@
  *
  * @par Correctness
  * Testing/Unit/TestErosion.cxx (the core: hand-worked flux step, dam break, still lake, tilted
- * plane, uniform flow balance, conservation, talus), Testing/Pipeline/TestTerroirErosion.cxx
- * (conservation through the filter, evaporation against (1 - K_e dt T)^n for hot and cold
- * cells, talus reached, time steps equal fresh runs, errors), Testing/Pipeline/
- * TestDeterminism.cxx.
+ * plane, uniform flow balance, conservation, talus), Testing/Unit/TestErosionSimulation.cxx
+ * (the coupled step, brushes, weather's water cycle, rain map), Testing/Pipeline/
+ * TestTerroirErosion.cxx (conservation through the filter, evaporation against
+ * (1 - K_e dt T)^n for hot and cold cells, talus reached, time steps equal fresh runs,
+ * vegetation, weather, the rain map, the soft outflow's cap, a soil layer over rock, errors),
+ * Testing/GPU/TestErosionGPU.cxx (CPU and GPU bit for bit, the two backends across the cache),
+ * Testing/Pipeline/TestDeterminism.cxx.
  *
  * @par References
  * Mei, X., Decaudin, P., Hu, B.-G. (2007). Fast hydraulic erosion simulation and visualization
