@@ -4,6 +4,7 @@
 // with Testing/Baselines/TerroirErosionImages_<Test>.png (TerroirImageCompare.h). The tests also
 // check numbers that do not depend on the rendering.
 #include "TerroirRenderingTestHelpers.h"
+#include "TerroirSyntheticTerrain.h"
 
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
@@ -22,6 +23,24 @@
 
 using terroir::testing::CompareWithBaseline;
 
+namespace
+{
+/// 96 x 96 points 5 m apart on a plain at 100 m with a Gaussian of `height` m (negative: a
+/// bowl) and `sigma` cells at the centre (47.5, 47.5).
+vtkSmartPointer<vtkImageData> Gaussian(double height, double sigma)
+{
+  return terroir::testing::MakeTerrain(96,
+    96,
+    5.0,
+    [=](double x, double y)
+    {
+      const double i = x / 5.0, j = y / 5.0;
+      const double r2 = (i - 47.5) * (i - 47.5) + (j - 47.5) * (j - 47.5);
+      return 100.0 + height * std::exp(-r2 / (2.0 * sigma * sigma));
+    });
+}
+} // namespace
+
 // A round island (Gaussian, 30 m high, 5 m cells, 96 x 96) in a sea 1 cm above the plain
 // (100 m), 0.3 m of water and 60 steps of 0.5 s with soil slip. Water runs off the island: its
 // flanks lose material (brown), its shore gains what the sea lets settle (blue-green), the sea
@@ -29,20 +48,7 @@ using terroir::testing::CompareWithBaseline;
 TEST(TerroirErosionImages, IslandErosionRelief)
 {
   TERROIR_SKIP_WITHOUT_DISPLAY();
-  auto terrain = vtkSmartPointer<vtkImageData>::New();
-  terrain->SetDimensions(96, 96, 1);
-  terrain->SetSpacing(5.0, 5.0, 1.0);
-  auto z = vtkSmartPointer<vtkFloatArray>::New();
-  z->SetName("Elevation");
-  for (int j = 0; j < 96; ++j)
-  {
-    for (int i = 0; i < 96; ++i)
-    {
-      const double r2 = (i - 47.5) * (i - 47.5) + (j - 47.5) * (j - 47.5);
-      z->InsertNextValue(static_cast<float>(100.0 + 30.0 * std::exp(-r2 / (2.0 * 12.0 * 12.0))));
-    }
-  }
-  terrain->GetPointData()->AddArray(z);
+  vtkSmartPointer<vtkImageData> terrain = Gaussian(30.0, 12.0);
   vtkNew<vtkTerroirErosion> erosion;
   erosion->SetInputData(terrain);
   erosion->SetSteps(60);
@@ -77,20 +83,7 @@ TEST(TerroirErosionImages, IslandErosionRelief)
 TEST(TerroirErosionImages, VegetationInABowlRelief)
 {
   TERROIR_SKIP_WITHOUT_DISPLAY();
-  auto terrain = vtkSmartPointer<vtkImageData>::New();
-  terrain->SetDimensions(96, 96, 1);
-  terrain->SetSpacing(5.0, 5.0, 1.0);
-  auto z = vtkSmartPointer<vtkFloatArray>::New();
-  z->SetName("Elevation");
-  for (int j = 0; j < 96; ++j)
-  {
-    for (int i = 0; i < 96; ++i)
-    {
-      const double r2 = (i - 47.5) * (i - 47.5) + (j - 47.5) * (j - 47.5);
-      z->InsertNextValue(static_cast<float>(100.0 - 20.0 * std::exp(-r2 / (2.0 * 18.0 * 18.0))));
-    }
-  }
-  terrain->GetPointData()->AddArray(z);
+  vtkSmartPointer<vtkImageData> terrain = Gaussian(-20.0, 18.0);
   vtkNew<vtkTerroirErosion> erosion;
   erosion->SetInputData(terrain);
   erosion->SetSteps(40);
