@@ -473,6 +473,7 @@ void vtkTerroirSolarIllumination::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "HorizonSectors: " << this->HorizonSectors << "\n";
   os << indent << "EarthCurvature: " << (this->EarthCurvature ? "On" : "Off") << "\n";
   os << indent << "OutputHorizonMap: " << (this->OutputHorizonMap ? "On" : "Off") << "\n";
+  os << indent << "CacheHorizonMap: " << (this->CacheHorizonMap ? "On" : "Off") << "\n";
   os << indent << "Refraction: " << (this->Refraction ? "On" : "Off") << "\n";
   os << indent << "Pressure: " << this->Pressure << " mbar\n";
   os << indent << "AirTemperature: " << this->AirTemperature << " C\n";
@@ -864,7 +865,19 @@ int vtkTerroirSolarIllumination::RequestTerrainData(vtkImageData* input,
     return 0;
   }
 
-  // Horizon map (cached while the input and its settings stay the same).
+  // Horizon map (cached while the input and its settings stay the same, unless the cache is
+  // off: then freed when this update ends, whichever way).
+  struct DropMap
+  {
+    vtkTerroirSolarIllumination* self;
+    ~DropMap()
+    {
+      if (!self->CacheHorizonMap)
+      {
+        *self->Impl = Internals();
+      }
+    }
+  } dropMap{ this };
   const bool useMap = this->ShadowMethod == HorizonMap;
   const float curvature = tt::CurvatureCoefficient(this->EarthCurvature);
   this->LastHorizonMapSeconds = 0.0;

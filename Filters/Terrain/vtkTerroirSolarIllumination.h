@@ -35,7 +35,7 @@
  * RayMarching marches every cell toward the sun (the exact reference); HorizonMap (default)
  * builds a map of HorizonSectors horizon tangents per cell with convex-hull sweeps (after
  * Dozier & Frew 1990) once per terrain (cached while the input, the sectors and the curvature
- * setting stay the same) and interpolates between the two sectors around the sun.
+ * setting stay the same; CacheHorizonMap) and interpolates between the two sectors around the sun.
  * Insolation: clear-sky direct beam S0/R^2 tau^m (Campbell & Norman 1998, eq. 11.11) with the
  * Kasten & Young (1989) air mass, times cos(incidence), over the lit steps (see
  * terroir/SolarIllumination.h); diffuse and reflected light are not included.
@@ -240,6 +240,17 @@ public:
   vtkGetMacro(DeltaT, double);
   ///@}
 
+  ///@{
+  /**
+   * Keep the horizon map between updates (HorizonSectors floats per cell: 256 B per cell by
+   * default), so that a new sun time or mode on the same terrain skips the sweeps. Default
+   * on; off frees it at the end of each update (batch chains, large grids).
+   */
+  vtkSetMacro(CacheHorizonMap, bool);
+  vtkGetMacro(CacheHorizonMap, bool);
+  vtkBooleanMacro(CacheHorizonMap, bool);
+  ///@}
+
   /// Seconds the last run spent building the horizon map (0 when it came from the cache or
   /// was not needed).
   vtkGetMacro(LastHorizonMapSeconds, double);
@@ -295,6 +306,7 @@ protected:
   int HorizonSectors = 64;
   bool EarthCurvature = false;
   bool OutputHorizonMap = false;
+  bool CacheHorizonMap = true;
   bool Refraction = true;
   double Pressure;
   double AirTemperature = 15.0;

@@ -88,8 +88,12 @@ def main():
         last = full_chain(reader)
         # Each stage's output is freed once the next has read it (a piece's output is a cropped
         # copy of its input's arrays: kept, every stage would hold its own copy of them all).
-        for proxy in stages(last)[:-1]:
-            proxy.GetClientSideObject().ReleaseDataFlagOn()
+        # ParaView puts a vtkPVPostFilter after each proxy (it shallow-copies the output, so
+        # that a filter reads the post filter's): both must release, or the arrays stay.
+        algorithm = last.GetClientSideObject()
+        while algorithm.GetNumberOfInputPorts() and algorithm.GetNumberOfInputConnections(0):
+            algorithm = algorithm.GetInputAlgorithm()
+            algorithm.ReleaseDataFlagOn()
         return write(reader, last, out_dir, recipe)
     slope = TerroirSlope(Input=reader)  # noqa: F821
     temperature = TerroirTemperature(Input=slope)  # noqa: F821
@@ -115,8 +119,10 @@ def full_chain(reader):
     (Pulse; TERROIR_FLOW_ITERATIONS iterations when set) -> k-means. Each stage passes its
     ghost levels upstream: the water flow asks for 3, D8 for 5, the flood fill for 6, the
     stencils up to 8, the sun for 72 (its halo of 64 on top)."""
+    # The horizon map (64 floats per cell) is freed once the sun is done (CacheHorizonMap).
     last = TerroirSolarIllumination(Input=reader, Mode='Instant', Month=6, Day=21,  # noqa: F821
-                                    Time=12.0, UTCOffset=-8.0, DistributedHalo=SUN_HALO)
+                                    Time=12.0, UTCOffset=-8.0, DistributedHalo=SUN_HALO,
+                                    CacheHorizonMap=0)
     for make in (TerroirSlope, TerroirTemperature, TerroirInfiltration,  # noqa: F821
                  TerroirSoilHumidity):  # noqa: F821
         last = make(Input=last)
@@ -143,6 +149,12 @@ def smp_threads():
     return vtkSMPTools.GetEstimatedNumberOfThreads()
 
 
+def resident_mib():
+    """This process's resident memory now (MiB), from /proc/self/statm."""
+    with open('/proc/self/statm') as f:
+        return int(f.read().split()[1]) * os.sysconf('SC_PAGE_SIZE') / 2.0**20
+
+
 def stages(proxy):
     """The proxies from the reader to `proxy`, upstream first."""
     chain = [proxy]
@@ -154,16 +166,25 @@ def stages(proxy):
 def write(reader, last, out_dir, recipe):
     # Seconds each stage's RequestData took on this rank (StartEvent to EndEvent), for the
     # scaling benchmark; a stage that runs twice adds up.
-    seconds, started = {}, {}
+    # The resident memory (MiB) at each stage's start and end and the peak until its end, to
+    # find which stage holds what.
+    seconds, started, memory = {}, {}, {}
     for proxy in stages(last):
         algorithm = proxy.GetClientSideObject()
         name = algorithm.GetClassName()
 
         def start(obj, event, name=name):
+            if os.environ.get('TERROIR_TRIM'):
+                import ctypes
+                ctypes.CDLL('libc.so.6').malloc_trim(0)
+            memory.setdefault(name, {})['start_mib'] = resident_mib()
             started[name] = time.perf_counter()
 
         def end(obj, event, name=name):
             seconds[name] = seconds.get(name, 0.0) + time.perf_counter() - started[name]
+            memory[name]['end_mib'] = resident_mib()
+            memory[name]['peak_mib'] = \
+                resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
         algorithm.AddObserver('StartEvent', start)
         algorithm.AddObserver('EndEvent', end)
     t0 = time.perf_counter()
@@ -186,6 +207,7 @@ def write(reader, last, out_dir, recipe):
         'arrays': sorted(local.GetPointData().GetArrayName(i)
                          for i in range(local.GetPointData().GetNumberOfArrays())),
         'stage_seconds': seconds,
+        'stage_memory': memory,
         'pipeline_seconds': wall,
         # The arrays this rank's output holds (KiB, VTK's count) and its peak resident memory.
         'output_kib': sum(local.GetPointData().GetArray(i).GetActualMemorySize()

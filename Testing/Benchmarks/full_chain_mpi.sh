@@ -12,7 +12,10 @@
 # (gdal_translate gives the fractal a place: UTM 11 N, as Sagehen), the
 # ParaView tree (its plugin and paraview-prefix) and the standalone build (TERROIR_STANDALONE_BUILD,
 # default build/). The ParaView tree's FullChainBenchmarkSmoke runs it at 192^2 on 2 ranks.
-# Memory: about 0.5 kB per cell in the pieces (all ranks together) and as much again serially.
+# Memory (measured at 4096^2): about 0.6 kB per cell in the pieces (all ranks together, plus
+# 0.35 GB of pvbatch per rank) and 0.53 kB per cell serially, one after the other; each rank's
+# rank<R>.json records every stage's resident memory (stage_memory). TERROIR_TRIM=1 calls
+# malloc_trim before each stage (to see the live memory between stages; the peak is the same).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 pvbuild=${1:-$here/build-paraview}
@@ -44,7 +47,7 @@ rm -rf "$run"
 mkdir -p "$run"
 t0=$(date +%s.%N)
 TERROIR_PARAVIEW_SITE=$site PYTHONPATH=$site mpirun --oversubscribe -np "$np" \
-  -x TERROIR_PARAVIEW_SITE -x PYTHONPATH -x TERROIR_FLOW_ITERATIONS -x OMPI_MCA_mpi_yield_when_idle \
+  -x TERROIR_PARAVIEW_SITE -x PYTHONPATH -x TERROIR_FLOW_ITERATIONS -x OMPI_MCA_mpi_yield_when_idle -x TERROIR_TRIM \
   "$pvbatch" --symmetric "$here/ParaView/Testing/RunInParaView.py" \
   "$here/ParaView/Testing/DistributedChain.py" "$plugin" "$dem" "$run" full \
   >"$run/log.txt" 2>&1 || { echo "full chain, $np ranks, failed:"; tail -5 "$run/log.txt"; exit 1; }

@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <iostream>
 #include <sstream>
@@ -398,6 +399,27 @@ TEST(TerroirSolarIllumination, ArraysUnitsFieldDataAndCache)
   EXPECT_NE(Array(inst, "SunIncidence"), nullptr);
   EXPECT_EQ(Array(inst, "IlluminationHours"), nullptr);
   EXPECT_EQ(inst->GetFieldData()->GetArray("SunPositions")->GetNumberOfTuples(), 1);
+
+  // Without the cache every update sweeps again (the map was freed) and gives the same bits.
+  f->CacheHorizonMapOff();
+  f->SetTime(21.0);
+  RunFilter(f, crop);
+  EXPECT_EQ(f->GetLastHorizonMapSeconds(), 0.0) << "the map cached before is still fresh";
+  f->SetTime(20.0);
+  auto again = RunFilter(f, crop);
+  EXPECT_GT(f->GetLastHorizonMapSeconds(), 0.0) << "the map of the last update was kept";
+  for (const char* name : { "Illuminated", "SunIncidence" })
+  {
+    vtkDataArray* a = Array(inst, name);
+    vtkDataArray* b = Array(again, name);
+    ASSERT_NE(b, nullptr);
+    for (vtkIdType k = 0; k < a->GetNumberOfTuples(); ++k)
+    {
+      ASSERT_EQ(std::memcmp(a->GetVoidPointer(k), b->GetVoidPointer(k), sizeof(float)), 0)
+        << name << " cell " << k;
+    }
+  }
+  f->CacheHorizonMapOn();
 
   std::ostringstream os;
   f->Print(os);
