@@ -203,10 +203,17 @@ int vtkTerroirFlowAccumulation::RequestTerrainData(vtkImageData* input,
                          : vtkSmartPointer<vtkDoubleArray>();
   auto angle = this->Method == DInfinity ? NewArray<vtkFloatArray>(FlowAngleName(), n, "rad")
                                          : vtkSmartPointer<vtkFloatArray>();
-  if (this->DistributedRequest && this->Method == D8)
+  if (this->DistributedRequest)
   {
-    if (!this->AccumulateInPieces(
-          input, v, weighted ? weight.data() : nullptr, filled, direction, cells, area, volume))
+    if (!this->AccumulateInPieces(input,
+          v,
+          weighted ? weight.data() : nullptr,
+          filled,
+          direction,
+          cells,
+          area,
+          volume,
+          angle))
     {
       return 0;
     }
@@ -308,7 +315,8 @@ bool vtkTerroirFlowAccumulation::AccumulateInPieces(vtkImageData* input,
   vtkSignedCharArray* direction,
   vtkDoubleArray* cells,
   vtkDoubleArray* area,
-  vtkDoubleArray* volume)
+  vtkDoubleArray* volume,
+  vtkFloatArray* angle)
 {
   namespace hy = terroir::hydrology;
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
@@ -319,8 +327,14 @@ bool vtkTerroirFlowAccumulation::AccumulateInPieces(vtkImageData* input,
     vtkErrorMacro(<< this->SourcePrefix(input) << "a distributed run without its controller");
     return false;
   }
-  vtkDebugMacro(<< "D8 in pieces: " << hy::kPriorityFloodBarnes2016Citation << "; "
+  vtkDebugMacro(<< MethodName(this->Method)
+                << " in pieces: " << hy::kPriorityFloodBarnes2016Citation << "; "
                 << hy::kFlowAccumulationBarnes2017Citation);
+  hy::DispersiveFlowMethod dispersive;
+  dispersive.dInfinity = this->Method == DInfinity;
+  dispersive.mfd.exponent = this->MFDExponent;
+  dispersive.mfd.contourLength = this->MFDContourLength != 0;
+  dispersive.mfd.adaptive = this->MFDAdaptiveExponent != 0;
   vtkTerroirControllerTileExchange exchange(controller);
   hy::DistributedFlowOptions options;
   options.weight = weight;
@@ -329,11 +343,14 @@ bool vtkTerroirFlowAccumulation::AccumulateInPieces(vtkImageData* input,
   const bool ok = vtkTerroirControllerTileExchange::Run(
     [&]
     {
-      const hy::DistributedFlowResult r = hy::D8FlowAccumulationDistributed(
-        vtkTerroirControllerTileExchange::TileInput(outInfo, input, view), options, exchange);
+      const hy::DistributedFillInput tile =
+        vtkTerroirControllerTileExchange::TileInput(outInfo, input, view);
+      const hy::DistributedFlowResult r = this->Method == D8
+        ? hy::D8FlowAccumulationDistributed(tile, options, exchange)
+        : hy::DispersiveFlowAccumulationDistributed(tile, dispersive, options, exchange);
       vtkDebugMacro(<< r.summary.outlets << " outlets, " << r.summary.flatCells << " flat cells, "
                     << r.summary.sinks << " sinks; the flats took " << r.flatExchanges
-                    << " exchanges");
+                    << " exchanges, the sums " << r.accumulationRounds << " rounds");
       std::copy(r.filled.begin(), r.filled.end(), filled->GetPointer(0));
       std::copy(r.direction.begin(), r.direction.end(), direction->GetPointer(0));
       std::copy(r.cells.begin(), r.cells.end(), cells->GetPointer(0));
@@ -341,6 +358,10 @@ bool vtkTerroirFlowAccumulation::AccumulateInPieces(vtkImageData* input,
       if (volume)
       {
         std::copy(r.weighted.begin(), r.weighted.end(), volume->GetPointer(0));
+      }
+      if (angle)
+      {
+        std::copy(r.angle.begin(), r.angle.end(), angle->GetPointer(0));
       }
     },
     error);
@@ -357,6 +378,7 @@ bool vtkTerroirFlowAccumulation::AccumulateInPieces(vtkImageData* input,
   (void)cells;
   (void)area;
   (void)volume;
+  (void)angle;
   vtkErrorMacro(<< this->SourcePrefix(input) << "built without VTK::ParallelCore");
   return false;
 #endif

@@ -43,13 +43,15 @@
  *
  * Whole extent (global filter). CPU only, sequential: flow accumulation is a topological
  * sweep along the flow paths; results cannot depend on the thread count. Distributed runs
- * (pvbatch or pvserver under mpirun, one piece per process), method D8: each process holds its
- * piece and 2 ghost layers (terroir::hydrology::D8FlowAccumulationDistributed: Barnes 2016's
- * parallel fill, the flats' distances relaxed across pieces, Barnes 2017's perimeter graph for
- * the sums); only piece perimeters travel. The filled surface, directions, cell counts and
- * River are the serial ones bit for bit; areas and weighted sums agree to about 1e-15
- * relative (the order of the additions). MFD and DInfinity compute the whole grid on every
- * process and keep their piece. Backend Auto and CPU
+ * (pvbatch or pvserver under mpirun, one piece per process): each process holds its piece and
+ * 2 ghost layers; only piece perimeters travel. D8 (terroir::hydrology::
+ * D8FlowAccumulationDistributed: Barnes 2016's parallel fill, the flats' distances relaxed
+ * across pieces, Barnes 2017's perimeter graph for the sums): the filled surface, directions,
+ * cell counts and River are the serial ones bit for bit; areas and weighted sums agree to
+ * about 1e-15 relative (the order of the additions). MFD and DInfinity
+ * (DispersiveFlowAccumulationDistributed: the same fill and directions, the sums in rounds of
+ * inflow exchanged between the pieces until none changes): the filled surface, directions and
+ * FlowAngle bit for bit, the sums to about 1e-15 relative. Backend Auto and CPU
  * run the CPU path; an explicit GPU request is an error (as for vtkTerroirFloodFill). Errors
  * (one line, empty output): RiverThreshold < 0 or not finite; MFDExponent <= 0, SlopeExponent
  * or MinimumSlope < 0, or one of them not finite; WeightArrayName naming no point
@@ -198,9 +200,9 @@ protected:
   vtkTerroirFlowAccumulation();
   ~vtkTerroirFlowAccumulation() override;
 
-  /// The whole extent, except D8 in a distributed run: two ghost layers (one for the ring's
+  /// The whole extent, except in a distributed run: two ghost layers (one for the ring's
   /// directions, one for the slope of ChannelInitiation).
-  int GetHaloWidth() override { return this->DistributedRequest && this->Method == D8 ? 2 : -1; }
+  int GetHaloWidth() override { return this->DistributedRequest ? 2 : -1; }
   bool HasGPUPath() override { return false; }
   double EstimateMemory(double nx, double ny) override;
   std::string CheckParameters() override;
@@ -221,8 +223,9 @@ protected:
   double MinimumSlope = 1e-3;
 
 private:
-  /// D8 in a distributed run: fills the FilledElevation, FlowDirection, FlowAccumulation,
-  /// ContributingArea and (with weights) WeightedAccumulation arrays of this piece.
+  /// A distributed run: fills the FilledElevation, FlowDirection, FlowAccumulation,
+  /// ContributingArea, (with weights) WeightedAccumulation and (DInfinity) FlowAngle arrays of
+  /// this piece.
   bool AccumulateInPieces(vtkImageData* input,
     const terroir::GridView<float>& view,
     const float* weight,
@@ -230,7 +233,8 @@ private:
     vtkSignedCharArray* direction,
     vtkDoubleArray* cells,
     vtkDoubleArray* area,
-    vtkDoubleArray* volume);
+    vtkDoubleArray* volume,
+    vtkFloatArray* angle);
 
   vtkTerroirFlowAccumulation(const vtkTerroirFlowAccumulation&) = delete;
   void operator=(const vtkTerroirFlowAccumulation&) = delete;

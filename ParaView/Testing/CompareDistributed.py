@@ -1,6 +1,6 @@
 """Checks a distributed run of DistributedChain.py (mpirun -np N pvbatch) against the same chain
 run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, package `terroir`):
-    CompareDistributed.py terrain|zones|...|sun|sunhours|d8|d8ghost|full N DEM OUT_DIR
+    CompareDistributed.py terrain|zones|...|sun|sunhours|d8|d8ghost|mfd|dinf|full N DEM OUT_DIR
 - the pieces of OUT_DIR/chain.pvti, reassembled by VTK 9.1's vtkXMLPImageDataReader, give the
   serial arrays bit for bit (besides the all-zero vtkGhostType ParaView's writer adds) (the same cores on the same cells in the same order: a piece's
   cells see the same neighbours through their ghost layer); `vtkValidPointMask`, which the
@@ -30,7 +30,9 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
 - d8 (flow accumulation, D8 in pieces): FilledElevation, FlowDirection, FlowAccumulation and
   River bit for bit, ContributingArea and ChannelInitiation within D8_RTOL, and a river of the
   serial run crossing every column and row that the pieces share; d8ghost: the same with a
-  slope after it (reader: 3 cells);
+  slope after it (reader: 3 cells); mfd, dinf (MFD and D-infinity in pieces): the same, with
+  FlowAccumulation within D8_RTOL too (the dispersive sums are not integers) and FlowAngle
+  (D-infinity) bit for bit;
 - rivers (water flow, Rivers mode without the warm start, in pieces): as flow (every array bit
   for bit, DischargeRate, RiverStrength and LakeMask included; the same iterations and stop
   reason, Balanced; the volumes within FLOW_VOLUME_RTOL; a river across every shared line);
@@ -57,7 +59,7 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 # The flood fill reads its piece and one ring (its perimeter's neighbours), one more for a slope.
 GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'rivers': 3,
          'riversghost': 4, 'lakes': 1, 'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16,
-         'd8': 2, 'd8ghost': 3, 'full': 72}
+         'd8': 2, 'd8ghost': 3, 'mfd': 2, 'dinf': 2, 'full': 72}
 # Water flow: the run's volumes are sums over the cells that each process adds for its own
 # cells before the processes' sums are added in rank order, another order than the serial
 # rows (doubles, ~1e-16 relative per addition, over up to 1e4 iterations).
@@ -135,8 +137,12 @@ def serial(recipe, dem):
         stages = [terroir.vtkTerroirFloodFill()]
         for x, y in ((215365.0, 4371215.0), (220005.0, 4368475.0)):  # DistributedChain.SEEDS
             stages[0].AddSeedPoint(x, y)
-    if recipe in ('d8', 'd8ghost'):
+    if recipe in ('d8', 'd8ghost', 'mfd', 'dinf'):
         stages = [terroir.vtkTerroirFlowAccumulation()]
+        if recipe == 'mfd':
+            stages[0].SetMethodToMFD()
+        if recipe == 'dinf':
+            stages[0].SetMethodToDInfinity()
     if recipe in ('lakesghost', 'd8ghost'):
         stages.append(terroir.vtkTerroirSlope())
     if recipe in ('flowghost', 'riversghost'):
@@ -227,8 +233,10 @@ def main():
                 problems.append('%s: equal to the serial run: the halo was not too small' % name)
             compared += 1
             continue
-        if recipe in ('d8', 'd8ghost', 'full') and name in ('ContributingArea',
-                                                            'ChannelInitiation'):
+        if (recipe in ('d8', 'd8ghost', 'full') and name in ('ContributingArea',
+                                                             'ChannelInitiation')) or \
+                (recipe in ('mfd', 'dinf') and name in ('FlowAccumulation', 'ContributingArea',
+                                                        'ChannelInitiation')):
             close = x.shape == y.shape and np.allclose(x, y, rtol=D8_RTOL, atol=0.0, equal_nan=True)
             print('%s: max relative difference %.3g' % (
                 name, float(np.nanmax(np.abs(x - y) / np.maximum(np.abs(y), 1e-300)))))
@@ -289,7 +297,8 @@ def main():
         problems.append('the pieces do not tile the extent (%d cells covered %s times)' % (
             int((cover != 1).sum()), sorted(set(cover.ravel().tolist()) - {1})))
 
-    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'd8', 'd8ghost') and ranks > 1:
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'd8', 'd8ghost', 'mfd',
+                  'dinf') and ranks > 1:
         # A river must cross every line the pieces share (else the halo is not really tested):
         # the serial run's River cells on both sides of each shared column and row.
         dims = expected.GetDimensions()

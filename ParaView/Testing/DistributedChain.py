@@ -3,7 +3,7 @@ builds the same pipeline, ParaView's parallel image writer writes one piece per 
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
         PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|rivers|riversghost|lakes|
-        lakesghost|seeds|sun|sunhours|d8|d8ghost|full
+        lakesghost|seeds|sun|sunhours|d8|d8ghost|mfd|dinf|full
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
 zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
@@ -19,7 +19,8 @@ flood fill (Seeds: Independence Lake's cell and a cell in another piece, at the 
 sun: DEM -> solar illumination (Instant, 21 June at 12:00 PST) with a halo of SUN_HALO cells;
 sunhours: the same day's hours of sun (Daily, 30-minute steps) with a halo of 16 cells only;
 d8: DEM -> flow accumulation (D8 in pieces: the parallel fill, the flats' distances relaxed
-across the pieces, Barnes 2017's perimeter graph); d8ghost: d8, then slope.
+across the pieces, Barnes 2017's perimeter graph); d8ghost: d8, then slope; mfd, dinf: DEM ->
+flow accumulation by MFD (Freeman) or D-infinity in pieces (the sums in rounds of inflow).
 OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
 rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
 the whole grid on every rank and rank 0 writes), and
@@ -71,6 +72,11 @@ def main():
     if recipe == 'seeds':
         last = TerroirFloodFill(Input=reader, Mode='Seeds', SeedPoints=SEEDS)  # noqa: F821
         return write(reader, last, out_dir, recipe)
+    if recipe in ('mfd', 'dinf'):
+        # MFD (Freeman's) and D-infinity in pieces: the sums in rounds of inflow.
+        method = 'MFD' if recipe == 'mfd' else 'DInfinity'
+        last = TerroirFlowAccumulation(Input=reader, Method=method)  # noqa: F821
+        return write(reader, last, out_dir, recipe)
     if recipe in ('d8', 'd8ghost'):
         # Each piece with 2 ghost layers; only the pieces' perimeters travel.
         last = TerroirFlowAccumulation(Input=reader, Method='D8')  # noqa: F821
@@ -107,7 +113,7 @@ def main():
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
         raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, rivers, '
-                         'riversghost, lakes, lakesghost, seeds, sun, sunhours, d8, d8ghost or '
+                         'riversghost, lakes, lakesghost, seeds, sun, sunhours, d8, d8ghost, mfd, dinf or '
                          'full, not ' + recipe)
     return write(reader, last, out_dir, recipe)
 

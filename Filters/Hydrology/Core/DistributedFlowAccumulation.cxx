@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -578,6 +579,333 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
     out.assign(n, kNaN);
     ForOwned(in, [&](std::size_t k, int gi, int gj) { out[k] = sums[s][tile.Owned(gi, gj)]; });
     ExchangeRing<double>(in, reachAll, out.data(), kNaN, exchange, nullptr, kName);
+  }
+  std::vector<std::int8_t> owned(n, kD8NoData);
+  ForOwned(in, [&](std::size_t k, int, int) { owned[k] = dir[k]; });
+  ExchangeRing<std::int8_t>(in, reachAll, owned.data(), kD8NoData, exchange, nullptr, kName);
+  result.direction = std::move(owned);
+  return result;
+}
+
+namespace
+{
+constexpr const char* kDispersiveName = "DispersiveFlowAccumulationDistributed";
+
+/// What rank 0 keeps between the rounds of the dispersive accumulation: per tile, the flow
+/// entering its cells (whole-grid cell -> m sums), the last round's.
+using Inflows = std::vector<std::map<std::int64_t, std::vector<double>>>;
+
+/// One round: each tile sends the m sums its owned cells sent into the cells around it (its
+/// ring of 1, cells with data); rank 0 adds them per receiving cell in rank order and returns
+/// each tile the flow entering its owned cells, written into `inflow` (m view-sized arrays,
+/// zero elsewhere). True when no tile's inflow changed since the last round (rank 0 keeps
+/// them in `previous`; `round` counts from 1). Also the grid's D8 counts (`total`, of the tiles'
+/// `summary`) and the widest reach (`reach`).
+bool InflowRound(const DistributedFillInput& in,
+  const std::int8_t* dir,
+  const std::vector<std::vector<double>>& sums,
+  std::vector<std::vector<double>>& inflow,
+  TileExchange& exchange,
+  Inflows& previous,
+  int round,
+  const std::string& problem,
+  const D8Summary& summary,
+  D8Summary& total,
+  int& reach)
+{
+  const Tile tile(in);
+  const std::size_t m = sums.size();
+  std::vector<std::int64_t> cells;
+  std::vector<double> values;
+  ForRing(in.owned,
+    1,
+    in.wholeNx,
+    in.wholeNy,
+    [&](int gi, int gj)
+    {
+      const std::size_t k = tile.ViewIndex(gi, gj);
+      if (dir[k] != kD8NoData)
+      {
+        cells.push_back(tile.Global(gi, gj));
+        for (std::size_t s = 0; s < m; ++s)
+        {
+          values.push_back(sums[s][k]);
+        }
+      }
+    });
+  Writer w;
+  WriteHead(w, problem, in);
+  w.Put<std::uint64_t>(summary.outlets);
+  w.Put<std::uint64_t>(summary.flatCells);
+  w.Put<std::uint64_t>(summary.sinks);
+  w.Put<std::uint64_t>(m);
+  w.PutVector(cells);
+  w.PutVector(values);
+  const std::vector<std::vector<char>> all = exchange.Gather(w.Bytes);
+  std::vector<std::vector<char>> replies;
+  if (exchange.Rank() == 0)
+  {
+    try
+    {
+      const int ranks = exchange.Size();
+      std::vector<TileBox> boxes;
+      std::vector<std::int32_t> reaches;
+      D8Summary total;
+      std::vector<std::vector<std::int64_t>> sent(static_cast<std::size_t>(ranks));
+      std::vector<std::vector<double>> sentValues(static_cast<std::size_t>(ranks));
+      for (int t = 0; t < ranks; ++t)
+      {
+        Reader r(all.at(static_cast<std::size_t>(t)));
+        const std::string why = ReadHead(r, t, in.wholeNx, in.wholeNy, boxes, reaches);
+        if (!why.empty())
+        {
+          throw std::runtime_error(why);
+        }
+        total.outlets += r.Get<std::uint64_t>();
+        total.flatCells += r.Get<std::uint64_t>();
+        total.sinks += r.Get<std::uint64_t>();
+        if (r.Get<std::uint64_t>() != m)
+        {
+          throw std::runtime_error("the tiles disagree on the weights");
+        }
+        sent[t] = r.GetVector<std::int64_t>();
+        sentValues[t] = r.GetVector<double>();
+        if (sentValues[t].size() != m * sent[t].size())
+        {
+          throw std::runtime_error("a tile's sums do not match its cells");
+        }
+      }
+      const std::string why = CheckPartition(boxes, in.wholeNx, in.wholeNy);
+      if (!why.empty())
+      {
+        throw std::runtime_error(why);
+      }
+      // A path of the acyclic flow graph enters each cell once: it crosses into other tiles
+      // at most once per ring cell, and one more round sees no change.
+      std::size_t ringCells = 0;
+      for (const std::vector<std::int64_t>& c : sent)
+      {
+        ringCells += c.size();
+      }
+      if (static_cast<std::size_t>(round) > ringCells + 2)
+      {
+        throw std::runtime_error("the flow between the tiles does not settle (a cycle)");
+      }
+      // Each receiving cell's sums over the senders, in rank order.
+      Inflows now(static_cast<std::size_t>(ranks));
+      for (int t = 0; t < ranks; ++t)
+      {
+        for (std::size_t c = 0; c < sent[t].size(); ++c)
+        {
+          const int gi = static_cast<int>(sent[t][c] % in.wholeNx);
+          const int gj = static_cast<int>(sent[t][c] / in.wholeNx);
+          std::size_t owner = 0;
+          while (owner < boxes.size() && !boxes[owner].Contains(gi, gj))
+          {
+            ++owner;
+          }
+          if (owner == boxes.size() || owner == static_cast<std::size_t>(t))
+          {
+            throw std::runtime_error("a tile sent flow to a cell no other tile owns");
+          }
+          std::vector<double>& into = now[owner][sent[t][c]];
+          into.resize(m, 0.0);
+          for (std::size_t s = 0; s < m; ++s)
+          {
+            into[s] += sentValues[t][c * m + s];
+          }
+        }
+      }
+      const bool same = now == previous;
+      previous = std::move(now);
+      for (int t = 0; t < ranks; ++t)
+      {
+        Writer reply;
+        reply.Put<std::uint8_t>(0);
+        reply.Put<std::uint8_t>(same ? 1 : 0);
+        reply.Put<std::int32_t>(*std::max_element(reaches.begin(), reaches.end()));
+        reply.Put<std::uint64_t>(total.outlets);
+        reply.Put<std::uint64_t>(total.flatCells);
+        reply.Put<std::uint64_t>(total.sinks);
+        std::vector<std::int64_t> to;
+        std::vector<double> flow;
+        for (const auto& entry : previous[t])
+        {
+          to.push_back(entry.first);
+          flow.insert(flow.end(), entry.second.begin(), entry.second.end());
+        }
+        reply.PutVector(to);
+        reply.PutVector(flow);
+        replies.push_back(std::move(reply.Bytes));
+      }
+    }
+    catch (const std::exception& x)
+    {
+      replies = FailAll(exchange.Size(), x.what());
+    }
+  }
+  const std::vector<char> bytes = exchange.Scatter(replies);
+  Reader r(bytes);
+  CheckStatus(r, kDispersiveName);
+  const bool same = r.Get<std::uint8_t>() != 0;
+  reach = r.Get<std::int32_t>();
+  total.outlets = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  total.flatCells = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  total.sinks = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  const std::vector<std::int64_t> to = r.GetVector<std::int64_t>();
+  const std::vector<double> flow = r.GetVector<double>();
+  if (flow.size() != m * to.size() || reach < in.reach)
+  {
+    throw std::runtime_error(std::string(kDispersiveName) + ": rank 0's inflows do not match");
+  }
+  for (std::vector<double>& f : inflow)
+  {
+    std::fill(f.begin(), f.end(), 0.0);
+  }
+  for (std::size_t e = 0; e < to.size(); ++e)
+  {
+    const int gi = static_cast<int>(to[e] % in.wholeNx);
+    const int gj = static_cast<int>(to[e] / in.wholeNx);
+    if (!in.owned.Contains(gi, gj))
+    {
+      throw std::runtime_error(std::string(kDispersiveName) + ": an inflow to another tile");
+    }
+    for (std::size_t s = 0; s < m; ++s)
+    {
+      inflow[s][tile.ViewIndex(gi, gj)] = flow[e * m + s];
+    }
+  }
+  return same;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+DistributedFlowResult DispersiveFlowAccumulationDistributed(const DistributedFillInput& in,
+  const DispersiveFlowMethod& method,
+  const DistributedFlowOptions& options,
+  TileExchange& exchange)
+{
+  const std::size_t n = in.view.Size();
+  DistributedFlowResult result;
+
+  // ---- 1-3. The filled surface (one ring beyond the caller's) and the D8 codes, as for D8:
+  // the owned cells', then the ring's from their owners (the partitions read them).
+  DistributedFillInput wide = in;
+  wide.reach = in.reach + 1;
+  result.filled = FillDepressionsDistributed(wide, DepressionWaterBodyOptions(), exchange).filled;
+  const float* w = result.filled.data();
+  std::vector<std::int8_t> dir(n);
+  D8Summary mine;
+  result.flatExchanges = OwnedDirections(in, w, dir.data(), exchange, mine);
+  result.direction.assign(n, kD8NoData);
+  ForOwned(in, [&](std::size_t k, int, int) { result.direction[k] = dir[k]; });
+  // Rounds need every tile's reach for the ring; the first round tells it, so the ring of 1
+  // (what the partitions read) comes first and the caller's ring at the end.
+  DistributedFillInput near = in;
+  near.reach = 1;
+  ExchangeRing<std::int8_t>(
+    near, 1, result.direction.data(), kD8NoData, exchange, nullptr, kDispersiveName);
+
+  // ---- 4. The sums in rounds: each tile accumulates its owned cells with the flow entering
+  // them; the flow they send into other tiles' cells becomes those tiles' inflow; until no
+  // inflow changes (a flow path crossing tile edges k times needs k + 1 rounds).
+  const std::size_t m = options.weight ? 3 : 2;
+  std::vector<std::vector<double>> sums(m, std::vector<double>(n, 0.0));
+  std::vector<std::vector<double>> inflow(m, std::vector<double>(n, 0.0));
+  const int box[4] = {
+    in.owned.i0 - in.gi0, in.owned.i1 - in.gi0, in.owned.j0 - in.gj0, in.owned.j1 - in.gj0
+  };
+  // `incoming`: the flow entering the owned cells (a full run), or its change since the last
+  // round (an incremental one: only the cells downstream of a change are updated).
+  const auto accumulate =
+    [&](std::size_t s, const std::vector<double>& incoming, bool incremental, float* angle)
+  {
+    AccumulationOptions o;
+    o.active = box;
+    o.inflow = incoming.data();
+    o.incremental = incremental;
+    o.timesCellArea = s == 1;
+    o.scale = s == 2 ? options.weightScale : 1.0;
+    const float* weight = s == 2 ? options.weight : nullptr;
+    if (method.dInfinity)
+    {
+      DInfinityAccumulation(in.view, w, result.direction.data(), weight, sums[s].data(), angle, o);
+    }
+    else
+    {
+      MultipleFlowAccumulation(
+        in.view, w, result.direction.data(), method.mfd, weight, sums[s].data(), o);
+    }
+  };
+  Inflows previous;
+  int reachAll = in.reach;
+  std::vector<std::vector<double>> received = inflow;
+  for (bool same = false; !same;)
+  {
+    // A tile's failure travels with its message, so that every rank fails alike.
+    std::string problem;
+    try
+    {
+      const bool incremental = result.accumulationRounds > 0;
+      for (std::size_t s = 0; s < m; ++s)
+      {
+        if (incremental)
+        {
+          for (std::size_t k = 0; k < n; ++k)
+          {
+            const double now = received[s][k];
+            received[s][k] = now - inflow[s][k]; // the change
+            inflow[s][k] = now;
+          }
+        }
+        accumulate(s, incremental ? received[s] : inflow[s], incremental, nullptr);
+      }
+    }
+    catch (const std::exception& x)
+    {
+      problem = x.what();
+    }
+    ++result.accumulationRounds;
+    same = InflowRound(in,
+      result.direction.data(),
+      sums,
+      received,
+      exchange,
+      previous,
+      result.accumulationRounds,
+      problem,
+      mine,
+      result.summary,
+      reachAll);
+  }
+
+  // ---- 5. The view-sized results, the ring's from its owners.
+  std::vector<std::vector<double>*> outputs{ &result.cells, &result.area };
+  if (m == 3)
+  {
+    outputs.push_back(&result.weighted);
+  }
+  for (std::size_t s = 0; s < m; ++s)
+  {
+    std::vector<double>& out = *outputs[s];
+    out.assign(n, kNaN);
+    ForOwned(in, [&](std::size_t k, int, int) { out[k] = sums[s][k]; });
+    ExchangeRing<double>(in, reachAll, out.data(), kNaN, exchange, nullptr, kDispersiveName);
+  }
+  if (method.dInfinity)
+  {
+    std::vector<float> angle(n);
+    std::vector<double> none(n, 0.0);
+    accumulate(0, none, false, angle.data()); // the owned cells' angles (sums[0] is copied)
+    result.angle.assign(n, std::numeric_limits<float>::quiet_NaN());
+    ForOwned(in, [&](std::size_t k, int, int) { result.angle[k] = angle[k]; });
+    ExchangeRing<float>(in,
+      reachAll,
+      result.angle.data(),
+      std::numeric_limits<float>::quiet_NaN(),
+      exchange,
+      nullptr,
+      kDispersiveName);
   }
   std::vector<std::int8_t> owned(n, kD8NoData);
   ForOwned(in, [&](std::size_t k, int, int) { owned[k] = dir[k]; });

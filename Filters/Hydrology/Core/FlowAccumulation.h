@@ -139,9 +139,20 @@ struct AccumulationOptions
   double scale = 1.0;         ///< factor on every weight (e.g. 1e-3 for mm -> m)
   bool timesCellArea = false; ///< multiply by the cell's area DxAt(j) * DyAt(j), m^2
   /// Optional, nx*ny amounts added as they are (not scaled) to the weights of the cells with
-  /// data: flow entering from outside the grid (D8FlowAccumulation only; a tile of a
-  /// distributed run receives its neighbours' flow this way).
+  /// data: flow entering from outside the grid (a tile of a distributed run receives its
+  /// neighbours' flow this way).
   const double* inflow = nullptr;
+  /// MultipleFlowAccumulation and DInfinityAccumulation: optional box of view cells (columns
+  /// active[0]..active[1], rows active[2]..active[3]). Only its cells start with their weight
+  /// (and inflow) and pass their flow on; a cell with data outside keeps what the box's cells
+  /// send it (0 when none): a tile of a distributed run, its ring's cells the other tiles'.
+  const int* active = nullptr;
+  /// MultipleFlowAccumulation and DInfinityAccumulation: `accumulation` holds an earlier
+  /// result and `inflow` (required) the change of the flow entering each cell; only the cells
+  /// downstream of a non-zero change are updated (the sums being linear in the inflow): a tile
+  /// of a distributed run, when the inflow from the other tiles changed at a few cells. The
+  /// weights are not read; the angle is not computed.
+  bool incremental = false;
   std::function<void(double)> progress; ///< optional, fraction done (0..1)
 };
 

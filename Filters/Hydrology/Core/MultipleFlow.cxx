@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace terroir
@@ -51,6 +52,9 @@ void Accumulate(const GridView<float>& view,
   const int nx = view.nx;
   const int ny = view.ny;
   const std::size_t n = view.Size();
+  const int* box = options.active;
+  const auto active = [box](int i, int j)
+  { return !box || (i >= box[0] && i <= box[1] && j >= box[2] && j <= box[3]); };
   std::vector<std::uint8_t> inDegree(n, 0);
   double fraction[8];
   for (int j = 0; j < ny; ++j)
@@ -60,7 +64,19 @@ void Accumulate(const GridView<float>& view,
     for (int i = 0; i < nx; ++i)
     {
       const std::size_t k = view.Index(i, j);
-      if (!detail::StartCell(direction[k], weight, k, factor, accumulation, i, j, function))
+      if (!active(i, j))
+      {
+        accumulation[k] =
+          direction[k] == kD8NoData ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+        continue;
+      }
+      const bool drains =
+        detail::StartCell(direction[k], weight, k, factor, accumulation, i, j, function);
+      if (options.inflow && direction[k] != kD8NoData)
+      {
+        accumulation[k] += options.inflow[k];
+      }
+      if (!drains)
       {
         continue;
       }
@@ -89,12 +105,12 @@ void Accumulate(const GridView<float>& view,
     ready.pop_back();
     inDegree[k] = 0xff;
     ++done;
-    if (direction[k] == kD8Outlet)
+    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
+    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
+    if (direction[k] == kD8Outlet || !active(i, j))
     {
       continue;
     }
-    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
-    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
     partition(i, j, fraction);
     for (int e = 0; e < 8; ++e)
     {
@@ -126,6 +142,108 @@ void Accumulate(const GridView<float>& view,
   if (options.progress)
   {
     options.progress(1.0);
+  }
+}
+
+/// Accumulate's incremental form (AccumulationOptions::incremental): the changes in
+/// options.inflow pushed down from the active cells where they are non-zero, through the cells
+/// downstream of them only, in topological order (a stack started in index order).
+template<typename Partition>
+void PropagateChange(const GridView<float>& view,
+  const std::int8_t* direction,
+  double* accumulation,
+  const AccumulationOptions& options,
+  const char* function,
+  Partition partition)
+{
+  if (!options.inflow)
+  {
+    throw std::invalid_argument(std::string(function) + ": an incremental run needs the inflow");
+  }
+  const int nx = view.nx;
+  const std::size_t n = view.Size();
+  const int* box = options.active;
+  const auto active = [box](int i, int j)
+  { return !box || (i >= box[0] && i <= box[1] && j >= box[2] && j <= box[3]); };
+  const auto drains = [&](std::size_t k, int i, int j)
+  { return direction[k] >= 0 && direction[k] <= 7 && active(i, j); };
+  // The cells downstream of a change, and their in-degrees within that set.
+  std::unordered_map<std::size_t, std::uint8_t> inDegree;
+  std::unordered_map<std::size_t, double> change;
+  std::vector<std::size_t> stack;
+  double fraction[8];
+  for (std::size_t k = n; k-- > 0;)
+  {
+    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
+    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
+    if (options.inflow[k] != 0.0 && direction[k] != kD8NoData && active(i, j))
+    {
+      change[k] = options.inflow[k];
+      if (inDegree.emplace(k, 0).second)
+      {
+        stack.push_back(k);
+      }
+    }
+  }
+  std::vector<std::size_t> seeds(stack.rbegin(), stack.rend()); // index order
+  while (!stack.empty())
+  {
+    const std::size_t k = stack.back();
+    stack.pop_back();
+    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
+    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
+    if (!drains(k, i, j))
+    {
+      continue;
+    }
+    partition(i, j, fraction);
+    for (int e = 0; e < 8; ++e)
+    {
+      if (fraction[e] > 0.0)
+      {
+        const std::size_t t = view.Index(i + kD8Di[e], j + kD8Dj[e]);
+        const auto added = inDegree.emplace(t, 0);
+        ++added.first->second;
+        if (added.second)
+        {
+          stack.push_back(t);
+        }
+      }
+    }
+  }
+  std::vector<std::size_t> ready;
+  for (auto s = seeds.rbegin(); s != seeds.rend(); ++s)
+  {
+    if (inDegree[*s] == 0)
+    {
+      ready.push_back(*s); // popped in index order
+    }
+  }
+  while (!ready.empty())
+  {
+    const std::size_t k = ready.back();
+    ready.pop_back();
+    const double d = change[k];
+    accumulation[k] += d;
+    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
+    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
+    if (!drains(k, i, j))
+    {
+      continue;
+    }
+    partition(i, j, fraction);
+    for (int e = 0; e < 8; ++e)
+    {
+      if (fraction[e] > 0.0)
+      {
+        const std::size_t t = view.Index(i + kD8Di[e], j + kD8Dj[e]);
+        change[t] += fraction[e] * d;
+        if (--inDegree[t] == 0)
+        {
+          ready.push_back(t);
+        }
+      }
+    }
   }
 }
 
@@ -215,6 +333,11 @@ void MultipleFlowAccumulation(const GridView<float>& view,
       fraction[e] /= sum;
     }
   };
+  if (options.incremental)
+  {
+    PropagateChange(view, direction, accumulation, options, "MultipleFlowAccumulation", partition);
+    return;
+  }
   Accumulate(view, direction, weight, accumulation, options, "MultipleFlowAccumulation", partition);
 }
 
@@ -316,6 +439,11 @@ void DInfinityAccumulation(const GridView<float>& view,
     fraction[kFacetCardinal[facet]] = (a - r) / a;
     fraction[kFacetDiagonal[facet]] += r / a;
   };
+  if (options.incremental)
+  {
+    PropagateChange(view, direction, accumulation, options, "DInfinityAccumulation", partition);
+    return;
+  }
   Accumulate(view, direction, weight, accumulation, options, "DInfinityAccumulation", partition);
   if (!angle)
   {
