@@ -13,7 +13,10 @@
  * halved ([ceil(a / 2), floor(b / 2)] per axis) and again partition the level. On each level a
  * process holds its owned box grown by reach + 1 (clipped to the level), where reach >= 2 is
  * wide enough that the refinement of the finer level reads only cells within reach (the
- * iterations refresh those from their owners). Per level:
+ * iterations refresh those from their owners): the fine cells within r of the owned box
+ * [a, b] read coarse cells floor((a - r) / 2) .. floor((b + r) / 2), at most floor(r / 2) + 1
+ * outside the coarse owned box (a odd), so reach(l + 1) = max(2, floor(reach(l) / 2) + 1)
+ * (checked on every level before its run). Per level:
  * 1. the coarse heights, validity, spacing per row and rain of the owned cells from the finer
  *    level's cells (the same arithmetic as WaterFlowCoarsen), the ring's from their owners;
  * 2. the still water: FillDepressionsDistributed (Barnes 2016) on the level's tiles;
@@ -24,7 +27,14 @@
  *    owners and sums the iteration's window sums over the processes in rank order, so that
  *    every process stops at the same iteration as the serial run;
  * 4. refinement of the finer level's held cells (fine still water + 2 x coarse flowing water).
- * The exchanges go through TileExchange's Gather and Scatter (rank 0 routes them).
+ * The exchanges go through TileExchange's Gather and Scatter (rank 0 routes them): per level,
+ * the band of coarse cells once (heights, validity, rain, row spacing: 48 B a cell with its
+ * index), the distributed fill's perimeters, and per iteration the band of water (16 B a
+ * cell) and three sums.
+ * Every rank calls every collective in the same order; a failure on one rank (a bad tile, a
+ * negative rain found while a level is set up) becomes the same std::invalid_argument on all.
+ * The runner must not fail on one rank alone once a level runs (the others would wait in the
+ * iteration hook's exchange).
  *
  * Equal to WaterFlowWarmStart on the whole grid: the water of every held cell within its
  * reach of the owned ones bit for bit, the levels (sizes, iterations, reasons) exactly.
@@ -67,6 +77,8 @@ struct WaterFlowWarmStartTile
  *        coarsestSide) keeps at least one owned cell on every process (else a process would
  *        hold an empty tile: the caller then runs the serial warm start on the whole grid).
  * @param owned every process's owned box of the fine grid, by rank
+ * @return true also when no coarse level fits (the warm start then leaves the water alone)
+ * @throws std::invalid_argument when options.coarsestSide < 2
  */
 bool WaterFlowWarmStartFitsTiles(const std::vector<TileBox>& owned,
   int wholeNx,
