@@ -129,7 +129,8 @@ hy::WaterFlowWarmStartOptions Options(int coarsestSide)
 /// What a runner saw of one level: its size and rule.
 struct Seen
 {
-  int nx;
+  int nx; ///< the simulated grid's (the held box's on a tile)
+  int ny;
   long long balanceAfter;
   long long maximumIterations;
 };
@@ -149,7 +150,7 @@ Serial RunSerial(const Grid& g, bool rainField, const hy::WaterFlowWarmStartOpti
   const hy::WaterFlowLevelRun run = [&](
                                       hy::WaterFlowSimulation& sim, const hy::WaterFlowStopRule& r)
   {
-    s.seen.push_back(Seen{ sim.Nx(), r.balanceAfter, r.maximumIterations });
+    s.seen.push_back(Seen{ sim.Nx(), sim.Ny(), r.balanceAfter, r.maximumIterations });
     return sim.Run(r);
   };
   s.levels = hy::WaterFlowWarmStart(
@@ -265,7 +266,8 @@ Outcome RunTiles(const Grid& w,
       const hy::WaterFlowLevelRun run =
         [&, r](hy::WaterFlowSimulation& sim, const hy::WaterFlowStopRule& rule)
       {
-        out.seen[r].push_back(Seen{ 0, rule.balanceAfter, rule.maximumIterations });
+        out.seen[r].push_back(
+          Seen{ sim.Nx(), sim.Ny(), rule.balanceAfter, rule.maximumIterations });
         if (!refresh)
         {
           // The control: a hook that only adds the tiles' sums (rank order), no ring refresh.
@@ -336,6 +338,40 @@ int Differences(const Grid& w, const Split& split, const Outcome& out, const Ser
   return wrong;
 }
 
+/// The box a tile's run of the level `down` levels below the grid holds: the coarse cells
+/// whose fine cell (2i, 2j) the tile owns (found by search), grown by the level's reach + 1.
+hy::TileBox ExpectedHeld(hy::TileBox owned, int reach, int nx, int ny, int down)
+{
+  for (int l = 0; l < down; ++l)
+  {
+    nx = (nx + 1) / 2;
+    ny = (ny + 1) / 2;
+    hy::TileBox c{ nx, -1, ny, -1 };
+    for (int i = 0; i < nx; ++i)
+    {
+      if (owned.i0 <= 2 * i && 2 * i <= owned.i1)
+      {
+        c.i0 = std::min(c.i0, i);
+        c.i1 = std::max(c.i1, i);
+      }
+    }
+    for (int j = 0; j < ny; ++j)
+    {
+      if (owned.j0 <= 2 * j && 2 * j <= owned.j1)
+      {
+        c.j0 = std::min(c.j0, j);
+        c.j1 = std::max(c.j1, j);
+      }
+    }
+    owned = c;
+    reach = std::max(2, reach / 2 + 1);
+  }
+  return hy::TileBox{ std::max(0, owned.i0 - reach - 1),
+    std::min(nx - 1, owned.i1 + reach + 1),
+    std::max(0, owned.j0 - reach - 1),
+    std::min(ny - 1, owned.j1 + reach + 1) };
+}
+
 void ExpectSerial(const Grid& w,
   const Split& split,
   bool rainField,
@@ -357,6 +393,11 @@ void ExpectSerial(const Grid& w,
       EXPECT_EQ(out.levels[r][l].reason, s.levels[l].reason) << what << " level " << l;
       EXPECT_EQ(out.seen[r][l].balanceAfter, s.seen[l].balanceAfter) << what << " level " << l;
       EXPECT_EQ(out.seen[r][l].maximumIterations, s.seen[l].maximumIterations) << what;
+      // Each tile holds its own part of the level, not the level.
+      const hy::TileBox held = ExpectedHeld(
+        split.owned[r], split.reach[r], w.nx, w.ny, static_cast<int>(s.levels.size() - l));
+      EXPECT_EQ(out.seen[r][l].nx, held.i1 - held.i0 + 1) << what << " level " << l;
+      EXPECT_EQ(out.seen[r][l].ny, held.j1 - held.j0 + 1) << what << " level " << l;
     }
   }
   EXPECT_EQ(Differences(w, split, out, s), 0) << what;
