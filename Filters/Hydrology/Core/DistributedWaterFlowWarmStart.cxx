@@ -318,11 +318,11 @@ void CheckStart(const WaterFlowWarmStartTile& tile,
   CheckStatus(r, kName);
 }
 
-/// Step 1: the coarser level of `fine` (WaterFlowCoarsen's arithmetic on the owned cells,
-/// the ring of reach + 1 from its owners) into `c`.
-void Coarsen(const Level& fine, CoarseLevel& c, TileExchange& exchange)
+/// The coarser level's geometry: its size, owned boxes, reaches and this tile's held box
+/// (owned grown by reach + 1) as the view's origin and size (no data yet).
+Level CoarseGeometry(const Level& fine)
 {
-  Level& L = c.level;
+  Level L;
   L.nx = (fine.nx + 1) / 2;
   L.ny = (fine.ny + 1) / 2;
   L.rank = fine.rank;
@@ -332,11 +332,18 @@ void Coarsen(const Level& fine, CoarseLevel& c, TileExchange& exchange)
     L.reach.push_back(CoarseReach(fine.reach[p]));
   }
   const TileBox held = Grow(L.Mine(), L.Reach() + 1, L.nx, L.ny);
-  const int hnx = held.i1 - held.i0 + 1;
-  const int hny = held.j1 - held.j0 + 1;
   L.gi0 = held.i0;
   L.gj0 = held.j0;
-  std::vector<CoarseCell> cells(static_cast<std::size_t>(hnx) * static_cast<std::size_t>(hny));
+  L.view.nx = held.i1 - held.i0 + 1;
+  L.view.ny = held.j1 - held.j0 + 1;
+  return L;
+}
+
+/// The owned cells of coarse level `L` from `fine` (WaterFlowCoarsen's arithmetic), in a
+/// held-sized array.
+std::vector<CoarseCell> OwnedCoarseCells(const Level& fine, const Level& L)
+{
+  std::vector<CoarseCell> cells(L.view.Size());
   const TileBox& o = L.Mine();
   for (int j = o.j0; j <= o.j1; ++j)
   {
@@ -346,9 +353,7 @@ void Coarsen(const Level& fine, CoarseLevel& c, TileExchange& exchange)
     const double dy = fine.view.DyAt(a) + fine.view.DyAt(b);
     for (int i = o.i0; i <= o.i1; ++i)
     {
-      CoarseCell& cell =
-        cells[static_cast<std::size_t>(j - held.j0) * static_cast<std::size_t>(hnx) +
-          static_cast<std::size_t>(i - held.i0)];
+      CoarseCell& cell = cells[L.At(i, j)];
       double mean = 0.0;
       cell.valid = BlockMean(fine, fine.view.data, i, j, mean) ? 1 : 0;
       cell.z = static_cast<float>(mean);
@@ -360,46 +365,40 @@ void Coarsen(const Level& fine, CoarseLevel& c, TileExchange& exchange)
       cell.dy = dy;
     }
   }
-  DistributedFillInput in = L.Input(L.Reach() + 1);
-  in.view.nx = hnx;
-  in.view.ny = hny;
-  ExchangeRing<CoarseCell>(
-    in, L.MaxReach() + 1, cells.data(), CoarseCell(), exchange, nullptr, kName);
+  return cells;
+}
 
-  c.z.resize(cells.size());
-  c.valid.resize(cells.size());
-  for (std::size_t k = 0; k < cells.size(); ++k)
+/// Step 1: the coarser level of `fine` into `c`: the owned cells computed, the ring of
+/// reach + 1 from its owners; spacing per row only when the fine level has it.
+void Coarsen(const Level& fine, CoarseLevel& c, TileExchange& exchange)
+{
+  Level& L = c.level;
+  L = CoarseGeometry(fine);
+  std::vector<CoarseCell> cells = OwnedCoarseCells(fine, L);
+  ExchangeRing<CoarseCell>(
+    L.Input(L.Reach() + 1), L.MaxReach() + 1, cells.data(), CoarseCell(), exchange, nullptr, kName);
+  for (const CoarseCell& cell : cells)
   {
-    c.z[k] = static_cast<float>(cells[k].z);
-    c.valid[k] = cells[k].valid;
-  }
-  if (fine.rain)
-  {
-    c.rain.resize(cells.size());
-    for (std::size_t k = 0; k < cells.size(); ++k)
+    c.z.push_back(static_cast<float>(cell.z));
+    c.valid.push_back(cell.valid);
+    if (fine.rain)
     {
-      c.rain[k] = cells[k].rain;
+      c.rain.push_back(cell.rain);
     }
-    L.rain = c.rain.data();
   }
-  GridView<float>& v = L.view;
-  v = GridView<float>();
-  v.data = c.z.data();
-  v.valid = c.valid.data();
-  v.nx = hnx;
-  v.ny = hny;
-  v.dx = 2.0 * fine.view.dx;
-  v.dy = 2.0 * fine.view.dy;
-  if (fine.view.rowDx || fine.view.rowDy)
+  const std::size_t hnx = static_cast<std::size_t>(L.view.nx);
+  for (std::size_t r = 0; (fine.view.rowDx || fine.view.rowDy) && r < cells.size() / hnx; ++r)
   {
-    for (int r = 0; r < hny; ++r)
-    {
-      c.rowDx.push_back(cells[static_cast<std::size_t>(r) * static_cast<std::size_t>(hnx)].dx);
-      c.rowDy.push_back(cells[static_cast<std::size_t>(r) * static_cast<std::size_t>(hnx)].dy);
-    }
-    v.rowDx = fine.view.rowDx ? c.rowDx.data() : nullptr;
-    v.rowDy = fine.view.rowDy ? c.rowDy.data() : nullptr;
+    c.rowDx.push_back(cells[r * hnx].dx);
+    c.rowDy.push_back(cells[r * hnx].dy);
   }
+  L.rain = fine.rain ? c.rain.data() : nullptr;
+  L.view.data = c.z.data();
+  L.view.valid = c.valid.data();
+  L.view.dx = 2.0 * fine.view.dx;
+  L.view.dy = 2.0 * fine.view.dy;
+  L.view.rowDx = fine.view.rowDx ? c.rowDx.data() : nullptr;
+  L.view.rowDy = fine.view.rowDy ? c.rowDy.data() : nullptr;
 }
 
 /// Step 2: the still water of the level within reach of the owned cells (the distributed
