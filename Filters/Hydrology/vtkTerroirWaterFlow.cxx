@@ -30,6 +30,7 @@
 
 #include "DepressionWaterBodies.h"
 #include "DistributedPriorityFlood.h"
+#include "DistributedWaterFlowWarmStart.h"
 #include "PriorityFlood.h"
 #include "RiverValidation.h"
 #include "WaterFlow.h"
@@ -91,7 +92,10 @@ struct vtkTerroirWaterFlowHalo
 #endif
   int Rank = 0;
   int Processes = 1;
-  Box Grid; ///< this process's grid (the input extent)
+  Box Grid;                     ///< this process's grid (the input extent)
+  Box Whole;                    ///< the whole grid's extent
+  std::vector<Box> OwnedByRank; ///< every process's owned points, by rank
+  std::vector<int> ReachByRank; ///< every process's refreshed rings (2 + its ghost levels)
   struct Link
   {
     int rank = 0;
@@ -352,12 +356,41 @@ int vtkTerroirWaterFlow::RequestUpdateExtent(vtkInformation* request,
   vtkInformationVector* outputVector)
 {
 #if VTK_MODULE_ENABLE_VTK_ParallelCore
-  this->DistributedRun =
-    this->RunsInPieces() && GetDistributedController(outputVector->GetInformationObject(0));
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  this->DistributedRun = this->RunsInPieces(outInfo) && GetDistributedController(outInfo);
 #else
   this->DistributedRun = false;
 #endif
   return this->Superclass::RequestUpdateExtent(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+bool vtkTerroirWaterFlow::RunsInPieces(vtkInformation* outInfo) const
+{
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  if (this->Mode == Pulse || !this->WarmStart)
+  {
+    return true;
+  }
+  if (!outInfo || !outInfo->Has(SDDP::WHOLE_EXTENT()) ||
+    !outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES()))
+  {
+    return true; // not a distributed request: the caller's controller test decides
+  }
+  // Rivers with the warm start: in pieces when every coarse level keeps a cell in every piece.
+  int whole[6];
+  outInfo->Get(SDDP::WHOLE_EXTENT(), whole);
+  const int pieces = outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES());
+  std::vector<hy::TileBox> owned;
+  for (int p = 0; p < pieces; ++p)
+  {
+    const Box b = OwnedBox(p, pieces, whole);
+    owned.push_back({ b.i0 - whole[0], b.i1 - whole[0], b.j0 - whole[2], b.j1 - whole[2] });
+  }
+  hy::WaterFlowWarmStartOptions warm;
+  warm.coarsestSide = this->WarmStartSide;
+  return hy::WaterFlowWarmStartFitsTiles(
+    owned, whole[1] - whole[0] + 1, whole[3] - whole[2] + 1, warm);
 }
 
 //------------------------------------------------------------------------------
@@ -370,7 +403,7 @@ bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
   using SDDP = vtkStreamingDemandDrivenPipeline;
   vtkInformation* outInfo = this->GetOutputInformation(0);
   vtkMultiProcessController* controller =
-    this->RunsInPieces() ? GetDistributedController(outInfo) : nullptr;
+    this->RunsInPieces(outInfo) ? GetDistributedController(outInfo) : nullptr;
   if (!controller || !outInfo->Has(SDDP::WHOLE_EXTENT()))
   {
     if (old)
@@ -441,6 +474,13 @@ bool vtkTerroirWaterFlow::SetUpDistributed(vtkImageData* input)
       }
     }
   };
+  halo->Whole = wholeBox;
+  for (int p = 0; p < halo->Processes; ++p)
+  {
+    const int* a = all.data() + 6 * p;
+    halo->OwnedByRank.push_back(OwnedBox(a[0], pieces, whole));
+    halo->ReachByRank.push_back(a[5]);
+  }
   for (int p = 0; p < halo->Processes; ++p)
   {
     if (p == halo->Rank)
@@ -818,6 +858,63 @@ bool vtkTerroirWaterFlow::StillWaterInPieces(vtkImageData* input,
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// Rivers mode, WarmStart, in pieces: WaterFlowWarmStartDistributed on this piece (`v` is the
+/// halo's grid), every process through the controller; false with `error` on any process's
+/// failure (every process fails alike).
+bool WarmStartInPieces(const vtkTerroirWaterFlowHalo& halo,
+  const terroir::GridView<float>& v,
+  std::vector<double>& water,
+  double uniformRain,
+  const std::vector<double>& rain,
+  const hy::WaterFlowWarmStartOptions& options,
+  const hy::WaterFlowLevelRun& runLevel,
+  std::vector<hy::WaterFlowWarmStartLevel>& levels,
+  std::string& error)
+{
+#if VTK_MODULE_ENABLE_VTK_ParallelCore
+  const Box& w = halo.Whole;
+  hy::WaterFlowWarmStartTile tile;
+  tile.view = v;
+  tile.gi0 = halo.Grid.i0 - w.i0;
+  tile.gj0 = halo.Grid.j0 - w.j0;
+  for (const Box& b : halo.OwnedByRank)
+  {
+    tile.owned.push_back({ b.i0 - w.i0, b.i1 - w.i0, b.j0 - w.j0, b.j1 - w.j0 });
+  }
+  tile.reach = halo.ReachByRank;
+  tile.wholeNx = w.i1 - w.i0 + 1;
+  tile.wholeNy = w.j1 - w.j0 + 1;
+  vtkTerroirControllerTileExchange exchange(halo.Controller);
+  return vtkTerroirControllerTileExchange::Run(
+    [&]
+    {
+      levels = hy::WaterFlowWarmStartDistributed(tile,
+        water.data(),
+        uniformRain,
+        rain.empty() ? nullptr : rain.data(),
+        options,
+        exchange,
+        runLevel);
+    },
+    error);
+#else
+  (void)halo;
+  (void)v;
+  (void)water;
+  (void)uniformRain;
+  (void)rain;
+  (void)options;
+  (void)runLevel;
+  (void)levels;
+  error = "built without VTK::ParallelCore";
+  return false;
+#endif
+}
+} // namespace
+
+//------------------------------------------------------------------------------
 bool vtkTerroirWaterFlow::NewSimulation(vtkImageData* input,
   const terroir::TerrainInput& terrain,
   int backend)
@@ -866,8 +963,21 @@ bool vtkTerroirWaterFlow::NewSimulation(vtkImageData* input,
         advanceLevel(level, levelRule.maximumIterations, true, levelRule, why);
         return why;
       };
-      cache.Warm = hy::WaterFlowWarmStart(
-        v, water.data(), uniformRain, rain.empty() ? nullptr : rain.data(), warm, runLevel);
+      if (cache.Halo)
+      {
+        std::string error;
+        if (!WarmStartInPieces(
+              *cache.Halo, v, water, uniformRain, rain, warm, runLevel, cache.Warm, error))
+        {
+          vtkErrorMacro(<< this->SourcePrefix(input) << error);
+          return false;
+        }
+      }
+      else
+      {
+        cache.Warm = hy::WaterFlowWarmStart(
+          v, water.data(), uniformRain, rain.empty() ? nullptr : rain.data(), warm, runLevel);
+      }
       if (failed)
       {
         return false; // the GPU request failed (reported)

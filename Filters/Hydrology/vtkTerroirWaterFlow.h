@@ -78,11 +78,13 @@
  * the iteration's moved, outflow and emptied sums over the cells it owns, added in rank order:
  * every process records the same iteration and stops at the same one (CPU path; no
  * checkpoints). The cells' values are the serial run's bits; the volumes (field data) are the
- * same sums in another order. Rivers mode runs in pieces too when WarmStart is off: its still
- * water and lakes from FillDepressionsDistributed (Barnes 2016), the rain's totals summed over
- * the pieces, the halo's DischargeRate, RiverStrength and net Discharge from their owners; with
- * WarmStart (coarse levels straddling the pieces) it computes the whole grid on every process,
- * as a serial run does (Documentation/ParaView.md).
+ * same sums in another order. Rivers mode runs in pieces too: its still water and lakes from
+ * FillDepressionsDistributed (Barnes 2016), the rain's totals summed over the pieces, the
+ * halo's DischargeRate, RiverStrength and net Discharge from their owners, and with WarmStart
+ * the coarse levels in pieces too (DistributedWaterFlowWarmStart.h: each level tiled by the
+ * halved pieces, its own halo and parallel fill; the serial levels' bits). Only when a coarse
+ * level would leave a piece without a cell (tiny pieces) does it compute the whole grid on
+ * every process, as a serial run does (Documentation/ParaView.md).
  *
  * Errors (one line, empty output): negative, NaN or infinite water on a cell with data,
  * missing or not 12-component `StandingWater` for the StandingWater sources, parameters out of
@@ -369,11 +371,9 @@ private:
     const terroir::hydrology::DepressionWaterBodyOptions& options,
     std::vector<float>& spill,
     std::vector<std::int32_t>& ids);
-  /// Pulse mode, and Rivers mode without WarmStart, run in pieces in a distributed run.
-  bool RunsInPieces() const
-  {
-    return this->Mode == Pulse || !this->WarmStart;
-  }
+  /// Whether a distributed request (outInfo's pieces) runs in pieces: always, except Rivers
+  /// mode with WarmStart when a coarse level would leave a piece empty.
+  bool RunsInPieces(vtkInformation* outInfo) const;
   bool NewSimulation(vtkImageData* input, const terroir::TerrainInput& terrain, int backend);
   bool Simulate(vtkImageData* input,
     const terroir::TerrainInput& terrain,

@@ -36,7 +36,9 @@ run serially by the standalone build (Debian's VTK 9.1, /usr/bin/python3, packag
 - rivers (water flow, Rivers mode without the warm start, in pieces): as flow (every array bit
   for bit, DischargeRate, RiverStrength and LakeMask included; the same iterations and stop
   reason, Balanced; the volumes within FLOW_VOLUME_RTOL; a river across every shared line);
-  riversghost: the same with a slope after it (reader: 4 cells);
+  riversghost: the same with a slope after it (reader: 4 cells); riverswarm (Rivers mode with
+  its defaults: the warm start's coarse levels in pieces): the same, and the levels
+  (WaterFlowWarmStartIterations: iterations and sizes) equal;
 - full (every distributed stage in one chain, DistributedChain.full_chain): every array bit for
   bit (D8's sums within D8_RTOL), and the k-means, water-flow, water-body and sun checks above
   (reader: 72 cells, the sun's halo of 64 and the 8 ghost layers the stages after it ask for).
@@ -58,7 +60,7 @@ from vtkmodules.vtkIOXML import vtkXMLPImageDataReader
 # iteration and 1 more for the heights of no-data cells beside them.
 # The flood fill reads its piece and one ring (its perimeter's neighbours), one more for a slope.
 GHOST = {'terrain': 2, 'zones': 2, 'zonesghost': 3, 'flow': 3, 'flowghost': 4, 'rivers': 3,
-         'riversghost': 4, 'lakes': 1, 'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16,
+         'riversghost': 4, 'riverswarm': 3, 'lakes': 1, 'lakesghost': 2, 'seeds': 1, 'sun': 64, 'sunhours': 16,
          'd8': 2, 'd8ghost': 3, 'mfd': 2, 'dinf': 2, 'full': 72}
 # Water flow: the run's volumes are sums over the cells that each process adds for its own
 # cells before the processes' sums are added in rank order, another order than the serial
@@ -102,10 +104,10 @@ def serial(recipe, dem):
               terroir.vtkTerroirInfiltration(), terroir.vtkTerroirSoilHumidity()]
     if recipe in ('flow', 'flowghost'):
         stages = [terroir.vtkTerroirWaterFlow()]
-    if recipe in ('rivers', 'riversghost'):
+    if recipe in ('rivers', 'riversghost', 'riverswarm'):
         stages = [terroir.vtkTerroirWaterFlow()]
         stages[0].SetModeToRivers()
-        stages[0].SetWarmStart(0)
+        stages[0].SetWarmStart(recipe == 'riverswarm')
     if recipe in ('lakes', 'lakesghost'):
         stages = [terroir.vtkTerroirFloodFill()]
         stages[0].SetModeToFillDepressions()
@@ -297,8 +299,8 @@ def main():
         problems.append('the pieces do not tile the extent (%d cells covered %s times)' % (
             int((cover != 1).sum()), sorted(set(cover.ravel().tolist()) - {1})))
 
-    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'd8', 'd8ghost', 'mfd',
-                  'dinf') and ranks > 1:
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'riverswarm', 'd8', 'd8ghost',
+                  'mfd', 'dinf') and ranks > 1:
         # A river must cross every line the pieces share (else the halo is not really tested):
         # the serial run's River cells on both sides of each shared column and row.
         dims = expected.GetDimensions()
@@ -311,13 +313,18 @@ def main():
                 if n == 0:
                     problems.append('no river crosses the pieces\' %s %d' % (
                         ('column', 'row')[axis], line))
-    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'full'):
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'riverswarm', 'full'):
         fy = expected.GetFieldData()
         want = {name: fy.GetArray(name).GetTuple1(0)
                 for name in ('WaterFlowIterations', 'WaterFlowInitialVolume',
                              'WaterFlowStoredVolume', 'WaterFlowOutflowVolume',
                              'WaterFlowMovedVolume')}
         want['WaterFlowStopReason'] = fy.GetAbstractArray('WaterFlowStopReason').GetValue(0)
+        if recipe == 'riverswarm':
+            levels = fy.GetArray('WaterFlowWarmStartIterations')
+            want['WaterFlowWarmStartIterations'] = [
+                levels.GetComponent(t, c) for t in range(levels.GetNumberOfTuples())
+                for c in range(levels.GetNumberOfComponents())]
         runs = []
         for r in range(ranks):
             path = os.path.join(out_dir, 'rank%d.json' % r)
@@ -331,7 +338,8 @@ def main():
         else:
             for name, value in want.items():
                 have = got_run.get(name)
-                if name in ('WaterFlowIterations', 'WaterFlowStopReason'):
+                if name in ('WaterFlowIterations', 'WaterFlowStopReason',
+                            'WaterFlowWarmStartIterations'):
                     ok = have == value
                 else:
                     ok = have is not None and abs(have - value) <= FLOW_VOLUME_RTOL * abs(value)

@@ -2,7 +2,7 @@
 builds the same pipeline, ParaView's parallel image writer writes one piece per rank (.pvti), and
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
-        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|rivers|riversghost|lakes|
+        PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|rivers|riversghost|riverswarm|lakes|
         lakesghost|seeds|sun|sunhours|d8|d8ghost|mfd|dinf|full
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
@@ -11,7 +11,8 @@ flow (Pulse, defaults: a halo exchanged every iteration, the stop rule's sums al
 flowghost: flow, then slope (the water flow asked for a ghost layer); rivers: DEM -> water flow
 (Rivers mode, WarmStart off: the still water from the parallel fill, the rain's totals summed
 over the pieces, the halo's rates, strengths and net discharge from their owners);
-riversghost: rivers, then slope; full: every distributed stage in one chain (full_chain);
+riversghost: rivers, then slope; riverswarm: DEM -> water flow (Rivers mode, its defaults: the
+warm start's coarse levels in pieces too); full: every distributed stage in one chain (full_chain);
 lakes: DEM -> flood fill
 (FillDepressions: Barnes 2016's parallel Priority-Flood, the water bodies joined across the
 pieces); lakesghost: lakes, then slope (the flood fill asked for a ghost layer); seeds: DEM ->
@@ -41,9 +42,14 @@ def main():
     plugin, dem, out_dir, recipe = sys.argv[1:5]
     LoadPlugin(plugin, remote=False, ns=globals())
     reader = TerroirDEMReader(FileName=dem)  # noqa: F821 (the plugin defines them)
+    if recipe == 'riverswarm':
+        # River-forming water flow with its defaults: the warm start's coarse levels in pieces
+        # (each tiled by the halved pieces, its own parallel fill and halo), then the grid.
+        last = TerroirWaterFlow(Input=reader, Mode='Rivers')  # noqa: F821
+        return write(reader, last, out_dir, recipe)
     if recipe in ('rivers', 'riversghost'):
-        # River-forming water flow without the warm start (which runs the whole grid): the
-        # still water from the parallel fill, rain every iteration until the outflow balances.
+        # River-forming water flow without the warm start: the still water from the parallel
+        # fill, rain every iteration until the outflow balances.
         last = TerroirWaterFlow(Input=reader, Mode='Rivers', WarmStart=0)  # noqa: F821
         if recipe == 'riversghost':
             last = TerroirSlope(Input=last)  # noqa: F821
@@ -113,7 +119,7 @@ def main():
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
         raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, rivers, '
-                         'riversghost, lakes, lakesghost, seeds, sun, sunhours, d8, d8ghost, mfd, dinf or '
+                         'riversghost, riverswarm, lakes, lakesghost, seeds, sun, sunhours, d8, d8ghost, mfd, dinf or '
                          'full, not ' + recipe)
     return write(reader, last, out_dir, recipe)
 
@@ -221,7 +227,7 @@ def write(reader, last, out_dir, recipe):
         'max_rss_kib': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
         'smp_threads': smp_threads(),
     }
-    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'full'):
+    if recipe in ('flow', 'flowghost', 'rivers', 'riversghost', 'riverswarm', 'full'):
         # The water flow's run as this rank saw it: every rank must stop at the same iteration.
         fd = local.GetFieldData()
         record['water_flow'] = {
@@ -230,6 +236,12 @@ def write(reader, last, out_dir, recipe):
                          'WaterFlowOutflowVolume', 'WaterFlowMovedVolume')}
         record['water_flow']['WaterFlowStopReason'] = \
             fd.GetAbstractArray('WaterFlowStopReason').GetValue(0)
+        levels = fd.GetArray('WaterFlowWarmStartIterations')
+        if levels:
+            # The warm start's levels (iterations, nx, ny each), coarsest first.
+            record['water_flow']['WaterFlowWarmStartIterations'] = [
+                levels.GetComponent(t, c) for t in range(levels.GetNumberOfTuples())
+                for c in range(levels.GetNumberOfComponents())]
     if recipe in ('sun', 'sunhours', 'full'):
         # Only a distributed run (N > 1 pieces) measures it.
         share = local.GetFieldData().GetArray('SunHaloUncertainShare')
