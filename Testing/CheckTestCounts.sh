@@ -11,8 +11,8 @@ ctest=$1
 build=$2
 only=${3:-}
 declare -A minimum=(
-  [unit]=417 [pipeline]=214 [gpu]=81 [rendering]=54 [python]=20 [examples]=16 [fuzz]=5
-  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=77 [mpi]=64
+  [unit]=427 [pipeline]=214 [gpu]=81 [rendering]=54 [python]=20 [examples]=16 [fuzz]=5
+  [stress]=2 [benchmarks]=1 [scripts]=1 [paraview]=101 [mpi]=88
 )
 status=0
 labels=("${!minimum[@]}")

@@ -3,7 +3,7 @@ builds the same pipeline, ParaView's parallel image writer writes one piece per 
 each rank records what its reader read and what its last filter gave back.
     mpirun -np N pvbatch --symmetric RunInParaView.py DistributedChain.py \\
         PLUGIN DEM OUT_DIR terrain|zones|zonesghost|flow|flowghost|rivers|riversghost|riverswarm|lakes|
-        lakesghost|seeds|sun|sunhours|d8|d8ghost|mfd|dinf|full
+        lakesghost|seeds|sun|sunhours|d8|d8ghost|mfd|dinf|erosion|full
 terrain: DEM -> slope -> temperature -> infiltration -> soil humidity (pointwise filters per
 piece, slope and infiltration with one ghost layer each); zones: the same, then k-means;
 zonesghost: zones, then slope again (k-means asked for a ghost layer); flow: DEM -> water
@@ -21,7 +21,8 @@ sun: DEM -> solar illumination (Instant, 21 June at 12:00 PST) with a halo of SU
 sunhours: the same day's hours of sun (Daily, 30-minute steps) with a halo of 16 cells only;
 d8: DEM -> flow accumulation (D8 in pieces: the parallel fill, the flats' distances relaxed
 across the pieces, Barnes 2017's perimeter graph); d8ghost: d8, then slope; mfd, dinf: DEM ->
-flow accumulation by MFD (Freeman) or D-infinity in pieces (the sums in rounds of inflow).
+flow accumulation by MFD (Freeman) or D-infinity in pieces (the sums in rounds of inflow);
+erosion: DEM -> erosion, 50 steps of rain (a whole-extent filter: every rank runs the whole grid).
 OUT_DIR receives chain.pvti with its pieces (ParaView's parallel image writer: one .vti per
 rank), for terrain slope.tif (TerroirGeoTIFFWriter: a serial format, for which ParaView updates
 the whole grid on every rank and rank 0 writes), and
@@ -42,6 +43,11 @@ def main():
     plugin, dem, out_dir, recipe = sys.argv[1:5]
     LoadPlugin(plugin, remote=False, ns=globals())
     reader = TerroirDEMReader(FileName=dem)  # noqa: F821 (the plugin defines them)
+    if recipe == 'erosion':
+        # A whole-extent filter (a global simulation): every rank computes the whole grid and
+        # keeps its piece; 50 steps of rain on Sagehen.
+        last = TerroirErosion(Input=reader, Steps=50, RainRate=20.0)  # noqa: F821
+        return write(reader, last, out_dir, recipe)
     if recipe == 'riverswarm':
         # River-forming water flow with its defaults: the warm start's coarse levels in pieces
         # (each tiled by the halved pieces, its own parallel fill and halo), then the grid.
@@ -119,7 +125,7 @@ def main():
         last = TerroirSlope(Input=last)  # noqa: F821
     elif recipe not in ('terrain', 'zones'):
         raise SystemExit('recipe must be terrain, zones, zonesghost, flow, flowghost, rivers, '
-                         'riversghost, riverswarm, lakes, lakesghost, seeds, sun, sunhours, d8, d8ghost, mfd, dinf or '
+                         'riversghost, riverswarm, erosion, lakes, lakesghost, seeds, sun, sunhours, d8, d8ghost, mfd, dinf or '
                          'full, not ' + recipe)
     return write(reader, last, out_dir, recipe)
 
