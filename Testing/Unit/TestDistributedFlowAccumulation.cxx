@@ -237,6 +237,27 @@ std::vector<float> RandomWeights(std::mt19937_64& rng, const Terrain& w)
   return weight;
 }
 
+/// Random case t: a terrain of 3 to 42 cells a side (whole metres every other case, no data
+/// every third), 1 to 4 uneven cuts per axis, random weights.
+struct RandomCase
+{
+  Terrain w;
+  std::vector<hy::TileBox> boxes;
+  std::vector<float> weight;
+};
+
+RandomCase MakeRandomCase(std::mt19937_64& rng, int t)
+{
+  RandomCase c;
+  const int nx = 3 + static_cast<int>(rng() % 40);
+  const int ny = 3 + static_cast<int>(rng() % 40);
+  c.w = RandomTerrain(rng, nx, ny, t % 2 == 0, t % 3 == 0 ? 60 : 0);
+  c.boxes = Blocks(
+    Cuts(rng, nx, 1 + static_cast<int>(rng() % 4)), Cuts(rng, ny, 1 + static_cast<int>(rng() % 4)));
+  c.weight = RandomWeights(rng, c.w);
+  return c;
+}
+
 /// A terrain of `nx` x `ny` at `height` everywhere, walls (100 m) on the grid's edge.
 Terrain Walled(int nx, int ny, float height)
 {
@@ -276,6 +297,24 @@ std::vector<std::pair<int, int>> Serpentine(int edge, int rows)
   }
   return path;
 }
+
+/// A 41 x 25 walled terrain (30 m) with the corridor `path` cut in at 10 m (descending: rising
+/// 1 cm per cell from its start) and its start drained west through the wall to an outlet.
+Terrain SerpentineTerrain(const std::vector<std::pair<int, int>>& path, bool descending)
+{
+  Terrain w = Walled(41, 25, 30.0f);
+  for (std::size_t p = 0; p < path.size(); ++p)
+  {
+    const float z = descending ? 10.0f + 0.01f * static_cast<float>(p) : 10.0f;
+    w.z[static_cast<std::size_t>(path[p].second) * w.nx + path[p].first] = z;
+  }
+  w.z[static_cast<std::size_t>(path[0].second) * w.nx + 0] = 1.0f; // outlet through the wall
+  for (int i = 1; i < path[0].first; ++i)
+  {
+    w.z[static_cast<std::size_t>(path[0].second) * w.nx + i] = 8.0f + 0.01f * i;
+  }
+  return w;
+}
 } // namespace
 
 // 60 random terrains (whole metres: many flats and ties; continuous; some with no data; some
@@ -288,12 +327,10 @@ TEST(DistributedFlowAccumulation, EqualsSerialOnRandomTerrains)
   int several = 0;
   for (int t = 0; t < 60; ++t)
   {
-    const int nx = 3 + static_cast<int>(rng() % 40);
-    const int ny = 3 + static_cast<int>(rng() % 40);
-    const Terrain w = RandomTerrain(rng, nx, ny, t % 2 == 0, t % 3 == 0 ? 60 : 0);
-    const std::vector<hy::TileBox> boxes = Blocks(Cuts(rng, nx, 1 + static_cast<int>(rng() % 4)),
-      Cuts(rng, ny, 1 + static_cast<int>(rng() % 4)));
-    const std::vector<float> weight = RandomWeights(rng, w);
+    const RandomCase c = MakeRandomCase(rng, t);
+    const Terrain& w = c.w;
+    const std::vector<hy::TileBox>& boxes = c.boxes;
+    const std::vector<float>& weight = c.weight;
     const int exchanges = ExpectSerial(
       w, boxes, 1 + t % 3, t % 4 == 1 ? &weight : nullptr, "terrain " + std::to_string(t));
     several += exchanges > 2 ? 1 : 0;
@@ -326,17 +363,7 @@ TEST(DistributedFlowAccumulation, SerpentineAcrossAnEdge)
   const std::vector<hy::TileBox> boxes = Blocks({ 0, 20, 41 }, { 0, 13, 25 });
   for (int descending = 0; descending < 2; ++descending)
   {
-    Terrain w = Walled(41, 25, 30.0f);
-    for (std::size_t p = 0; p < path.size(); ++p)
-    {
-      const float z = descending ? 10.0f + 0.01f * static_cast<float>(p) : 10.0f;
-      w.z[static_cast<std::size_t>(path[p].second) * w.nx + path[p].first] = z;
-    }
-    w.z[static_cast<std::size_t>(path[0].second) * w.nx + 0] = 1.0f; // outlet through the wall
-    for (int i = 1; i < path[0].first; ++i)
-    {
-      w.z[static_cast<std::size_t>(path[0].second) * w.nx + i] = 8.0f + 0.01f * i;
-    }
+    const Terrain w = SerpentineTerrain(path, descending != 0);
     const std::string what = descending ? "channel" : "flat corridor";
     const int exchanges = ExpectSerial(w, boxes, 1, nullptr, what);
     if (!descending)
@@ -363,12 +390,10 @@ TEST(DistributedFlowAccumulation, DispersiveEqualsSerialOnRandomTerrains)
   int rounds = 0;
   for (int t = 0; t < 45; ++t)
   {
-    const int nx = 3 + static_cast<int>(rng() % 40);
-    const int ny = 3 + static_cast<int>(rng() % 40);
-    const Terrain w = RandomTerrain(rng, nx, ny, t % 2 == 0, t % 3 == 0 ? 60 : 0);
-    const std::vector<hy::TileBox> boxes = Blocks(Cuts(rng, nx, 1 + static_cast<int>(rng() % 4)),
-      Cuts(rng, ny, 1 + static_cast<int>(rng() % 4)));
-    const std::vector<float> weight = RandomWeights(rng, w);
+    const RandomCase c = MakeRandomCase(rng, t);
+    const Terrain& w = c.w;
+    const std::vector<hy::TileBox>& boxes = c.boxes;
+    const std::vector<float>& weight = c.weight;
     Method method;
     method.kind = t % 3 == 2 ? Method::DInfinity : Method::MFD;
     method.mfd.contourLength = t % 5 == 1;
@@ -392,17 +417,7 @@ TEST(DistributedFlowAccumulation, DispersiveSerpentineNeedsARoundPerCrossing)
 {
   const std::vector<std::pair<int, int>> path = Serpentine(20, 11);
   const std::vector<hy::TileBox> boxes = Blocks({ 0, 20, 41 }, { 0, 13, 25 });
-  Terrain w = Walled(41, 25, 30.0f);
-  for (std::size_t p = 0; p < path.size(); ++p)
-  {
-    w.z[static_cast<std::size_t>(path[p].second) * w.nx + path[p].first] =
-      10.0f + 0.01f * static_cast<float>(p);
-  }
-  w.z[static_cast<std::size_t>(path[0].second) * w.nx + 0] = 1.0f; // outlet through the wall
-  for (int i = 1; i < path[0].first; ++i)
-  {
-    w.z[static_cast<std::size_t>(path[0].second) * w.nx + i] = 8.0f + 0.01f * i;
-  }
+  const Terrain w = SerpentineTerrain(path, true);
   for (const Method::Kind kind : { Method::MFD, Method::DInfinity })
   {
     Method method;

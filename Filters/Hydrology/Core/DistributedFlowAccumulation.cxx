@@ -317,6 +317,92 @@ std::int64_t NextPerimeterCell(const DistributedFillInput& in,
   return result;
 }
 
+/// The head of a tile's sums message: WriteHead's, its D8 counts and the number of sums.
+void WriteSumsHead(Writer& w,
+  const std::string& problem,
+  const DistributedFillInput& in,
+  const D8Summary& counts,
+  std::size_t m)
+{
+  WriteHead(w, problem, in);
+  w.Put<std::uint64_t>(counts.outlets);
+  w.Put<std::uint64_t>(counts.flatCells);
+  w.Put<std::uint64_t>(counts.sinks);
+  w.Put<std::uint64_t>(m);
+}
+
+/// Rank 0 reads tile t's WriteSumsHead (ReadHead's checks; its box and reach appended to
+/// `boxes` and `reaches`) and adds its counts to `total`; throws on a failed tile or another
+/// number of sums.
+void ReadSumsHead(Reader& r,
+  int t,
+  const DistributedFillInput& in,
+  std::vector<TileBox>& boxes,
+  std::vector<std::int32_t>& reaches,
+  D8Summary& total,
+  std::size_t m)
+{
+  const std::string why = ReadHead(r, t, in.wholeNx, in.wholeNy, boxes, reaches);
+  if (!why.empty())
+  {
+    throw std::runtime_error(why);
+  }
+  total.outlets += r.Get<std::uint64_t>();
+  total.flatCells += r.Get<std::uint64_t>();
+  total.sinks += r.Get<std::uint64_t>();
+  if (r.Get<std::uint64_t>() != m)
+  {
+    throw std::runtime_error("the tiles disagree on the weights");
+  }
+}
+
+/// The whole grid's D8 counts in rank 0's reply.
+void PutCounts(Writer& w, const D8Summary& counts)
+{
+  w.Put<std::uint64_t>(counts.outlets);
+  w.Put<std::uint64_t>(counts.flatCells);
+  w.Put<std::uint64_t>(counts.sinks);
+}
+
+D8Summary GetCounts(Reader& r)
+{
+  D8Summary counts;
+  counts.outlets = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  counts.flatCells = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  counts.sinks = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  return counts;
+}
+
+/// Rank 0's inflows (m sums per whole-grid cell of `cells`, in `flow`) into `inflow` (m
+/// arrays, zeroed first) at index(gi, gj); throws naming `function` when a cell is not owned.
+template<typename Index>
+void SetInflows(const DistributedFillInput& in,
+  const std::vector<std::int64_t>& cells,
+  const std::vector<double>& flow,
+  std::vector<std::vector<double>>& inflow,
+  Index index,
+  const char* function)
+{
+  const std::size_t m = inflow.size();
+  for (std::vector<double>& f : inflow)
+  {
+    std::fill(f.begin(), f.end(), 0.0);
+  }
+  for (std::size_t e = 0; e < cells.size(); ++e)
+  {
+    const int gi = static_cast<int>(cells[e] % in.wholeNx);
+    const int gj = static_cast<int>(cells[e] / in.wholeNx);
+    if (!in.owned.Contains(gi, gj))
+    {
+      throw std::runtime_error(std::string(function) + ": an inflow to a cell of another tile");
+    }
+    for (std::size_t s = 0; s < m; ++s)
+    {
+      inflow[s][index(gi, gj)] = flow[e * m + s];
+    }
+  }
+}
+
 /// One tile's part of the perimeter graph.
 struct PerimeterPart
 {
@@ -475,11 +561,7 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
       }
     });
   Writer w1;
-  WriteHead(w1, std::string(), in);
-  w1.Put<std::uint64_t>(mine.outlets);
-  w1.Put<std::uint64_t>(mine.flatCells);
-  w1.Put<std::uint64_t>(mine.sinks);
-  w1.Put<std::uint64_t>(m);
+  WriteSumsHead(w1, std::string(), in, mine, m);
   w1.PutVector(part.cells);
   w1.PutVector(part.next);
   w1.PutVector(part.sums);
@@ -496,18 +578,7 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
       for (int t = 0; t < ranks; ++t)
       {
         Reader r(all.at(static_cast<std::size_t>(t)));
-        const std::string why = ReadHead(r, t, in.wholeNx, in.wholeNy, boxes, reaches);
-        if (!why.empty())
-        {
-          throw std::runtime_error(why);
-        }
-        total.outlets += r.Get<std::uint64_t>();
-        total.flatCells += r.Get<std::uint64_t>();
-        total.sinks += r.Get<std::uint64_t>();
-        if (r.Get<std::uint64_t>() != m)
-        {
-          throw std::runtime_error("the tiles disagree on the weights");
-        }
+        ReadSumsHead(r, t, in, boxes, reaches, total, m);
         PerimeterPart p;
         p.box = boxes.back();
         p.cells = r.GetVector<std::int64_t>();
@@ -523,9 +594,7 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
         Writer reply;
         reply.Put<std::uint8_t>(0);
         reply.Put<std::int32_t>(*std::max_element(reaches.begin(), reaches.end()));
-        reply.Put<std::uint64_t>(total.outlets);
-        reply.Put<std::uint64_t>(total.flatCells);
-        reply.Put<std::uint64_t>(total.sinks);
+        PutCounts(reply, total);
         reply.PutVector(entryCells[t]);
         reply.PutVector(entryFlow[t]);
         replies.push_back(std::move(reply.Bytes));
@@ -540,9 +609,7 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
   Reader r(reply);
   CheckStatus(r, kName);
   const auto reachAll = r.Get<std::int32_t>();
-  result.summary.outlets = static_cast<std::size_t>(r.Get<std::uint64_t>());
-  result.summary.flatCells = static_cast<std::size_t>(r.Get<std::uint64_t>());
-  result.summary.sinks = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  result.summary = GetCounts(r);
   const std::vector<std::int64_t> entryCells = r.GetVector<std::int64_t>();
   const std::vector<double> entryFlow = r.GetVector<double>();
   if (entryFlow.size() != m * entryCells.size() || reachAll < in.reach)
@@ -552,19 +619,8 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
 
   // ---- The sums again with the flow entering the tile.
   std::vector<std::vector<double>> inflow(m, std::vector<double>(local.filled.size(), 0.0));
-  for (std::size_t e = 0; e < entryCells.size(); ++e)
-  {
-    const int gi = static_cast<int>(entryCells[e] % in.wholeNx);
-    const int gj = static_cast<int>(entryCells[e] / in.wholeNx);
-    if (!in.owned.Contains(gi, gj))
-    {
-      throw std::runtime_error(std::string(kName) + ": an inflow to a cell of another tile");
-    }
-    for (std::size_t s = 0; s < m; ++s)
-    {
-      inflow[s][tile.Owned(gi, gj)] = entryFlow[e * m + s];
-    }
-  }
+  SetInflows(
+    in, entryCells, entryFlow, inflow, [&](int gi, int gj) { return tile.Owned(gi, gj); }, kName);
   sums = LocalSums(local, options, &inflow);
 
   // ---- 5. The view-sized results; the ring's from its owners.
@@ -634,11 +690,7 @@ bool InflowRound(const DistributedFillInput& in,
       }
     });
   Writer w;
-  WriteHead(w, problem, in);
-  w.Put<std::uint64_t>(summary.outlets);
-  w.Put<std::uint64_t>(summary.flatCells);
-  w.Put<std::uint64_t>(summary.sinks);
-  w.Put<std::uint64_t>(m);
+  WriteSumsHead(w, problem, in, summary, m);
   w.PutVector(cells);
   w.PutVector(values);
   const std::vector<std::vector<char>> all = exchange.Gather(w.Bytes);
@@ -656,18 +708,7 @@ bool InflowRound(const DistributedFillInput& in,
       for (int t = 0; t < ranks; ++t)
       {
         Reader r(all.at(static_cast<std::size_t>(t)));
-        const std::string why = ReadHead(r, t, in.wholeNx, in.wholeNy, boxes, reaches);
-        if (!why.empty())
-        {
-          throw std::runtime_error(why);
-        }
-        total.outlets += r.Get<std::uint64_t>();
-        total.flatCells += r.Get<std::uint64_t>();
-        total.sinks += r.Get<std::uint64_t>();
-        if (r.Get<std::uint64_t>() != m)
-        {
-          throw std::runtime_error("the tiles disagree on the weights");
-        }
+        ReadSumsHead(r, t, in, boxes, reaches, total, m);
         sent[t] = r.GetVector<std::int64_t>();
         sentValues[t] = r.GetVector<double>();
         if (sentValues[t].size() != m * sent[t].size())
@@ -724,9 +765,7 @@ bool InflowRound(const DistributedFillInput& in,
         reply.Put<std::uint8_t>(0);
         reply.Put<std::uint8_t>(same ? 1 : 0);
         reply.Put<std::int32_t>(*std::max_element(reaches.begin(), reaches.end()));
-        reply.Put<std::uint64_t>(total.outlets);
-        reply.Put<std::uint64_t>(total.flatCells);
-        reply.Put<std::uint64_t>(total.sinks);
+        PutCounts(reply, total);
         std::vector<std::int64_t> to;
         std::vector<double> flow;
         for (const auto& entry : previous[t])
@@ -749,32 +788,15 @@ bool InflowRound(const DistributedFillInput& in,
   CheckStatus(r, kDispersiveName);
   const bool same = r.Get<std::uint8_t>() != 0;
   reach = r.Get<std::int32_t>();
-  total.outlets = static_cast<std::size_t>(r.Get<std::uint64_t>());
-  total.flatCells = static_cast<std::size_t>(r.Get<std::uint64_t>());
-  total.sinks = static_cast<std::size_t>(r.Get<std::uint64_t>());
+  total = GetCounts(r);
   const std::vector<std::int64_t> to = r.GetVector<std::int64_t>();
   const std::vector<double> flow = r.GetVector<double>();
   if (flow.size() != m * to.size() || reach < in.reach)
   {
     throw std::runtime_error(std::string(kDispersiveName) + ": rank 0's inflows do not match");
   }
-  for (std::vector<double>& f : inflow)
-  {
-    std::fill(f.begin(), f.end(), 0.0);
-  }
-  for (std::size_t e = 0; e < to.size(); ++e)
-  {
-    const int gi = static_cast<int>(to[e] % in.wholeNx);
-    const int gj = static_cast<int>(to[e] / in.wholeNx);
-    if (!in.owned.Contains(gi, gj))
-    {
-      throw std::runtime_error(std::string(kDispersiveName) + ": an inflow to another tile");
-    }
-    for (std::size_t s = 0; s < m; ++s)
-    {
-      inflow[s][tile.ViewIndex(gi, gj)] = flow[e * m + s];
-    }
-  }
+  SetInflows(
+    in, to, flow, inflow, [&](int gi, int gj) { return tile.ViewIndex(gi, gj); }, kDispersiveName);
   return same;
 }
 } // namespace

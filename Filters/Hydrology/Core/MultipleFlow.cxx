@@ -165,13 +165,29 @@ void PropagateChange(const GridView<float>& view,
   const int* box = options.active;
   const auto active = [box](int i, int j)
   { return !box || (i >= box[0] && i <= box[1] && j >= box[2] && j <= box[3]); };
-  const auto drains = [&](std::size_t k, int i, int j)
-  { return direction[k] >= 0 && direction[k] <= 7 && active(i, j); };
+  // f(t, fraction) for each receiver t of cell k (an active cell that drains).
+  double fraction[8];
+  const auto forReceivers = [&](std::size_t k, auto f)
+  {
+    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
+    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
+    if (direction[k] < 0 || direction[k] > 7 || !active(i, j))
+    {
+      return;
+    }
+    partition(i, j, fraction);
+    for (int e = 0; e < 8; ++e)
+    {
+      if (fraction[e] > 0.0)
+      {
+        f(view.Index(i + kD8Di[e], j + kD8Dj[e]), fraction[e]);
+      }
+    }
+  };
   // The cells downstream of a change, and their in-degrees within that set.
   std::unordered_map<std::size_t, std::uint8_t> inDegree;
   std::unordered_map<std::size_t, double> change;
   std::vector<std::size_t> stack;
-  double fraction[8];
   for (std::size_t k = n; k-- > 0;)
   {
     const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
@@ -190,26 +206,16 @@ void PropagateChange(const GridView<float>& view,
   {
     const std::size_t k = stack.back();
     stack.pop_back();
-    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
-    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
-    if (!drains(k, i, j))
-    {
-      continue;
-    }
-    partition(i, j, fraction);
-    for (int e = 0; e < 8; ++e)
-    {
-      if (fraction[e] > 0.0)
+    forReceivers(k,
+      [&](std::size_t t, double)
       {
-        const std::size_t t = view.Index(i + kD8Di[e], j + kD8Dj[e]);
         const auto added = inDegree.emplace(t, 0);
         ++added.first->second;
         if (added.second)
         {
           stack.push_back(t);
         }
-      }
-    }
+      });
   }
   std::vector<std::size_t> ready;
   for (auto s = seeds.rbegin(); s != seeds.rend(); ++s)
@@ -225,25 +231,15 @@ void PropagateChange(const GridView<float>& view,
     ready.pop_back();
     const double d = change[k];
     accumulation[k] += d;
-    const int i = static_cast<int>(k % static_cast<std::size_t>(nx));
-    const int j = static_cast<int>(k / static_cast<std::size_t>(nx));
-    if (!drains(k, i, j))
-    {
-      continue;
-    }
-    partition(i, j, fraction);
-    for (int e = 0; e < 8; ++e)
-    {
-      if (fraction[e] > 0.0)
+    forReceivers(k,
+      [&](std::size_t t, double f)
       {
-        const std::size_t t = view.Index(i + kD8Di[e], j + kD8Dj[e]);
-        change[t] += fraction[e] * d;
+        change[t] += f * d;
         if (--inDegree[t] == 0)
         {
           ready.push_back(t);
         }
-      }
-    }
+      });
   }
 }
 
