@@ -368,9 +368,9 @@ int vtkTerroirWaterFlow::RequestUpdateExtent(vtkInformation* request,
 bool vtkTerroirWaterFlow::RunsInPieces(vtkInformation* outInfo) const
 {
   using SDDP = vtkStreamingDemandDrivenPipeline;
-  if (this->Mode == Pulse || !this->WarmStart)
+  if (this->Mode == Pulse || !this->WarmStart || this->WarmStartSide < 2)
   {
-    return true;
+    return true; // (a side under 2: CheckParameters reports it on every process)
   }
   if (!outInfo || !outInfo->Has(SDDP::WHOLE_EXTENT()) ||
     !outInfo->Has(SDDP::UPDATE_NUMBER_OF_PIECES()))

@@ -530,6 +530,13 @@ TEST(TerroirWaterFlow, BadInputsAreOneErrorAndAnEmptyOutput)
     { in,
       [](vtkTerroirWaterFlow* f) { f->SetWarmStartSide(1); },
       "dem.tif: WarmStartSide 1 must be >= 2 and SettleIterations 100 >= 0" },
+    { in, // Rivers mode asks the warm start's levels before the parameters are checked
+      [](vtkTerroirWaterFlow* f)
+      {
+        f->SetModeToRivers();
+        f->SetWarmStartSide(1);
+      },
+      "dem.tif: WarmStartSide 1 must be >= 2 and SettleIterations 100 >= 0" },
     { in,
       [](vtkTerroirWaterFlow* f) { f->SetSettleIterations(-3); },
       "dem.tif: WarmStartSide 128 must be >= 2 and SettleIterations -3 >= 0" },
