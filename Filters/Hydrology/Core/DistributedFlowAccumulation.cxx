@@ -403,6 +403,65 @@ void SetInflows(const DistributedFillInput& in,
   }
 }
 
+/// Steps 1-3 of both accumulations: the filled surface W into result.filled, on the tile and
+/// one ring beyond the caller's (for the ring's directions); the owned cells' D8 codes into
+/// `dir` (view-sized; the flats agreed across tiles) and their counts into `counts`.
+void FilledAndDirections(const DistributedFillInput& in,
+  TileExchange& exchange,
+  DistributedFlowResult& result,
+  std::vector<std::int8_t>& dir,
+  D8Summary& counts)
+{
+  DistributedFillInput wide = in;
+  wide.reach = in.reach + 1;
+  result.filled = FillDepressionsDistributed(wide, DepressionWaterBodyOptions(), exchange).filled;
+  dir.assign(in.view.Size(), kD8NoData);
+  result.flatExchanges = OwnedDirections(in, result.filled.data(), dir.data(), exchange, counts);
+}
+
+/// View-sized values: f(k, gi, gj) on the owned cells, the ring of `reach` from their owners,
+/// `missing` elsewhere (a collective call).
+template<typename T, typename F>
+std::vector<T> OwnedAndRing(const DistributedFillInput& in,
+  int reach,
+  T missing,
+  F f,
+  TileExchange& exchange,
+  const char* function)
+{
+  std::vector<T> out(in.view.Size(), missing);
+  ForOwned(in, [&](std::size_t k, int gi, int gj) { out[k] = f(k, gi, gj); });
+  ExchangeRing<T>(in, reach, out.data(), missing, exchange, nullptr, function);
+  return out;
+}
+
+/// Step 5 of both accumulations: the m sums (sum(s, k, gi, gj) on the owned cells) and the
+/// owned cells' directions `dir` into `result`, view-sized, the ring's from their owners.
+template<typename Sum>
+void RingResults(const DistributedFillInput& in,
+  int reach,
+  std::size_t m,
+  Sum sum,
+  const std::int8_t* dir,
+  DistributedFlowResult& result,
+  TileExchange& exchange,
+  const char* function)
+{
+  std::vector<double>* outputs[3] = { &result.cells, &result.area, &result.weighted };
+  for (std::size_t s = 0; s < m; ++s)
+  {
+    *outputs[s] = OwnedAndRing<double>(
+      in,
+      reach,
+      kNaN,
+      [&](std::size_t k, int gi, int gj) { return sum(s, k, gi, gj); },
+      exchange,
+      function);
+  }
+  result.direction = OwnedAndRing<std::int8_t>(
+    in, reach, kD8NoData, [&](std::size_t k, int, int) { return dir[k]; }, exchange, function);
+}
+
 /// One tile's part of the perimeter graph.
 struct PerimeterPart
 {
@@ -525,20 +584,14 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
 {
   const int ranks = exchange.Size();
   const Tile tile(in);
-  const std::size_t n = in.view.Size();
   DistributedFlowResult result;
 
-  // ---- 1. The filled surface, one ring beyond the caller's (for the ring's directions).
-  DistributedFillInput wide = in;
-  wide.reach = in.reach + 1;
-  result.filled = FillDepressionsDistributed(wide, DepressionWaterBodyOptions(), exchange).filled;
-  const float* w = result.filled.data();
-
-  // ---- 2, 3. Directions of the owned cells, the flats agreed across tiles.
-  result.direction.resize(n);
-  std::int8_t* dir = result.direction.data();
+  // ---- 1-3. The filled surface and the directions of the owned cells.
+  std::vector<std::int8_t> directions;
   D8Summary mine;
-  result.flatExchanges = OwnedDirections(in, w, dir, exchange, mine);
+  FilledAndDirections(in, exchange, result, directions, mine);
+  const float* w = result.filled.data();
+  const std::int8_t* dir = directions.data();
 
   // ---- 4. The tile's own sums and its part of the perimeter graph.
   const LocalTile local = MakeLocalTile(in, w, dir, options.weight);
@@ -624,22 +677,15 @@ DistributedFlowResult D8FlowAccumulationDistributed(const DistributedFillInput& 
   sums = LocalSums(local, options, &inflow);
 
   // ---- 5. The view-sized results; the ring's from its owners.
-  std::vector<std::vector<double>*> outputs{ &result.cells, &result.area };
-  if (m == 3)
-  {
-    outputs.push_back(&result.weighted);
-  }
-  for (std::size_t s = 0; s < m; ++s)
-  {
-    std::vector<double>& out = *outputs[s];
-    out.assign(n, kNaN);
-    ForOwned(in, [&](std::size_t k, int gi, int gj) { out[k] = sums[s][tile.Owned(gi, gj)]; });
-    ExchangeRing<double>(in, reachAll, out.data(), kNaN, exchange, nullptr, kName);
-  }
-  std::vector<std::int8_t> owned(n, kD8NoData);
-  ForOwned(in, [&](std::size_t k, int, int) { owned[k] = dir[k]; });
-  ExchangeRing<std::int8_t>(in, reachAll, owned.data(), kD8NoData, exchange, nullptr, kName);
-  result.direction = std::move(owned);
+  RingResults(
+    in,
+    reachAll,
+    m,
+    [&](std::size_t s, std::size_t, int gi, int gj) { return sums[s][tile.Owned(gi, gj)]; },
+    dir,
+    result,
+    exchange,
+    kName);
   return result;
 }
 
@@ -810,15 +856,12 @@ DistributedFlowResult DispersiveFlowAccumulationDistributed(const DistributedFil
   const std::size_t n = in.view.Size();
   DistributedFlowResult result;
 
-  // ---- 1-3. The filled surface (one ring beyond the caller's) and the D8 codes, as for D8:
-  // the owned cells', then the ring's from their owners (the partitions read them).
-  DistributedFillInput wide = in;
-  wide.reach = in.reach + 1;
-  result.filled = FillDepressionsDistributed(wide, DepressionWaterBodyOptions(), exchange).filled;
-  const float* w = result.filled.data();
-  std::vector<std::int8_t> dir(n);
+  // ---- 1-3. The filled surface and the D8 codes, as for D8: the owned cells', then the
+  // ring's from their owners (the partitions read them).
+  std::vector<std::int8_t> dir;
   D8Summary mine;
-  result.flatExchanges = OwnedDirections(in, w, dir.data(), exchange, mine);
+  FilledAndDirections(in, exchange, result, dir, mine);
+  const float* w = result.filled.data();
   result.direction.assign(n, kD8NoData);
   ForOwned(in, [&](std::size_t k, int, int) { result.direction[k] = dir[k]; });
   // Rounds need every tile's reach for the ring; the first round tells it, so the ring of 1
@@ -901,38 +944,29 @@ DistributedFlowResult DispersiveFlowAccumulationDistributed(const DistributedFil
       reachAll);
   }
 
-  // ---- 5. The view-sized results, the ring's from its owners.
-  std::vector<std::vector<double>*> outputs{ &result.cells, &result.area };
-  if (m == 3)
-  {
-    outputs.push_back(&result.weighted);
-  }
-  for (std::size_t s = 0; s < m; ++s)
-  {
-    std::vector<double>& out = *outputs[s];
-    out.assign(n, kNaN);
-    ForOwned(in, [&](std::size_t k, int, int) { out[k] = sums[s][k]; });
-    ExchangeRing<double>(in, reachAll, out.data(), kNaN, exchange, nullptr, kDispersiveName);
-  }
+  // ---- 5. The view-sized results, the ring's from its owners (the angles computed on the
+  // owned cells after the sums were taken: the accumulation run for them rewrites sums[0]).
+  RingResults(
+    in,
+    reachAll,
+    m,
+    [&](std::size_t s, std::size_t k, int, int) { return sums[s][k]; },
+    dir.data(),
+    result,
+    exchange,
+    kDispersiveName);
   if (method.dInfinity)
   {
     std::vector<float> angle(n);
-    std::vector<double> none(n, 0.0);
-    accumulate(0, none, false, angle.data()); // the owned cells' angles (sums[0] is copied)
-    result.angle.assign(n, std::numeric_limits<float>::quiet_NaN());
-    ForOwned(in, [&](std::size_t k, int, int) { result.angle[k] = angle[k]; });
-    ExchangeRing<float>(in,
+    accumulate(0, std::vector<double>(n, 0.0), false, angle.data());
+    result.angle = OwnedAndRing<float>(
+      in,
       reachAll,
-      result.angle.data(),
       std::numeric_limits<float>::quiet_NaN(),
+      [&](std::size_t k, int, int) { return angle[k]; },
       exchange,
-      nullptr,
       kDispersiveName);
   }
-  std::vector<std::int8_t> owned(n, kD8NoData);
-  ForOwned(in, [&](std::size_t k, int, int) { owned[k] = dir[k]; });
-  ExchangeRing<std::int8_t>(in, reachAll, owned.data(), kD8NoData, exchange, nullptr, kName);
-  result.direction = std::move(owned);
   return result;
 }
 
